@@ -1,0 +1,195 @@
+//! The simulated planar arm of the paper (Fig. 2): n revolute joints in series, base at the
+//! origin, joint angles relative to the previous link, rest pose straight along +x.
+
+use crate::error::{invalid, Check, Result};
+
+/// Geometry and actuation limits of a planar serial arm.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ArmConfig {
+    /// Length of each link; the number of joints is its length.
+    pub link_lengths: Vec<f64>,
+    /// Symmetric joint limit: every joint angle stays in [-joint_limit, joint_limit] (radians).
+    pub joint_limit: f64,
+    /// Largest absolute change of any joint in one micro-action (radians).
+    pub max_joint_step: f64,
+}
+
+impl ArmConfig {
+    /// `n` equal links summing to `total_length`.
+    pub fn uniform(n: usize, total_length: f64, joint_limit: f64, max_joint_step: f64) -> Self {
+        ArmConfig {
+            link_lengths: vec![total_length / n as f64; n],
+            joint_limit,
+            max_joint_step,
+        }
+    }
+
+    pub fn validate(&self) -> Result<()> {
+        let c = Check { owner: "Arm" };
+        if self.link_lengths.is_empty() {
+            return Err(invalid("Arm", "link_lengths", "a non-empty list of floats > 0", "[]"));
+        }
+        for &l in &self.link_lengths {
+            if !(l.is_finite() && l > 0.0) {
+                return Err(invalid("Arm", "link_lengths", "a list of finite floats > 0", format!("{:?}", self.link_lengths)));
+            }
+        }
+        c.in_open_closed("joint_limit", self.joint_limit, 0.0, std::f64::consts::PI)?;
+        c.positive("max_joint_step", self.max_joint_step)?;
+        Ok(())
+    }
+}
+
+/// The arm: geometry plus its current joint state.
+#[derive(Debug, Clone)]
+pub struct Arm {
+    cfg: ArmConfig,
+    theta: Vec<f64>,
+    x: [f64; 2],
+}
+
+/// Dimension of the task space of the planar arm.
+pub const TASK_DIM: usize = 2;
+
+impl Arm {
+    pub fn new(cfg: ArmConfig) -> Result<Self> {
+        cfg.validate()?;
+        let n = cfg.link_lengths.len();
+        let mut arm = Arm { cfg, theta: vec![0.0; n], x: [0.0; 2] };
+        arm.reset();
+        Ok(arm)
+    }
+
+    pub fn config(&self) -> &ArmConfig {
+        &self.cfg
+    }
+    pub fn n_joints(&self) -> usize {
+        self.theta.len()
+    }
+    pub fn total_length(&self) -> f64 {
+        self.cfg.link_lengths.iter().sum()
+    }
+    pub fn theta(&self) -> &[f64] {
+        &self.theta
+    }
+    pub fn position(&self) -> [f64; 2] {
+        self.x
+    }
+
+    /// Back to the rest pose (all joints at 0: straight along +x). Not a micro-action.
+    pub fn reset(&mut self) {
+        self.theta.iter_mut().for_each(|t| *t = 0.0);
+        self.x = self.forward(&self.theta);
+    }
+
+    /// Put the arm in a given configuration (clipped to the joint limits).
+    pub fn set_theta(&mut self, theta: &[f64]) {
+        let lim = self.cfg.joint_limit;
+        for (t, &v) in self.theta.iter_mut().zip(theta) {
+            *t = v.clamp(-lim, lim);
+        }
+        self.x = self.forward(&self.theta);
+    }
+
+    /// End-effector position for a configuration: x = sum_i l_i (cos phi_i, sin phi_i),
+    /// phi_i = theta_1 + ... + theta_i.
+    pub fn forward(&self, theta: &[f64]) -> [f64; 2] {
+        let mut phi = 0.0;
+        let mut x = [0.0, 0.0];
+        for (l, t) in self.cfg.link_lengths.iter().zip(theta) {
+            phi += t;
+            let (s, c) = phi.sin_cos();
+            x[0] += l * c;
+            x[1] += l * s;
+        }
+        x
+    }
+
+    /// Execute one micro-action. The command is first scaled down (keeping its direction) so no
+    /// joint moves more than `max_joint_step`, then the new angles are clipped to the joint
+    /// limits. Writes the realised joint change into `dtheta` and returns the realised dx.
+    pub fn step(&mut self, dtheta: &mut [f64]) -> [f64; 2] {
+        let max_abs = dtheta.iter().fold(0.0f64, |m, d| m.max(d.abs()));
+        let scale = if max_abs > self.cfg.max_joint_step { self.cfg.max_joint_step / max_abs } else { 1.0 };
+        let lim = self.cfg.joint_limit;
+        for (t, d) in self.theta.iter_mut().zip(dtheta.iter_mut()) {
+            let target = (*t + *d * scale).clamp(-lim, lim);
+            *d = target - *t;
+            *t = target;
+        }
+        let x_new = self.forward(&self.theta);
+        let dx = [x_new[0] - self.x[0], x_new[1] - self.x[1]];
+        self.x = x_new;
+        dx
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::f64::consts::PI;
+
+    fn arm(n: usize) -> Arm {
+        Arm::new(ArmConfig::uniform(n, 50.0, PI, 0.1)).unwrap()
+    }
+
+    #[test]
+    fn rest_pose_is_straight_along_x() {
+        let a = arm(15);
+        let x = a.position();
+        assert!((x[0] - 50.0).abs() < 1e-12 && x[1].abs() < 1e-12);
+    }
+
+    #[test]
+    fn two_link_closed_form() {
+        // Classic 2-link formula: x = l1 cos t1 + l2 cos(t1 + t2).
+        let a = Arm::new(ArmConfig { link_lengths: vec![3.0, 2.0], joint_limit: PI, max_joint_step: 1.0 }).unwrap();
+        for &(t1, t2) in &[(0.3, -1.1), (1.5, 2.0), (-2.5, 0.7)] {
+            let x = a.forward(&[t1, t2]);
+            let ex = [3.0 * f64::cos(t1) + 2.0 * f64::cos(t1 + t2), 3.0 * f64::sin(t1) + 2.0 * f64::sin(t1 + t2)];
+            assert!((x[0] - ex[0]).abs() < 1e-12 && (x[1] - ex[1]).abs() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn uniform_bend_lies_on_a_circle_arc() {
+        // Equal bends of a chain of equal links: the tip is a chord sum with a closed form.
+        let n = 15;
+        let a = arm(n);
+        let alpha = 0.1;
+        let theta = vec![alpha; n];
+        let x = a.forward(&theta);
+        let l = 50.0 / n as f64;
+        let (mut ex, mut ey) = (0.0, 0.0);
+        // sum_{k=1..n} l e^{i k alpha} = l e^{i alpha} (1 - e^{i n alpha}) / (1 - e^{i alpha})
+        let num = (n as f64 * alpha / 2.0).sin() / (alpha / 2.0).sin();
+        let ang = (n as f64 + 1.0) * alpha / 2.0;
+        ex += l * num * ang.cos();
+        ey += l * num * ang.sin();
+        assert!((x[0] - ex).abs() < 1e-9 && (x[1] - ey).abs() < 1e-9, "{x:?} vs {ex},{ey}");
+    }
+
+    #[test]
+    fn step_bounds_and_limits() {
+        let mut a = Arm::new(ArmConfig::uniform(3, 3.0, 0.5, 0.1)).unwrap();
+        let mut d = vec![1.0, 0.05, -0.5];
+        a.step(&mut d);
+        // scaled by 0.1: (0.1, 0.005, -0.05)
+        assert!((d[0] - 0.1).abs() < 1e-15 && (d[1] - 0.005).abs() < 1e-15 && (d[2] + 0.05).abs() < 1e-15);
+        for _ in 0..20 {
+            let mut d = vec![0.1, 0.1, 0.1];
+            a.step(&mut d);
+        }
+        assert!(a.theta().iter().all(|t| (*t - 0.5).abs() < 1e-12));
+        let mut d = vec![0.1, 0.0, 0.0];
+        let dx = a.step(&mut d);
+        assert_eq!(d[0], 0.0);
+        assert_eq!(dx, [0.0, 0.0]);
+    }
+
+    #[test]
+    fn bad_parameters_are_named() {
+        let e = Arm::new(ArmConfig::uniform(3, 3.0, 0.0, 0.1)).unwrap_err();
+        assert_eq!(e.to_string(), "The 'joint_limit' parameter of Arm must be a float in (0, 3.141592653589793]. Got 0 instead.");
+    }
+}

@@ -1,0 +1,103 @@
+//! The full configuration of one run, validated in one place.
+
+use crate::arm::ArmConfig;
+use crate::competence::CompetenceConfig;
+use crate::error::{invalid, Check, Result};
+use crate::evaluation::EvalConfig;
+use crate::exploration_phase::ExplorationConfig;
+use crate::goal_selection::ModeProbabilities;
+use crate::local_model::LocalModelConfig;
+use crate::memory::IndexKind;
+use crate::reaching_controller::ReachingConfig;
+use crate::region_tree::{check_bounds, RegionTreeConfig};
+
+/// The experimental conditions of the paper.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Condition {
+    /// Goals chosen by competence progress over the region tree.
+    SaggRiac,
+    /// Same low level, goals uniform in the goal space.
+    SaggRandom,
+}
+
+impl Condition {
+    pub fn parse(s: &str) -> Result<Self> {
+        match s {
+            "sagg_riac" => Ok(Condition::SaggRiac),
+            "sagg_random" => Ok(Condition::SaggRandom),
+            _ => Err(invalid("Run", "condition", "one of 'sagg_riac', 'sagg_random'", format!("'{s}'"))),
+        }
+    }
+    pub fn name(&self) -> &'static str {
+        match self {
+            Condition::SaggRiac => "sagg_riac",
+            Condition::SaggRandom => "sagg_random",
+        }
+    }
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct RunConfig {
+    pub condition: Condition,
+    pub n_steps: u64,
+    pub arm: ArmConfig,
+    pub goal_low: Vec<f64>,
+    pub goal_high: Vec<f64>,
+    pub reaching: ReachingConfig,
+    pub exploration: ExplorationConfig,
+    pub local: LocalModelConfig,
+    pub competence: CompetenceConfig,
+    pub tree: RegionTreeConfig,
+    pub modes: ModeProbabilities,
+    /// The arm returns to rest every `reset_every` goal attempts (paper: r = 2).
+    pub reset_every: usize,
+    pub eval: EvalConfig,
+    pub index: IndexKind,
+    /// Newest samples added to the warm-start candidates of the neighbour search (0 = cold search).
+    pub warm_start_recent: usize,
+}
+
+impl Default for RunConfig {
+    fn default() -> Self {
+        RunConfig {
+            condition: Condition::SaggRiac,
+            n_steps: 50_000,
+            arm: ArmConfig::uniform(15, 50.0, std::f64::consts::FRAC_PI_2, 0.05),
+            goal_low: vec![0.0, -50.0],
+            goal_high: vec![50.0, 50.0],
+            reaching: ReachingConfig::default(),
+            exploration: ExplorationConfig::default(),
+            local: LocalModelConfig::default(),
+            competence: CompetenceConfig::default(),
+            tree: RegionTreeConfig::default(),
+            modes: ModeProbabilities::default(),
+            reset_every: 2,
+            eval: EvalConfig::default(),
+            index: IndexKind::KdTree,
+            warm_start_recent: 8,
+        }
+    }
+}
+
+impl RunConfig {
+    pub fn validate(&self) -> Result<()> {
+        let c = Check { owner: "Run" };
+        if self.n_steps == 0 {
+            return Err(invalid("Run", "n_steps", "an int >= 1", 0));
+        }
+        self.arm.validate()?;
+        if self.goal_low.len() != 2 {
+            return Err(invalid("Run", "goal_low", "a list of 2 floats for the planar arm", format!("{:?}", self.goal_low)));
+        }
+        check_bounds("Run", &self.goal_low, &self.goal_high)?;
+        self.reaching.validate()?;
+        self.exploration.validate()?;
+        self.local.validate()?;
+        self.competence.validate()?;
+        self.tree.validate()?;
+        self.modes.validate()?;
+        c.at_least("reset_every", self.reset_every, 1)?;
+        self.eval.validate(self.n_steps)?;
+        Ok(())
+    }
+}

@@ -1,0 +1,209 @@
+//! Evaluation (SPEC.md "Evaluation"): reaching error of the learnt inverse model on fixed test
+//! goals, and prediction error of the learnt forward model on fixed test configurations. It reads
+//! the memory and never writes it, and its micro-actions run on a scratch copy of the arm, so
+//! evaluation neither counts as time nor changes what is learnt.
+
+use crate::arm::{Arm, ArmConfig};
+use crate::error::{invalid, Check, Result};
+use crate::local_model::{LocalModel, LocalModelConfig};
+use crate::memory::SensorimotorMemory;
+use crate::neighbours::{Neighbour, WarmStart};
+use crate::reaching_controller::desired_step;
+use crate::rng::{rng_from_seed, uniform};
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct EvalConfig {
+    pub n_test_goals: usize,
+    pub n_test_configs: usize,
+    /// A test reach stops once closer than this to its goal.
+    pub tolerance: f64,
+    /// ... or after this many micro-actions without getting closer.
+    pub patience: usize,
+    /// ... or after ceil(timeout_factor * distance / v) + timeout_min micro-actions.
+    pub timeout_factor: f64,
+    pub timeout_min: usize,
+    /// Time steps after which to evaluate (sorted, each <= n_steps; 0 = before learning).
+    pub schedule: Vec<u64>,
+}
+
+impl Default for EvalConfig {
+    fn default() -> Self {
+        EvalConfig { n_test_goals: 100, n_test_configs: 100, tolerance: 0.01, patience: 10, timeout_factor: 2.0, timeout_min: 20, schedule: vec![] }
+    }
+}
+
+impl EvalConfig {
+    pub fn validate(&self, n_steps: u64) -> Result<()> {
+        let c = Check { owner: "Evaluation" };
+        c.at_least("n_test_goals", self.n_test_goals, 1)?;
+        c.at_least("n_test_configs", self.n_test_configs, 1)?;
+        c.positive("tolerance", self.tolerance)?;
+        c.at_least("patience", self.patience, 1)?;
+        c.non_negative("timeout_factor", self.timeout_factor)?;
+        c.at_least("timeout_min", self.timeout_min, 1)?;
+        if self.schedule.windows(2).any(|w| w[0] >= w[1]) {
+            return Err(invalid("Evaluation", "schedule", "strictly increasing", format!("{:?}", self.schedule)));
+        }
+        if let Some(&last) = self.schedule.last() {
+            if last > n_steps {
+                return Err(invalid("Evaluation", "schedule", format!("a list of steps <= n_steps (n_steps = {n_steps})"), last));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The fixed test sets of one experiment seed, independent of the learner.
+#[derive(Debug, Clone)]
+pub struct TestSet {
+    pub goals: Vec<[f64; 2]>,
+    pub configs: Vec<Vec<f64>>,
+    pub true_x: Vec<[f64; 2]>,
+}
+
+impl TestSet {
+    /// Goals uniform in the reachable part of the goal box (the box intersected with the disk of
+    /// radius = arm length), by rejection; configurations uniform in the joint limits.
+    pub fn new(arm: &ArmConfig, goal_low: &[f64], goal_high: &[f64], n_goals: usize, n_configs: usize, seed: u64) -> Result<Self> {
+        let a = Arm::new(arm.clone())?;
+        let r = a.total_length();
+        let mut rng = rng_from_seed(seed);
+        let mut goals = Vec::with_capacity(n_goals);
+        // Clip the sampling box to the disk's bounding box so rejection stays cheap.
+        let lo = [goal_low[0].max(-r), goal_low[1].max(-r)];
+        let hi = [goal_high[0].min(r), goal_high[1].min(r)];
+        if !(lo[0] < hi[0] && lo[1] < hi[1]) {
+            return Err(invalid("Evaluation", "goal_low/goal_high", format!("a box that meets the reachable disk of radius {r}"), format!("{goal_low:?}..{goal_high:?}")));
+        }
+        let mut tries = 0usize;
+        while goals.len() < n_goals {
+            let g = [uniform(&mut rng, lo[0], hi[0]), uniform(&mut rng, lo[1], hi[1])];
+            tries += 1;
+            if g[0] * g[0] + g[1] * g[1] <= r * r {
+                goals.push(g);
+            } else if tries > 1000 * n_goals {
+                return Err(invalid("Evaluation", "goal_low/goal_high", "a box with a reachable part of non-negligible area", format!("{goal_low:?}..{goal_high:?}")));
+            }
+        }
+        let lim = arm.joint_limit;
+        let n = arm.link_lengths.len();
+        let configs: Vec<Vec<f64>> = (0..n_configs).map(|_| (0..n).map(|_| uniform(&mut rng, -lim, lim)).collect()).collect();
+        let true_x = configs.iter().map(|c| a.forward(c)).collect();
+        Ok(TestSet { goals, configs, true_x })
+    }
+}
+
+/// Errors measured at one evaluation.
+#[derive(Debug, Clone, PartialEq)]
+pub struct EvalResult {
+    pub reach_errors: Vec<f64>,
+    pub pred_errors: Vec<f64>,
+    /// Micro-actions executed by the test reaches (on the scratch arm; not time).
+    pub test_steps: u64,
+}
+
+impl EvalResult {
+    pub fn mean_reach(&self) -> f64 {
+        mean(&self.reach_errors)
+    }
+    pub fn mean_pred(&self) -> f64 {
+        mean(&self.pred_errors)
+    }
+}
+
+fn mean(v: &[f64]) -> f64 {
+    v.iter().sum::<f64>() / v.len().max(1) as f64
+}
+
+pub struct Evaluator {
+    pub cfg: EvalConfig,
+    pub tests: TestSet,
+    arm: Arm,
+    model: LocalModel,
+    warm: WarmStart,
+    neighbours: Vec<Neighbour>,
+    v: f64,
+}
+
+impl Evaluator {
+    pub fn new(cfg: EvalConfig, tests: TestSet, arm: ArmConfig, local: LocalModelConfig, v: f64, warm_recent: usize) -> Result<Self> {
+        let arm = Arm::new(arm)?;
+        let n = arm.n_joints();
+        Ok(Evaluator { cfg, tests, arm, model: LocalModel::new(n, 2, local), warm: WarmStart::new(warm_recent.max(1)), neighbours: Vec::new(), v })
+    }
+
+    /// Evaluate the model held in `memory`.
+    pub fn evaluate(&mut self, memory: &SensorimotorMemory) -> EvalResult {
+        let mut reach_errors = Vec::with_capacity(self.tests.goals.len());
+        let mut test_steps = 0;
+        self.arm.reset();
+        for i in 0..self.tests.goals.len() {
+            // Even tests start from rest, odd ones from where the previous test ended.
+            if i % 2 == 0 {
+                self.arm.reset();
+            }
+            self.warm.clear();
+            let g = self.tests.goals[i];
+            let (err, steps) = self.test_reach(memory, g);
+            reach_errors.push(err);
+            test_steps += steps;
+        }
+        let k = self.model.cfg.k_neighbours;
+        let mut pred_errors = Vec::with_capacity(self.tests.configs.len());
+        let mut xp = [0.0; 2];
+        for (c, xt) in self.tests.configs.iter().zip(&self.tests.true_x) {
+            memory.knn(c, k, &mut self.neighbours);
+            let ok = memory.len() >= k && self.model.fit(memory, &self.neighbours).is_ok();
+            if ok {
+                self.model.predict_x(memory, &self.neighbours, c, &mut xp);
+            } else if let Some(nb) = self.neighbours.first() {
+                // No fit possible: the nearest sample's position is the prediction.
+                xp.copy_from_slice(memory.x(nb.id as usize));
+            } else {
+                xp = [0.0, 0.0];
+            }
+            pred_errors.push(((xp[0] - xt[0]).powi(2) + (xp[1] - xt[1]).powi(2)).sqrt());
+        }
+        EvalResult { reach_errors, pred_errors, test_steps }
+    }
+
+    /// Closed-loop reach with the learnt inverse model only: no exploration, no storing.
+    fn test_reach(&mut self, memory: &SensorimotorMemory, goal: [f64; 2]) -> (f64, u64) {
+        let dist = |x: [f64; 2]| ((goal[0] - x[0]).powi(2) + (goal[1] - x[1]).powi(2)).sqrt();
+        let d0 = dist(self.arm.position());
+        let timeout = (self.cfg.timeout_factor * d0 / self.v).ceil() as usize + self.cfg.timeout_min;
+        let k = self.model.cfg.k_neighbours;
+        let mut best = d0;
+        let mut since_best = 0;
+        let mut steps = 0;
+        let mut dtheta = vec![0.0; self.arm.n_joints()];
+        if memory.len() < k {
+            return (d0, 0);
+        }
+        for _ in 0..timeout {
+            let x = self.arm.position();
+            if dist(x) <= self.cfg.tolerance {
+                break;
+            }
+            let dx = desired_step(&x, &goal, self.v);
+            let theta = self.arm.theta().to_vec();
+            memory.knn_warm(&mut self.warm, &theta, k, &mut self.neighbours);
+            if self.model.fit(memory, &self.neighbours).and_then(|_| self.model.inverse(&dx, &mut dtheta)).is_err() {
+                break;
+            }
+            self.arm.step(&mut dtheta);
+            steps += 1;
+            let d = dist(self.arm.position());
+            if d < best {
+                best = d;
+                since_best = 0;
+            } else {
+                since_best += 1;
+                if since_best >= self.cfg.patience {
+                    break;
+                }
+            }
+        }
+        (dist(self.arm.position()), steps)
+    }
+}

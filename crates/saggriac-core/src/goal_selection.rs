@@ -1,0 +1,254 @@
+//! Goal self-generation (paper II.D.3): which goal to try next. SAGG-RIAC picks goals by
+//! competence progress over the region tree; SAGG-Random picks them uniformly. Both are usable
+//! on their own, ask/tell style: `sample()` a goal, `update(goal, competence)`.
+
+use crate::error::{invalid, Check, Result};
+use crate::region_tree::{check_bounds, RegionTree, RegionTreeConfig};
+use crate::rng::{index, rng_from_seed, uniform, unit, CoreRng};
+
+/// How a goal was chosen.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[repr(u8)]
+pub enum Mode {
+    /// Uniform in the space before the first split.
+    Initial = 0,
+    /// mode(1): a region drawn with probability proportional to interest - min interest (eq. 3).
+    Interest = 1,
+    /// mode(2): uniform in the whole space.
+    Global = 2,
+    /// mode(3): the region of lowest mean competence.
+    LowestCompetence = 3,
+    /// A selector without a high level (SAGG-Random).
+    Random = 4,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct GoalChoice {
+    pub goal: Vec<f64>,
+    pub mode: Mode,
+    /// The leaf the goal was drawn in (modes 1 and 3).
+    pub region: Option<usize>,
+}
+
+/// A goal selector, usable inside the run loop or on its own.
+pub trait GoalSelector: Send {
+    fn dim(&self) -> usize;
+    fn low(&self) -> &[f64];
+    fn high(&self) -> &[f64];
+    fn sample(&mut self) -> GoalChoice;
+    /// Report the competence obtained for a goal (or subgoal) at `point`; returns the region
+    /// that recorded it, if the selector has regions.
+    fn update(&mut self, point: &[f64], competence: f64) -> Option<usize>;
+    fn tree(&self) -> Option<&RegionTree> {
+        None
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ModeProbabilities {
+    pub p_interest: f64,
+    pub p_global: f64,
+    pub p_lowest: f64,
+}
+
+impl Default for ModeProbabilities {
+    fn default() -> Self {
+        ModeProbabilities { p_interest: 0.7, p_global: 0.2, p_lowest: 0.1 }
+    }
+}
+
+impl ModeProbabilities {
+    pub fn validate(&self) -> Result<()> {
+        let c = Check { owner: "SaggRiac" };
+        c.probability("p_interest", self.p_interest)?;
+        c.probability("p_global", self.p_global)?;
+        c.probability("p_lowest", self.p_lowest)?;
+        let s = self.p_interest + self.p_global + self.p_lowest;
+        if (s - 1.0).abs() > 1e-9 {
+            return Err(invalid(
+                "SaggRiac",
+                "p_lowest",
+                format!("such that p_interest + p_global + p_lowest = 1 (p_interest = {}, p_global = {})", self.p_interest, self.p_global),
+                self.p_lowest,
+            ));
+        }
+        Ok(())
+    }
+}
+
+fn uniform_in(rng: &mut CoreRng, low: &[f64], high: &[f64]) -> Vec<f64> {
+    low.iter().zip(high).map(|(l, h)| uniform(rng, *l, *h)).collect()
+}
+
+/// SAGG-RIAC's high level.
+#[derive(Debug, Clone)]
+pub struct SaggRiac {
+    tree: RegionTree,
+    modes: ModeProbabilities,
+    rng: CoreRng,
+}
+
+impl SaggRiac {
+    pub fn new(low: &[f64], high: &[f64], tree: RegionTreeConfig, modes: ModeProbabilities, seed: u64) -> Result<Self> {
+        modes.validate()?;
+        Ok(SaggRiac { tree: RegionTree::new(low, high, tree)?, modes, rng: rng_from_seed(seed) })
+    }
+
+    /// Draw a leaf with probability |interest - min interest| / sum (eq. 3); uniform when all
+    /// interests are equal.
+    fn interest_leaf(&mut self) -> usize {
+        let leaves = self.tree.leaves();
+        let min = leaves.iter().map(|&l| self.tree.region(l).interest).fold(f64::INFINITY, f64::min);
+        let total: f64 = leaves.iter().map(|&l| (self.tree.region(l).interest - min).abs()).sum();
+        if !(total > 0.0 && total.is_finite()) {
+            return leaves[index(&mut self.rng, leaves.len())];
+        }
+        let mut u = unit(&mut self.rng) * total;
+        for &l in leaves {
+            let w = (self.tree.region(l).interest - min).abs();
+            if u < w {
+                return l;
+            }
+            u -= w;
+        }
+        // Rounding left u just above the last weight: take the last leaf with weight.
+        *leaves.iter().rev().find(|&&l| self.tree.region(l).interest > min).unwrap_or(&leaves[leaves.len() - 1])
+    }
+
+    /// The leaf of lowest mean competence among leaves holding measurements.
+    fn lowest_leaf(&self) -> usize {
+        let mut best = (f64::INFINITY, self.tree.leaves()[0]);
+        for &l in self.tree.leaves() {
+            if let Some(m) = self.tree.region(l).mean() {
+                if m < best.0 {
+                    best = (m, l);
+                }
+            }
+        }
+        best.1
+    }
+}
+
+impl GoalSelector for SaggRiac {
+    fn dim(&self) -> usize {
+        self.tree.dim()
+    }
+    fn low(&self) -> &[f64] {
+        self.tree.low()
+    }
+    fn high(&self) -> &[f64] {
+        self.tree.high()
+    }
+    fn sample(&mut self) -> GoalChoice {
+        if self.tree.leaves().len() < 2 {
+            let goal = uniform_in(&mut self.rng, self.tree.low(), self.tree.high());
+            return GoalChoice { goal, mode: Mode::Initial, region: None };
+        }
+        let u = unit(&mut self.rng);
+        let (mode, leaf) = if u < self.modes.p_interest {
+            (Mode::Interest, Some(self.interest_leaf()))
+        } else if u < self.modes.p_interest + self.modes.p_global {
+            (Mode::Global, None)
+        } else {
+            (Mode::LowestCompetence, Some(self.lowest_leaf()))
+        };
+        let goal = match leaf {
+            Some(l) => {
+                let r = self.tree.region(l);
+                let (lo, hi) = (r.low.clone(), r.high.clone());
+                uniform_in(&mut self.rng, &lo, &hi)
+            }
+            None => uniform_in(&mut self.rng, self.tree.low(), self.tree.high()),
+        };
+        GoalChoice { goal, mode, region: leaf }
+    }
+    fn update(&mut self, point: &[f64], competence: f64) -> Option<usize> {
+        Some(self.tree.add(point, competence).0)
+    }
+    fn tree(&self) -> Option<&RegionTree> {
+        Some(&self.tree)
+    }
+}
+
+/// Goals uniform in the box, no high level (SAGG-Random).
+#[derive(Debug, Clone)]
+pub struct RandomGoals {
+    low: Vec<f64>,
+    high: Vec<f64>,
+    rng: CoreRng,
+}
+
+impl RandomGoals {
+    pub fn new(low: &[f64], high: &[f64], seed: u64) -> Result<Self> {
+        check_bounds("RandomGoals", low, high)?;
+        Ok(RandomGoals { low: low.to_vec(), high: high.to_vec(), rng: rng_from_seed(seed) })
+    }
+}
+
+impl GoalSelector for RandomGoals {
+    fn dim(&self) -> usize {
+        self.low.len()
+    }
+    fn low(&self) -> &[f64] {
+        &self.low
+    }
+    fn high(&self) -> &[f64] {
+        &self.high
+    }
+    fn sample(&mut self) -> GoalChoice {
+        GoalChoice { goal: uniform_in(&mut self.rng, &self.low, &self.high), mode: Mode::Random, region: None }
+    }
+    fn update(&mut self, _point: &[f64], _competence: f64) -> Option<usize> {
+        None
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Competence on a toy task: the left quarter of [0,1]^2 improves with practice, the rest is
+    /// hopeless (always min_C). SAGG-RIAC must concentrate its goals where progress is.
+    #[test]
+    fn concentrates_on_the_learnable_region() {
+        let mut s = SaggRiac::new(&[0.0, 0.0], &[1.0, 1.0], RegionTreeConfig::default(), ModeProbabilities::default(), 7).unwrap();
+        let mut practice = 0.0;
+        let mut inside = 0;
+        let n = 4000;
+        for i in 0..n {
+            let g = s.sample();
+            let c = if g.goal[0] < 0.25 {
+                practice += 1.0;
+                // noisy progress: competence rises with practice
+                -1.0 / (1.0 + 0.02 * practice) * (0.8 + 0.4 * ((i * 7919) % 100) as f64 / 100.0)
+            } else {
+                -1.0
+            };
+            s.update(&g.goal, c.max(-1.0));
+            if i >= n / 2 && g.goal[0] < 0.25 {
+                inside += 1;
+            }
+        }
+        let share = inside as f64 / (n / 2) as f64;
+        assert!(share > 0.5, "share of goals in the learnable quarter: {share}");
+    }
+
+    #[test]
+    fn same_seed_same_goals() {
+        let mk = || SaggRiac::new(&[0.0], &[1.0], RegionTreeConfig { g_max: 10, zeta: 4, min_child: 2 }, ModeProbabilities::default(), 3).unwrap();
+        let (mut a, mut b) = (mk(), mk());
+        for i in 0..500 {
+            let (ga, gb) = (a.sample(), b.sample());
+            assert_eq!(ga, gb);
+            let c = -((i % 7) as f64) / 7.0 * ga.goal[0];
+            a.update(&ga.goal, c);
+            b.update(&gb.goal, c);
+        }
+    }
+
+    #[test]
+    fn probabilities_must_sum_to_one() {
+        let e = ModeProbabilities { p_interest: 0.7, p_global: 0.2, p_lowest: 0.2 }.validate().unwrap_err();
+        assert!(e.to_string().contains("p_interest + p_global + p_lowest = 1"), "{e}");
+    }
+}

@@ -1,0 +1,253 @@
+//! Local linear models learnt from nearest neighbours (paper III.B): the Jacobian J around theta
+//! by ridge-regularised least squares dx ~ J dtheta, its Moore-Penrose pseudo-inverse by SVD for
+//! the inverse model (eq. 6), and a forward prediction of x(theta) for the evaluation.
+
+use nalgebra::{DMatrix, DVector};
+
+use crate::error::{Check, Result};
+use crate::memory::SensorimotorMemory;
+use crate::neighbours::Neighbour;
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct LocalModelConfig {
+    /// Neighbours used for each local fit.
+    pub k_neighbours: usize,
+    /// Ridge strength relative to the mean diagonal of the Gram matrix of dtheta.
+    pub ridge: f64,
+    /// Singular values below `pinv_rcond * sigma_max` are treated as zero in J+.
+    pub pinv_rcond: f64,
+    /// Width of the Gaussian weights, in units of the median neighbour's squared distance
+    /// (0 = unweighted least squares).
+    pub bandwidth: f64,
+}
+
+impl Default for LocalModelConfig {
+    fn default() -> Self {
+        LocalModelConfig { k_neighbours: 45, ridge: 1e-3, pinv_rcond: 1e-2, bandwidth: 1.0 }
+    }
+}
+
+impl LocalModelConfig {
+    pub fn validate(&self) -> Result<()> {
+        let c = Check { owner: "LocalModel" };
+        c.at_least("k_neighbours", self.k_neighbours, 1)?;
+        c.positive("ridge", self.ridge)?;
+        c.in_open_closed("pinv_rcond", self.pinv_rcond, 0.0, 1.0)?;
+        c.non_negative("bandwidth", self.bandwidth)?;
+        Ok(())
+    }
+}
+
+/// Why a local fit could not be used. The controller answers by exploring, never by moving
+/// with a NaN command.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FitFailure {
+    /// Fewer stored samples than `k_neighbours`.
+    NotEnoughData,
+    /// The neighbours carry no joint motion, or the fit is not finite.
+    Degenerate,
+}
+
+/// Workspace for local fits; reused across calls so the hot loop does not allocate matrices.
+pub struct LocalModel {
+    pub cfg: LocalModelConfig,
+    n: usize,
+    m: usize,
+    gram: DMatrix<f64>,
+    rhs: DMatrix<f64>,
+    /// The current Jacobian estimate (m x n).
+    jac: DMatrix<f64>,
+}
+
+impl LocalModel {
+    pub fn new(n: usize, m: usize, cfg: LocalModelConfig) -> Self {
+        LocalModel { cfg, n, m, gram: DMatrix::zeros(n, n), rhs: DMatrix::zeros(n, m), jac: DMatrix::zeros(m, n) }
+    }
+
+    pub fn jacobian(&self) -> &DMatrix<f64> {
+        &self.jac
+    }
+
+    /// Fit J on the given neighbours: J = argmin sum |dx_i - J dtheta_i|^2 + lambda |J|_F^2.
+    pub fn fit(&mut self, mem: &SensorimotorMemory, neighbours: &[Neighbour]) -> std::result::Result<(), FitFailure> {
+        if neighbours.len() < self.cfg.k_neighbours.min(mem.len()).max(1) || mem.len() < self.cfg.k_neighbours {
+            return Err(FitFailure::NotEnoughData);
+        }
+        let (n, m) = (self.n, self.m);
+        self.gram.fill(0.0);
+        self.rhs.fill(0.0);
+        // Gaussian weights with a bandwidth set by the median neighbour: the Jacobian changes
+        // across the neighbourhood, so the closest samples should dominate.
+        let h2 = neighbours[neighbours.len() / 2].dist_sq.max(1e-300) * self.cfg.bandwidth;
+        for nb in neighbours {
+            let w = if self.cfg.bandwidth > 0.0 { (-nb.dist_sq / h2).exp() } else { 1.0 };
+            let dth = mem.dtheta(nb.id as usize);
+            let dx = mem.dx(nb.id as usize);
+            for a in 0..n {
+                let da = w * dth[a];
+                if da == 0.0 {
+                    continue;
+                }
+                for b in a..n {
+                    self.gram[(a, b)] += da * dth[b];
+                }
+                for j in 0..m {
+                    self.rhs[(a, j)] += da * dx[j];
+                }
+            }
+        }
+        let mut trace = 0.0;
+        for a in 0..n {
+            trace += self.gram[(a, a)];
+            for b in 0..a {
+                self.gram[(a, b)] = self.gram[(b, a)];
+            }
+        }
+        if !(trace.is_finite() && trace > 0.0) {
+            return Err(FitFailure::Degenerate);
+        }
+        let lambda = self.cfg.ridge * trace / n as f64;
+        for a in 0..n {
+            self.gram[(a, a)] += lambda;
+        }
+        let chol = self.gram.clone().cholesky().ok_or(FitFailure::Degenerate)?;
+        let jt = chol.solve(&self.rhs);
+        if !jt.iter().all(|v| v.is_finite()) {
+            return Err(FitFailure::Degenerate);
+        }
+        self.jac.copy_from(&jt.transpose());
+        Ok(())
+    }
+
+    /// dtheta = J+ dx with the SVD pseudo-inverse of the fitted J.
+    pub fn inverse(&self, dx: &[f64], dtheta: &mut [f64]) -> std::result::Result<(), FitFailure> {
+        pinv_apply(&self.jac, dx, self.cfg.pinv_rcond, dtheta)
+    }
+
+    /// Forward prediction of x(theta): x_mean + J d, with x_mean and theta_mean the neighbours'
+    /// centroid and d = theta - theta_mean shortened to the neighbourhood's radius. Inside the
+    /// data this is the local linear model; far outside it, a first-order expansion is
+    /// meaningless, so it extrapolates no further than the data extends.
+    pub fn predict_x(&self, mem: &SensorimotorMemory, neighbours: &[Neighbour], theta: &[f64], out: &mut [f64]) {
+        let k = neighbours.len().max(1) as f64;
+        let mut centre = vec![0.0; self.n];
+        out.iter_mut().for_each(|v| *v = 0.0);
+        for nb in neighbours {
+            for (c, t) in centre.iter_mut().zip(mem.theta(nb.id as usize)) {
+                *c += t / k;
+            }
+            for (o, x) in out.iter_mut().zip(mem.x(nb.id as usize)) {
+                *o += x / k;
+            }
+        }
+        let radius = neighbours.iter().map(|nb| crate::neighbours::dist_sq(mem.theta(nb.id as usize), &centre)).fold(0.0, f64::max).sqrt();
+        let mut d: Vec<f64> = theta.iter().zip(&centre).map(|(t, c)| t - c).collect();
+        let norm = d.iter().map(|v| v * v).sum::<f64>().sqrt();
+        if norm > radius && norm > 0.0 {
+            d.iter_mut().for_each(|v| *v *= radius / norm);
+        }
+        for (j, o) in out.iter_mut().enumerate() {
+            *o += (0..self.n).map(|a| self.jac[(j, a)] * d[a]).sum::<f64>();
+        }
+    }
+}
+
+/// Apply the Moore-Penrose pseudo-inverse of `j` (m x n) to `dx`, dropping singular values below
+/// `rcond * sigma_max`. Fails on a zero or non-finite matrix.
+pub fn pinv_apply(j: &DMatrix<f64>, dx: &[f64], rcond: f64, dtheta: &mut [f64]) -> std::result::Result<(), FitFailure> {
+    let svd = j.clone().svd(true, true);
+    let smax = svd.singular_values.iter().cloned().fold(0.0f64, f64::max);
+    if !(smax.is_finite() && smax > 0.0) {
+        return Err(FitFailure::Degenerate);
+    }
+    let pinv = svd.pseudo_inverse(rcond * smax).map_err(|_| FitFailure::Degenerate)?;
+    let r = pinv * DVector::from_column_slice(dx);
+    if !r.iter().all(|v| v.is_finite()) {
+        return Err(FitFailure::Degenerate);
+    }
+    dtheta.copy_from_slice(r.as_slice());
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::memory::IndexKind;
+    use crate::rng::{rng_from_seed, uniform};
+
+    fn random_matrix(m: usize, n: usize, seed: u64) -> DMatrix<f64> {
+        let mut r = rng_from_seed(seed);
+        DMatrix::from_fn(m, n, |_, _| uniform(&mut r, -1.0, 1.0))
+    }
+
+    fn pinv(j: &DMatrix<f64>) -> DMatrix<f64> {
+        let mut p = DMatrix::zeros(j.ncols(), j.nrows());
+        for c in 0..j.nrows() {
+            let mut e = vec![0.0; j.nrows()];
+            e[c] = 1.0;
+            let mut col = vec![0.0; j.ncols()];
+            pinv_apply(j, &e, 1e-12, &mut col).unwrap();
+            p.set_column(c, &DVector::from_vec(col));
+        }
+        p
+    }
+
+    #[test]
+    fn penrose_identities() {
+        for (seed, (m, n)) in [(2, 15), (3, 7), (2, 2)].iter().enumerate() {
+            let j = random_matrix(*m, *n, seed as u64);
+            let p = pinv(&j);
+            assert!((&j * &p * &j - &j).norm() < 1e-10);
+            assert!((&p * &j * &p - &p).norm() < 1e-10);
+            assert!(((&j * &p).transpose() - &j * &p).norm() < 1e-10);
+            assert!(((&p * &j).transpose() - &p * &j).norm() < 1e-10);
+        }
+    }
+
+    #[test]
+    fn rank_deficient_jacobian_is_handled() {
+        // A straight arm: every joint moves the tip along y only, J has rank 1.
+        let j = DMatrix::from_row_slice(2, 3, &[0.0, 0.0, 0.0, 3.0, 2.0, 1.0]);
+        let mut d = vec![0.0; 3];
+        pinv_apply(&j, &[1.0, 1.0], 1e-6, &mut d).unwrap();
+        let dx = &j * DVector::from_column_slice(&d);
+        assert!((dx[0]).abs() < 1e-12 && (dx[1] - 1.0).abs() < 1e-12);
+        let zero = DMatrix::zeros(2, 3);
+        assert_eq!(pinv_apply(&zero, &[1.0, 0.0], 1e-6, &mut d), Err(FitFailure::Degenerate));
+    }
+
+    #[test]
+    fn fit_recovers_a_linear_map() {
+        let (n, m) = (6, 2);
+        let truth = random_matrix(m, n, 9);
+        let mut mem = SensorimotorMemory::new(n, m, IndexKind::BruteForce);
+        let mut r = rng_from_seed(1);
+        for _ in 0..40 {
+            let th: Vec<f64> = (0..n).map(|_| uniform(&mut r, -0.1, 0.1)).collect();
+            let d: Vec<f64> = (0..n).map(|_| uniform(&mut r, -0.01, 0.01)).collect();
+            let dx = &truth * DVector::from_vec(d.clone());
+            mem.add(&th, &d, dx.as_slice(), &[0.0, 0.0]);
+        }
+        let mut lm = LocalModel::new(n, m, LocalModelConfig { k_neighbours: 30, ridge: 1e-9, pinv_rcond: 1e-6, bandwidth: 0.0 });
+        let mut nb = Vec::new();
+        mem.knn(&vec![0.0; n], 30, &mut nb);
+        lm.fit(&mem, &nb).unwrap();
+        assert!((lm.jacobian() - &truth).norm() < 1e-5);
+    }
+
+    #[test]
+    fn degenerate_data_is_refused() {
+        let mut mem = SensorimotorMemory::new(3, 2, IndexKind::BruteForce);
+        for _ in 0..5 {
+            mem.add(&[0.0; 3], &[0.0; 3], &[0.0; 2], &[0.0; 2]);
+        }
+        let mut lm = LocalModel::new(3, 2, LocalModelConfig { k_neighbours: 5, ridge: 1e-3, pinv_rcond: 1e-2, bandwidth: 1.0 });
+        let mut nb = Vec::new();
+        mem.knn(&[0.0; 3], 5, &mut nb);
+        assert_eq!(lm.fit(&mem, &nb), Err(FitFailure::Degenerate));
+        let mut small = LocalModel::new(3, 2, LocalModelConfig { k_neighbours: 10, ridge: 1e-3, pinv_rcond: 1e-2, bandwidth: 1.0 });
+        assert_eq!(small.fit(&mem, &nb), Err(FitFailure::NotEnoughData));
+        assert!(!mem.add(&[f64::NAN; 3], &[0.0; 3], &[0.0; 2], &[0.0; 2]));
+        assert_eq!((mem.len(), mem.rejected()), (5, 1));
+    }
+}

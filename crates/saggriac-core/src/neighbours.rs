@@ -1,0 +1,291 @@
+//! Exact k-nearest-neighbour search over stored joint configurations, behind our own trait so
+//! the index can change without touching the learner. Ties are broken by insertion id so that
+//! every implementation returns the same answer as the brute-force reference.
+
+use kdtree::KdTree;
+
+/// One neighbour: the id of the stored point (its insertion order) and its squared distance.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Neighbour {
+    pub id: u32,
+    pub dist_sq: f64,
+}
+
+#[inline]
+fn order(a: &Neighbour, b: &Neighbour) -> std::cmp::Ordering {
+    a.dist_sq.total_cmp(&b.dist_sq).then(a.id.cmp(&b.id))
+}
+
+/// Squared Euclidean distance; every index uses this one function so that a radius computed
+/// outside the index compares bit for bit with the distances inside it.
+#[inline]
+pub fn dist_sq(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| (x - y) * (x - y)).sum()
+}
+
+/// An incremental, exact neighbour index. Points get ids 0, 1, 2, ... in insertion order.
+pub trait NeighbourIndex: Send {
+    fn dim(&self) -> usize;
+    fn len(&self) -> usize;
+    fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+    fn add(&mut self, point: &[f64]);
+    /// The k nearest points to `query` with squared distance <= `radius_sq`, sorted by
+    /// (distance, id). Fewer than k come back only when fewer lie within the radius.
+    fn knn_within(&self, query: &[f64], k: usize, radius_sq: f64, out: &mut Vec<Neighbour>);
+    /// The k nearest points, sorted by (distance, id).
+    fn knn(&self, query: &[f64], k: usize, out: &mut Vec<Neighbour>) {
+        self.knn_within(query, k, f64::INFINITY, out)
+    }
+}
+
+/// Full scan: the reference every other index is tested against, and the fastest choice for a
+/// few hundred points.
+#[derive(Debug, Clone)]
+pub struct BruteForce {
+    dim: usize,
+    data: Vec<f64>,
+}
+
+impl BruteForce {
+    pub fn new(dim: usize) -> Self {
+        BruteForce { dim, data: Vec::new() }
+    }
+}
+
+impl NeighbourIndex for BruteForce {
+    fn dim(&self) -> usize {
+        self.dim
+    }
+    fn len(&self) -> usize {
+        self.data.len() / self.dim.max(1)
+    }
+    fn add(&mut self, point: &[f64]) {
+        debug_assert_eq!(point.len(), self.dim);
+        self.data.extend_from_slice(point);
+    }
+    fn knn_within(&self, query: &[f64], k: usize, radius_sq: f64, out: &mut Vec<Neighbour>) {
+        out.clear();
+        if k == 0 {
+            return;
+        }
+        for (i, p) in self.data.chunks_exact(self.dim).enumerate() {
+            let d = dist_sq(query, p);
+            if d <= radius_sq {
+                out.push(Neighbour { id: i as u32, dist_sq: d });
+            }
+        }
+        if out.len() > k {
+            out.select_nth_unstable_by(k - 1, order);
+            out.truncate(k);
+        }
+        out.sort_unstable_by(order);
+    }
+}
+
+/// Exact k-d tree from the `kdtree` crate (runtime dimension, incremental insertion, copes with
+/// the many identical rest poses).
+pub struct KdTreeIndex {
+    dim: usize,
+    tree: KdTree<f64, u32, Box<[f64]>>,
+}
+
+impl KdTreeIndex {
+    pub fn new(dim: usize) -> Self {
+        KdTreeIndex { dim, tree: KdTree::with_capacity(dim, 32) }
+    }
+}
+
+impl NeighbourIndex for KdTreeIndex {
+    fn dim(&self) -> usize {
+        self.dim
+    }
+    fn len(&self) -> usize {
+        self.tree.size()
+    }
+    fn add(&mut self, point: &[f64]) {
+        let id = self.tree.size() as u32;
+        // Only non-finite coordinates or a wrong dimension can fail; the memory rejects both first.
+        self.tree.add(point.to_vec().into_boxed_slice(), id).expect("finite point of the right dimension");
+    }
+    fn knn_within(&self, query: &[f64], k: usize, radius_sq: f64, out: &mut Vec<Neighbour>) {
+        out.clear();
+        if k == 0 || self.tree.size() == 0 {
+            return;
+        }
+        let radius = if radius_sq.is_finite() { Some(radius_sq) } else { None };
+        let dist = |a: &[f64], b: &[f64]| dist_sq(a, b);
+        // Ask for one more than needed: if the extra one is strictly farther, the k-th distance
+        // has no tie outside the answer and the crate's arbitrary tie order cannot matter.
+        let found = self.tree.nearest_within_radius(query, k + 1, radius, &dist).expect("query of the right dimension");
+        out.extend(found.iter().map(|(d, &id)| Neighbour { id, dist_sq: *d }));
+        if out.len() <= k {
+            out.sort_unstable_by(order);
+            return;
+        }
+        let kth = out[k - 1].dist_sq;
+        if out[k].dist_sq > kth {
+            out.truncate(k);
+            out.sort_unstable_by(order);
+            return;
+        }
+        // A tie straddles the cut: gather every point at exactly the k-th distance and keep the
+        // lowest ids, as the brute-force reference does.
+        out.retain(|n| n.dist_sq < kth);
+        let mut scratch = Vec::new();
+        let ties = self.tree.within(query, kth, &dist).expect("query of the right dimension");
+        scratch.extend(ties.into_iter().filter(|(d, _)| *d == kth).map(|(d, &id)| Neighbour { id, dist_sq: d }));
+        scratch.sort_unstable_by(order);
+        let need = k - out.len();
+        out.extend(scratch.iter().take(need).copied());
+        out.sort_unstable_by(order);
+    }
+}
+
+/// Warm-started exact search. Between two micro-actions the query barely moves, so the previous
+/// neighbours and the newest samples are already close: the k-th smallest of their distances to
+/// the new query bounds the true k-th distance, and a radius-bounded tree search with that
+/// bound prunes almost everything while staying exact.
+#[derive(Debug, Clone, Default)]
+pub struct WarmStart {
+    previous: Vec<u32>,
+    candidates: Vec<f64>,
+    /// How many of the newest samples join the candidates.
+    pub recent: usize,
+}
+
+impl WarmStart {
+    pub fn new(recent: usize) -> Self {
+        WarmStart { previous: Vec::new(), candidates: Vec::new(), recent }
+    }
+
+    /// Forget the previous neighbours (after a jump such as a reset to rest).
+    pub fn clear(&mut self) {
+        self.previous.clear();
+    }
+
+    /// The exact k nearest neighbours of `query` among the points of `index`, whose coordinates
+    /// are also stored row by row in `points` (id i at `points[i*dim..(i+1)*dim]`).
+    pub fn knn(&mut self, index: &dyn NeighbourIndex, points: &[f64], query: &[f64], k: usize, out: &mut Vec<Neighbour>) {
+        let dim = index.dim();
+        let n = index.len();
+        self.candidates.clear();
+        let first_recent = n.saturating_sub(self.recent);
+        for &id in &self.previous {
+            let id = id as usize;
+            // Recent ids are added below; skipping them here keeps candidates distinct.
+            if id < first_recent {
+                self.candidates.push(dist_sq(query, &points[id * dim..(id + 1) * dim]));
+            }
+        }
+        for id in first_recent..n {
+            self.candidates.push(dist_sq(query, &points[id * dim..(id + 1) * dim]));
+        }
+        let radius = if k > 0 && self.candidates.len() >= k {
+            let (_, kth, _) = self.candidates.select_nth_unstable_by(k - 1, |a, b| a.total_cmp(b));
+            *kth
+        } else {
+            f64::INFINITY
+        };
+        index.knn_within(query, k, radius, out);
+        if out.len() < k.min(n) {
+            // Cannot happen with distinct candidates; kept as a guard so the answer stays exact.
+            index.knn(query, k, out);
+        }
+        self.previous.clear();
+        self.previous.extend(out.iter().map(|nb| nb.id));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::rng::{rng_from_seed, uniform};
+
+    fn random_points(n: usize, dim: usize, seed: u64) -> Vec<f64> {
+        let mut r = rng_from_seed(seed);
+        (0..n * dim).map(|_| uniform(&mut r, -1.0, 1.0)).collect()
+    }
+
+    fn check_against_brute(points: &[f64], dim: usize, queries: &[f64], k: usize) {
+        let mut bf = BruteForce::new(dim);
+        let mut kd = KdTreeIndex::new(dim);
+        for p in points.chunks_exact(dim) {
+            bf.add(p);
+            kd.add(p);
+        }
+        let (mut a, mut b) = (Vec::new(), Vec::new());
+        for q in queries.chunks_exact(dim) {
+            bf.knn(q, k, &mut a);
+            kd.knn(q, k, &mut b);
+            assert_eq!(a, b);
+        }
+    }
+
+    #[test]
+    fn kdtree_matches_brute_force_random() {
+        let dim = 15;
+        let pts = random_points(3000, dim, 1);
+        let qs = random_points(50, dim, 2);
+        check_against_brute(&pts, dim, &qs, 30);
+    }
+
+    #[test]
+    fn kdtree_matches_brute_force_with_duplicates() {
+        // Many identical rest poses plus a trajectory leaving them, like the arm's data.
+        let dim = 15;
+        let mut pts = vec![0.0; 500 * dim];
+        let mut r = rng_from_seed(3);
+        let mut theta = vec![0.0; dim];
+        for _ in 0..2000 {
+            for t in theta.iter_mut() {
+                *t += uniform(&mut r, -0.01, 0.01);
+            }
+            pts.extend_from_slice(&theta);
+        }
+        pts.extend(vec![0.0; 300 * dim]);
+        let mut qs = vec![0.0; dim];
+        qs.extend_from_slice(&pts[700 * dim..701 * dim]);
+        qs.extend(random_points(10, dim, 4).iter().map(|v| v * 0.05));
+        check_against_brute(&pts, dim, &qs, 45);
+    }
+
+    #[test]
+    fn warm_start_is_exact_along_a_trajectory() {
+        let dim = 15;
+        let mut bf = BruteForce::new(dim);
+        let mut kd = KdTreeIndex::new(dim);
+        let mut pts = Vec::new();
+        let mut r = rng_from_seed(5);
+        let mut theta = vec![0.0; dim];
+        let mut ws = WarmStart::new(8);
+        let (mut a, mut b) = (Vec::new(), Vec::new());
+        for step in 0..4000 {
+            if step % 300 == 0 {
+                theta.iter_mut().for_each(|t| *t = 0.0);
+            }
+            for t in theta.iter_mut() {
+                *t += uniform(&mut r, -0.02, 0.02);
+            }
+            if step > 40 {
+                bf.knn(&theta, 20, &mut a);
+                ws.knn(&kd, &pts, &theta, 20, &mut b);
+                assert_eq!(a, b, "step {step}");
+            }
+            bf.add(&theta);
+            kd.add(&theta);
+            pts.extend_from_slice(&theta);
+        }
+    }
+
+    #[test]
+    fn fewer_points_than_k() {
+        let mut kd = KdTreeIndex::new(2);
+        kd.add(&[0.0, 0.0]);
+        kd.add(&[1.0, 0.0]);
+        let mut out = Vec::new();
+        kd.knn(&[0.9, 0.0], 5, &mut out);
+        assert_eq!(out.iter().map(|n| n.id).collect::<Vec<_>>(), vec![1, 0]);
+    }
+}

@@ -1,0 +1,390 @@
+//! The region tree of R-IAC / SAGG-RIAC (paper II.D.3): a box that is split recursively; each
+//! leaf keeps the values (competences) measured in it in time order, and its interest (eq. 2).
+//! Works in any dimension: the goal space S' for SAGG-RIAC, (theta, dtheta) for ACTUATOR-RIAC.
+
+use crate::error::{invalid, Check, Result};
+use crate::interest::interest;
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RegionTreeConfig {
+    /// A leaf holding more than g_max measurements is split.
+    pub g_max: usize,
+    /// Interest window (eq. 2).
+    pub zeta: usize,
+    /// Fewest measurements each child of a split must receive.
+    pub min_child: usize,
+}
+
+impl Default for RegionTreeConfig {
+    fn default() -> Self {
+        RegionTreeConfig { g_max: 50, zeta: 20, min_child: 5 }
+    }
+}
+
+impl RegionTreeConfig {
+    pub fn validate(&self) -> Result<()> {
+        let c = Check { owner: "RegionTree" };
+        c.at_least("g_max", self.g_max, 2)?;
+        c.at_least("zeta", self.zeta, 2)?;
+        c.at_least("min_child", self.min_child, 1)?;
+        if 2 * self.min_child > self.g_max + 1 {
+            return Err(invalid(
+                "RegionTree",
+                "min_child",
+                format!("an int with 2 * min_child <= g_max + 1 (g_max = {})", self.g_max),
+                self.min_child,
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// One node of the tree. Leaves hold measurements; inner nodes keep their split.
+#[derive(Debug, Clone)]
+pub struct Region {
+    pub low: Vec<f64>,
+    pub high: Vec<f64>,
+    pub parent: Option<usize>,
+    pub children: Option<[usize; 2]>,
+    pub split_dim: usize,
+    pub split_value: f64,
+    /// Ids of the measurements in this leaf, in time order (empty once split).
+    pub entries: Vec<u32>,
+    pub interest: f64,
+    sum: f64,
+    /// Number of measurements the whole tree held when this region was created.
+    pub created_at: u64,
+    pub depth: u32,
+}
+
+impl Region {
+    pub fn is_leaf(&self) -> bool {
+        self.children.is_none()
+    }
+    /// Mean value of its measurements (eq. 1), None when empty.
+    pub fn mean(&self) -> Option<f64> {
+        if self.entries.is_empty() {
+            None
+        } else {
+            Some(self.sum / self.entries.len() as f64)
+        }
+    }
+}
+
+#[derive(Debug, Clone)]
+pub struct RegionTree {
+    cfg: RegionTreeConfig,
+    dim: usize,
+    regions: Vec<Region>,
+    leaves: Vec<usize>,
+    points: Vec<f64>,
+    values: Vec<f64>,
+}
+
+impl RegionTree {
+    pub fn new(low: &[f64], high: &[f64], cfg: RegionTreeConfig) -> Result<Self> {
+        cfg.validate()?;
+        check_bounds("RegionTree", low, high)?;
+        let root = Region {
+            low: low.to_vec(),
+            high: high.to_vec(),
+            parent: None,
+            children: None,
+            split_dim: 0,
+            split_value: f64::NAN,
+            entries: Vec::new(),
+            interest: 0.0,
+            sum: 0.0,
+            created_at: 0,
+            depth: 0,
+        };
+        Ok(RegionTree { cfg, dim: low.len(), regions: vec![root], leaves: vec![0], points: Vec::new(), values: Vec::new() })
+    }
+
+    pub fn config(&self) -> &RegionTreeConfig {
+        &self.cfg
+    }
+    pub fn dim(&self) -> usize {
+        self.dim
+    }
+    pub fn regions(&self) -> &[Region] {
+        &self.regions
+    }
+    pub fn region(&self, i: usize) -> &Region {
+        &self.regions[i]
+    }
+    /// Leaf ids, in creation order.
+    pub fn leaves(&self) -> &[usize] {
+        &self.leaves
+    }
+    pub fn n_measurements(&self) -> usize {
+        self.values.len()
+    }
+    pub fn point(&self, id: usize) -> &[f64] {
+        &self.points[id * self.dim..(id + 1) * self.dim]
+    }
+    pub fn value(&self, id: usize) -> f64 {
+        self.values[id]
+    }
+    pub fn low(&self) -> &[f64] {
+        &self.regions[0].low
+    }
+    pub fn high(&self) -> &[f64] {
+        &self.regions[0].high
+    }
+
+    /// The leaf containing `p` (coordinates outside the root box are clamped into it).
+    pub fn leaf_of(&self, p: &[f64]) -> usize {
+        let mut i = 0;
+        while let Some([l, r]) = self.regions[i].children {
+            let reg = &self.regions[i];
+            i = if p[reg.split_dim] < reg.split_value { l } else { r };
+        }
+        i
+    }
+
+    /// Record a measurement at `p`; returns the leaf it went to (before any split) and whether
+    /// that leaf was split.
+    pub fn add(&mut self, p: &[f64], value: f64) -> (usize, bool) {
+        let root = &self.regions[0];
+        let clamped: Vec<f64> = p.iter().zip(root.low.iter().zip(&root.high)).map(|(v, (lo, hi))| v.clamp(*lo, *hi)).collect();
+        let id = self.values.len() as u32;
+        self.points.extend_from_slice(&clamped);
+        self.values.push(value);
+        let leaf = self.leaf_of(&clamped);
+        let zeta = self.cfg.zeta;
+        {
+            let reg = &mut self.regions[leaf];
+            reg.entries.push(id);
+            reg.sum += value;
+        }
+        self.refresh_interest(leaf, zeta);
+        let split = self.regions[leaf].entries.len() > self.cfg.g_max;
+        if split {
+            self.split(leaf);
+        }
+        (leaf, split)
+    }
+
+    fn refresh_interest(&mut self, leaf: usize, zeta: usize) {
+        let reg = &self.regions[leaf];
+        let start = reg.entries.len().saturating_sub(zeta);
+        let window: Vec<f64> = reg.entries[start..].iter().map(|&e| self.values[e as usize]).collect();
+        self.regions[leaf].interest = interest(&window, zeta);
+    }
+
+    fn interest_of(&self, ids: &[u32]) -> f64 {
+        let start = ids.len().saturating_sub(self.cfg.zeta);
+        let window: Vec<f64> = ids[start..].iter().map(|&e| self.values[e as usize]).collect();
+        interest(&window, self.cfg.zeta)
+    }
+
+    /// Choose the cut (dimension, position) that maximises |interest(left) - interest(right)|
+    /// over the midpoints between consecutive distinct coordinates of the leaf's measurements,
+    /// each child receiving at least `min_child` of them. Ties go to the most balanced cut.
+    pub fn best_cut(&self, leaf: usize) -> Option<(usize, f64, f64)> {
+        let entries = &self.regions[leaf].entries;
+        let n = entries.len();
+        let mut best: Option<(f64, usize, usize, f64)> = None; // (score, imbalance, dim, value)
+        let mut order: Vec<u32> = entries.clone();
+        let mut left: Vec<u32> = Vec::with_capacity(n);
+        let mut right: Vec<u32> = Vec::with_capacity(n);
+        for d in 0..self.dim {
+            let coord = |e: u32| self.points[e as usize * self.dim + d];
+            order.sort_by(|a, b| coord(*a).total_cmp(&coord(*b)).then(a.cmp(b)));
+            for i in self.cfg.min_child.max(1)..=(n - self.cfg.min_child.max(1)) {
+                let (a, b) = (coord(order[i - 1]), coord(order[i]));
+                if a == b {
+                    continue;
+                }
+                let cut = 0.5 * (a + b);
+                left.clear();
+                left.extend_from_slice(&order[..i]);
+                left.sort_unstable();
+                right.clear();
+                right.extend_from_slice(&order[i..]);
+                right.sort_unstable();
+                let score = (self.interest_of(&left) - self.interest_of(&right)).abs();
+                let imbalance = (2 * i).abs_diff(n);
+                let better = match best {
+                    None => true,
+                    Some((s, imb, _, _)) => score > s || (score == s && imbalance < imb),
+                };
+                if better {
+                    best = Some((score, imbalance, d, cut));
+                }
+            }
+        }
+        best.map(|(s, _, d, v)| (d, v, s))
+    }
+
+    fn split(&mut self, leaf: usize) {
+        let (dim, value) = match self.best_cut(leaf) {
+            Some((d, v, _)) => (d, v),
+            None => {
+                // No valid cut between the measurements (e.g. all at one point): halve the
+                // widest side so the tree still refines.
+                let reg = &self.regions[leaf];
+                let d = (0..self.dim).max_by(|&a, &b| (reg.high[a] - reg.low[a]).total_cmp(&(reg.high[b] - reg.low[b]))).unwrap();
+                (d, 0.5 * (reg.low[d] + reg.high[d]))
+            }
+        };
+        let created_at = self.values.len() as u64;
+        let parent = &self.regions[leaf];
+        let depth = parent.depth + 1;
+        let mut lhigh = parent.high.clone();
+        lhigh[dim] = value;
+        let mut rlow = parent.low.clone();
+        rlow[dim] = value;
+        let mk = |low: Vec<f64>, high: Vec<f64>| Region {
+            low,
+            high,
+            parent: Some(leaf),
+            children: None,
+            split_dim: 0,
+            split_value: f64::NAN,
+            entries: Vec::new(),
+            interest: 0.0,
+            sum: 0.0,
+            created_at,
+            depth,
+        };
+        let l = mk(parent.low.clone(), lhigh);
+        let r = mk(rlow, parent.high.clone());
+        let entries = std::mem::take(&mut self.regions[leaf].entries);
+        let (li, ri) = (self.regions.len(), self.regions.len() + 1);
+        self.regions.push(l);
+        self.regions.push(r);
+        for e in entries {
+            let target = if self.points[e as usize * self.dim + dim] < value { li } else { ri };
+            self.regions[target].entries.push(e);
+            self.regions[target].sum += self.values[e as usize];
+        }
+        {
+            let p = &mut self.regions[leaf];
+            p.children = Some([li, ri]);
+            p.split_dim = dim;
+            p.split_value = value;
+            p.sum = 0.0;
+            p.interest = 0.0;
+        }
+        let zeta = self.cfg.zeta;
+        self.refresh_interest(li, zeta);
+        self.refresh_interest(ri, zeta);
+        let pos = self.leaves.iter().position(|&x| x == leaf).expect("split a leaf");
+        self.leaves.remove(pos);
+        self.leaves.push(li);
+        self.leaves.push(ri);
+    }
+}
+
+/// Bounds must be finite, of equal non-zero length, and strictly ordered.
+pub(crate) fn check_bounds(owner: &'static str, low: &[f64], high: &[f64]) -> Result<()> {
+    if low.is_empty() || low.len() != high.len() {
+        return Err(invalid(owner, "bounds", format!("low and high of equal non-zero length (low has {})", low.len()), high.len()));
+    }
+    for (i, (l, h)) in low.iter().zip(high).enumerate() {
+        if !(l.is_finite() && h.is_finite() && l < h) {
+            return Err(invalid(owner, "bounds", format!("finite with low < high in every dimension (dimension {i}: low = {l})"), h));
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::rng::{rng_from_seed, uniform};
+
+    fn grow(n: usize, seed: u64) -> RegionTree {
+        let mut t = RegionTree::new(&[0.0, -50.0], &[50.0, 50.0], RegionTreeConfig::default()).unwrap();
+        let mut r = rng_from_seed(seed);
+        for _ in 0..n {
+            let p = [uniform(&mut r, 0.0, 50.0), uniform(&mut r, -50.0, 50.0)];
+            // Competence good near the origin, bad far away: heterogeneous interest.
+            let c = if p[0] < 20.0 { -uniform(&mut r, 0.0, 0.2) } else { -uniform(&mut r, 0.5, 1.0) };
+            t.add(&p, c);
+        }
+        t
+    }
+
+    #[test]
+    fn leaves_partition_the_space_and_hold_their_points() {
+        let t = grow(3000, 1);
+        let mut total = 0;
+        for &l in t.leaves() {
+            let reg = t.region(l);
+            assert!(reg.is_leaf());
+            assert!(reg.entries.len() <= t.config().g_max, "no leaf above g_max");
+            for &e in &reg.entries {
+                let p = t.point(e as usize);
+                assert_eq!(t.leaf_of(p), l, "every point in exactly the leaf that contains it");
+                for d in 0..2 {
+                    assert!(p[d] >= reg.low[d] && (p[d] < reg.high[d] || reg.high[d] == t.high()[d]));
+                }
+            }
+            total += reg.entries.len();
+        }
+        assert_eq!(total, 3000);
+        // Leaf volumes sum to the root volume, and a linear scan agrees with the descent.
+        let vol: f64 = t.leaves().iter().map(|&l| (0..2).map(|d| t.region(l).high[d] - t.region(l).low[d]).product::<f64>()).sum();
+        assert!((vol - 5000.0).abs() < 1e-6);
+        let mut r = rng_from_seed(9);
+        for _ in 0..1000 {
+            let p = [uniform(&mut r, 0.0, 50.0), uniform(&mut r, -50.0, 50.0)];
+            let scan: Vec<usize> = t
+                .leaves()
+                .iter()
+                .copied()
+                .filter(|&l| (0..2).all(|d| p[d] >= t.region(l).low[d] && p[d] < t.region(l).high[d]))
+                .collect();
+            assert_eq!(scan, vec![t.leaf_of(&p)]);
+        }
+    }
+
+    #[test]
+    fn splits_only_above_g_max() {
+        let mut t = RegionTree::new(&[0.0], &[1.0], RegionTreeConfig { g_max: 10, zeta: 4, min_child: 2 }).unwrap();
+        for i in 0..10 {
+            let (_, split) = t.add(&[i as f64 / 10.0], -0.5);
+            assert!(!split);
+        }
+        assert_eq!(t.leaves().len(), 1);
+        let (_, split) = t.add(&[0.95], -0.5);
+        assert!(split);
+        assert_eq!(t.leaves().len(), 2);
+    }
+
+    #[test]
+    fn cut_separates_progress_from_no_progress() {
+        // Left half: competence improving over time; right half: constant. The cut must fall
+        // between them.
+        let mut t = RegionTree::new(&[0.0], &[1.0], RegionTreeConfig { g_max: 20, zeta: 10, min_child: 2 }).unwrap();
+        for i in 0..21 {
+            if i % 2 == 0 {
+                t.add(&[0.1 + 0.01 * i as f64], -1.0 + 0.09 * i as f64);
+            } else {
+                t.add(&[0.7 + 0.01 * i as f64], -0.5);
+            }
+        }
+        let root = t.region(0);
+        assert!(root.split_value > 0.3 && root.split_value < 0.71, "cut at {}", root.split_value);
+    }
+
+    #[test]
+    fn identical_points_still_split() {
+        let mut t = RegionTree::new(&[0.0, 0.0], &[1.0, 2.0], RegionTreeConfig { g_max: 5, zeta: 4, min_child: 1 }).unwrap();
+        for _ in 0..6 {
+            t.add(&[0.5, 0.5], -1.0);
+        }
+        assert_eq!(t.leaves().len(), 2);
+        assert_eq!(t.region(0).split_dim, 1);
+    }
+
+    #[test]
+    fn bad_bounds_and_parameters() {
+        assert!(RegionTree::new(&[0.0], &[0.0], RegionTreeConfig::default()).is_err());
+        let e = RegionTreeConfig { g_max: 1, zeta: 4, min_child: 1 }.validate().unwrap_err();
+        assert_eq!(e.to_string(), "The 'g_max' parameter of RegionTree must be an int >= 2. Got 1 instead.");
+    }
+}

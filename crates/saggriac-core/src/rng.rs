@@ -1,0 +1,42 @@
+//! Explicitly seeded randomness. No global or OS-entropy generator exists in the core: every
+//! component owns a generator built from a u64 that the caller derived from the run's root seed.
+
+use rand::RngExt;
+use rand_xoshiro::rand_core::SeedableRng;
+pub use rand_xoshiro::Xoshiro256PlusPlus as CoreRng;
+
+/// A generator from an explicit seed (SplitMix64 expansion inside `seed_from_u64`).
+pub fn rng_from_seed(seed: u64) -> CoreRng {
+    CoreRng::seed_from_u64(seed)
+}
+
+/// Derive an independent child seed from a parent seed and a stream label (SplitMix64 mixing),
+/// so components never share a stream.
+pub fn child_seed(parent: u64, stream: u64) -> u64 {
+    let mut z = parent ^ stream.wrapping_mul(0x9E37_79B9_7F4A_7C15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^ (z >> 31)
+}
+
+/// Uniform in [lo, hi] (a degenerate interval returns lo).
+#[inline]
+pub fn uniform(rng: &mut CoreRng, lo: f64, hi: f64) -> f64 {
+    if hi > lo {
+        lo + (hi - lo) * rng.random::<f64>()
+    } else {
+        lo
+    }
+}
+
+/// Uniform float in [0, 1).
+#[inline]
+pub fn unit(rng: &mut CoreRng) -> f64 {
+    rng.random::<f64>()
+}
+
+/// Uniform index in [0, n).
+#[inline]
+pub fn index(rng: &mut CoreRng, n: usize) -> usize {
+    rng.random_range(0..n)
+}

@@ -1,0 +1,291 @@
+//! The run loop (paper Algorithm 1): every r goal attempts back to rest; the high level picks a
+//! goal; the low level reaches it through l subgoals; each subgoal's competence goes to the high
+//! level. Evaluation happens at scheduled time steps, where one time step is one micro-action.
+
+use std::time::Instant;
+
+use crate::arm::Arm;
+use crate::config::{Condition, RunConfig};
+use crate::error::Result;
+use crate::evaluation::{Evaluator, TestSet};
+use crate::goal_selection::{GoalSelector, Mode, RandomGoals, SaggRiac};
+use crate::local_model::LocalModel;
+use crate::memory::SensorimotorMemory;
+use crate::neighbours::{Neighbour, WarmStart};
+use crate::rng::{child_seed, rng_from_seed, CoreRng};
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ActionKind {
+    Reaching,
+    Exploration,
+}
+
+/// One evaluation point of the learning curve.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MetricRow {
+    pub step: u64,
+    pub n_samples: u64,
+    pub reach_error: f64,
+    pub pred_error: f64,
+    pub n_goals: u64,
+    pub n_regions: u64,
+}
+
+/// One self-generated goal.
+#[derive(Debug, Clone, PartialEq)]
+pub struct GoalRow {
+    pub goal_index: u64,
+    pub step_start: u64,
+    pub step_end: u64,
+    pub goal: [f64; 2],
+    pub start: [f64; 2],
+    pub end: [f64; 2],
+    pub mode: Mode,
+    pub region: Option<usize>,
+    /// Competence of the last attempt (the goal itself), NaN if interrupted by the step budget.
+    pub competence: f64,
+}
+
+/// One (sub)goal attempt: the measurements given to the high level.
+#[derive(Debug, Clone, PartialEq)]
+pub struct AttemptRow {
+    pub goal_index: u64,
+    pub subgoal: u32,
+    pub step_end: u64,
+    pub target: [f64; 2],
+    pub end: [f64; 2],
+    pub competence: f64,
+    pub reached: bool,
+    pub region: Option<usize>,
+}
+
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Counters {
+    pub reaching_steps: u64,
+    pub exploration_steps: u64,
+    pub explorations: u64,
+    pub fit_failures: u64,
+    pub test_steps: u64,
+}
+
+/// Wall time spent in each part, in seconds.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Timers {
+    pub knn: f64,
+    pub fit: f64,
+    pub goal_selection: f64,
+    pub evaluation: f64,
+    pub total: f64,
+}
+
+pub struct Learner {
+    pub(crate) cfg: RunConfig,
+    pub(crate) arm: Arm,
+    pub(crate) memory: SensorimotorMemory,
+    pub(crate) model: LocalModel,
+    pub(crate) selector: Box<dyn GoalSelector>,
+    pub(crate) rng: CoreRng,
+    pub(crate) warm: WarmStart,
+    pub(crate) neighbours: Vec<Neighbour>,
+    pub(crate) buf_dtheta: Vec<f64>,
+    evaluator: Evaluator,
+    steps: u64,
+    next_eval: usize,
+    goals_done: u64,
+    pub metrics: Vec<MetricRow>,
+    pub goals: Vec<GoalRow>,
+    pub attempts: Vec<AttemptRow>,
+    pub(crate) counters: Counters,
+    pub(crate) timers: Timers,
+    reported: usize,
+    buf_theta: Vec<f64>,
+}
+
+impl Learner {
+    /// Build a learner. `seed` drives the learner (goal choices, exploration); `eval_seed` draws
+    /// the test sets, so every condition of one experiment seed meets the same tests.
+    pub fn new(cfg: RunConfig, seed: u64, eval_seed: u64) -> Result<Self> {
+        cfg.validate()?;
+        let arm = Arm::new(cfg.arm.clone())?;
+        let n = arm.n_joints();
+        let selector: Box<dyn GoalSelector> = match cfg.condition {
+            Condition::SaggRiac => Box::new(SaggRiac::new(&cfg.goal_low, &cfg.goal_high, cfg.tree, cfg.modes, child_seed(seed, 1))?),
+            Condition::SaggRandom => Box::new(RandomGoals::new(&cfg.goal_low, &cfg.goal_high, child_seed(seed, 1))?),
+        };
+        let tests = TestSet::new(&cfg.arm, &cfg.goal_low, &cfg.goal_high, cfg.eval.n_test_goals, cfg.eval.n_test_configs, eval_seed)?;
+        let evaluator = Evaluator::new(cfg.eval.clone(), tests, cfg.arm.clone(), cfg.local.clone(), cfg.reaching.v, cfg.warm_start_recent)?;
+        Ok(Learner {
+            memory: SensorimotorMemory::new(n, 2, cfg.index),
+            model: LocalModel::new(n, 2, cfg.local.clone()),
+            selector,
+            rng: rng_from_seed(child_seed(seed, 2)),
+            warm: WarmStart::new(cfg.warm_start_recent),
+            neighbours: Vec::new(),
+            buf_dtheta: vec![0.0; n],
+            evaluator,
+            arm,
+            steps: 0,
+            next_eval: 0,
+            goals_done: 0,
+            metrics: Vec::new(),
+            goals: Vec::new(),
+            attempts: Vec::new(),
+            counters: Counters::default(),
+            timers: Timers::default(),
+            reported: 0,
+            buf_theta: vec![0.0; n],
+            cfg,
+        })
+    }
+
+    pub fn config(&self) -> &RunConfig {
+        &self.cfg
+    }
+    pub fn steps(&self) -> u64 {
+        self.steps
+    }
+    pub fn memory(&self) -> &SensorimotorMemory {
+        &self.memory
+    }
+    pub fn selector(&self) -> &dyn GoalSelector {
+        self.selector.as_ref()
+    }
+    pub fn counters(&self) -> &Counters {
+        &self.counters
+    }
+    pub fn timers(&self) -> &Timers {
+        &self.timers
+    }
+    pub fn test_set(&self) -> &TestSet {
+        &self.evaluator.tests
+    }
+    pub fn arm(&self) -> &Arm {
+        &self.arm
+    }
+
+    pub(crate) fn budget_spent(&self) -> bool {
+        self.steps >= self.cfg.n_steps
+    }
+
+    /// Execute one micro-action on the arm and store it. Returns the realised dx, or None
+    /// (without moving) when the step budget is spent.
+    pub(crate) fn micro_action(&mut self, dtheta: &mut [f64], kind: ActionKind) -> Option<[f64; 2]> {
+        if self.budget_spent() {
+            return None;
+        }
+        self.buf_theta.copy_from_slice(self.arm.theta());
+        let x0 = self.arm.position();
+        let dx = self.arm.step(dtheta);
+        self.memory.add(&self.buf_theta, dtheta, &dx, &x0);
+        self.steps += 1;
+        match kind {
+            ActionKind::Reaching => self.counters.reaching_steps += 1,
+            ActionKind::Exploration => self.counters.exploration_steps += 1,
+        }
+        // Evaluate exactly at the scheduled step; it only reads the memory.
+        self.evaluate_due();
+        Some(dx)
+    }
+
+    fn evaluate_due(&mut self) {
+        while self.next_eval < self.cfg.eval.schedule.len() && self.cfg.eval.schedule[self.next_eval] <= self.steps {
+            self.next_eval += 1;
+            self.evaluate_now();
+        }
+    }
+
+    /// Run one evaluation now and record it.
+    pub fn evaluate_now(&mut self) -> MetricRow {
+        let t0 = Instant::now();
+        let r = self.evaluator.evaluate(&self.memory);
+        self.timers.evaluation += t0.elapsed().as_secs_f64();
+        self.counters.test_steps += r.test_steps;
+        let row = MetricRow {
+            step: self.steps,
+            n_samples: self.memory.len() as u64,
+            reach_error: r.mean_reach(),
+            pred_error: r.mean_pred(),
+            n_goals: self.goals_done,
+            n_regions: self.selector.tree().map(|t| t.leaves().len() as u64).unwrap_or(1),
+        };
+        self.metrics.push(row.clone());
+        row
+    }
+
+    /// Show the caller every metric row it has not seen yet.
+    fn report(&mut self, on_eval: &mut dyn FnMut(&MetricRow) -> bool) -> bool {
+        let mut keep_going = true;
+        while self.reported < self.metrics.len() {
+            keep_going &= on_eval(&self.metrics[self.reported]);
+            self.reported += 1;
+        }
+        keep_going
+    }
+
+    /// One goal attempt: rest reset if due, goal choice, l subgoal attempts.
+    fn goal_attempt(&mut self) {
+        if self.goals_done % self.cfg.reset_every as u64 == 0 {
+            self.arm.reset();
+            self.warm.clear();
+        }
+        let t0 = Instant::now();
+        let choice = self.selector.sample();
+        self.timers.goal_selection += t0.elapsed().as_secs_f64();
+        let g = [choice.goal[0], choice.goal[1]];
+        let start = self.arm.position();
+        let step_start = self.steps;
+        let l = self.cfg.reaching.n_subgoals;
+        let mut last_c = f64::NAN;
+        for i in 1..=l {
+            // x_i = x_start + (i / l)(x_g - x_start); the last subgoal is the goal itself.
+            let f = i as f64 / l as f64;
+            let target = if i == l { g } else { [start[0] + f * (g[0] - start[0]), start[1] + f * (g[1] - start[1])] };
+            let out = self.reach(target);
+            if out.interrupted {
+                break;
+            }
+            let t1 = Instant::now();
+            let region = self.selector.update(&target, out.competence);
+            self.timers.goal_selection += t1.elapsed().as_secs_f64();
+            self.attempts.push(AttemptRow {
+                goal_index: self.goals_done,
+                subgoal: i as u32,
+                step_end: self.steps,
+                target,
+                end: out.end,
+                competence: out.competence,
+                reached: out.reached,
+                region,
+            });
+            if i == l {
+                last_c = out.competence;
+            }
+        }
+        self.goals.push(GoalRow {
+            goal_index: self.goals_done,
+            step_start,
+            step_end: self.steps,
+            goal: g,
+            start,
+            end: self.arm.position(),
+            mode: choice.mode,
+            region: choice.region,
+            competence: last_c,
+        });
+        self.goals_done += 1;
+    }
+
+    /// Run until the step budget is spent, evaluating on the schedule. `on_eval` sees each new
+    /// metric row and may return false to stop early (e.g. on Ctrl-C).
+    pub fn run(&mut self, on_eval: &mut dyn FnMut(&MetricRow) -> bool) -> bool {
+        let t0 = Instant::now();
+        self.evaluate_due();
+        let mut completed = self.report(on_eval);
+        while completed && !self.budget_spent() {
+            self.goal_attempt();
+            completed = self.report(on_eval);
+        }
+        self.timers.total += t0.elapsed().as_secs_f64();
+        completed && self.budget_spent()
+    }
+}
