@@ -31,7 +31,7 @@ pub struct GoalChoice {
 }
 
 /// A goal selector, usable inside the run loop or on its own.
-pub trait GoalSelector: Send {
+pub trait GoalSelector: Send + Sync {
     fn dim(&self) -> usize;
     fn low(&self) -> &[f64];
     fn high(&self) -> &[f64];

@@ -24,7 +24,7 @@ pub fn dist_sq(a: &[f64], b: &[f64]) -> f64 {
 }
 
 /// An incremental, exact neighbour index. Points get ids 0, 1, 2, ... in insertion order.
-pub trait NeighbourIndex: Send {
+pub trait NeighbourIndex: Send + Sync {
     fn dim(&self) -> usize;
     fn len(&self) -> usize;
     fn is_empty(&self) -> bool {

@@ -1,1 +1,24 @@
+//! saggriac._core: a thin PyO3 layer over saggriac-core. It converts types and errors only;
+//! the algorithm lives in the core crate.
 
+use pyo3::prelude::*;
+
+mod config;
+mod errors;
+mod learner;
+
+/// validate_config(config: dict) -> None: raise ParameterError if any parameter breaks a rule.
+#[pyfunction]
+fn validate_config(config: &Bound<'_, pyo3::types::PyDict>) -> PyResult<()> {
+    config::run_config_from_dict(config).map(|_| ())
+}
+
+#[pymodule]
+fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<learner::PyLearner>()?;
+    m.add("CONFIG_KEYS", config::KEYS.to_vec())?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add("GIT_COMMIT", env!("SAGGRIAC_GIT_COMMIT"))?;
+    m.add_function(wrap_pyfunction!(validate_config, m)?)?;
+    Ok(())
+}

@@ -1,0 +1,91 @@
+//! A Python dict of flat parameters -> the core's `RunConfig`. Type problems are reported with
+//! the parameter's name; the rules themselves are checked once, by the core's `validate()`.
+
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use saggriac_core::arm::ArmConfig;
+use saggriac_core::error::invalid;
+use saggriac_core::memory::IndexKind;
+use saggriac_core::{Condition, RunConfig};
+
+use crate::errors::to_py;
+
+/// The keys `run_config_from_dict` understands (kept in the order of the parameters page).
+pub const KEYS: &[&str] = &[
+    "condition", "n_steps", "n_joints", "arm_length", "link_lengths", "joint_limit", "max_joint_step", "goal_low", "goal_high",
+    "v", "n_subgoals", "eps_max", "timeout_factor", "timeout_min", "q", "explore_step", "k_neighbours", "ridge", "pinv_rcond",
+    "bandwidth", "min_c", "eps_c", "g_max", "zeta", "min_child", "p_interest", "p_global", "p_lowest", "reset_every",
+    "n_test_goals", "n_test_configs", "eval_tolerance", "eval_patience", "eval_timeout_factor", "eval_timeout_min",
+    "eval_schedule", "knn_index", "warm_start_recent",
+];
+
+fn get<'py, T: FromPyObjectOwned<'py>>(d: &Bound<'py, PyDict>, key: &str, default: T, kind: &str) -> PyResult<T> {
+    match d.get_item(key)? {
+        None => Ok(default),
+        Some(v) if v.is_none() => Ok(default),
+        Some(v) => v.extract::<T>().map_err(|_| {
+            let shown = v.repr().map(|r| r.to_string()).unwrap_or_else(|_| "?".into());
+            to_py(d.py(), invalid("Config", key, kind, shown))
+        }),
+    }
+}
+
+pub fn run_config_from_dict(d: &Bound<'_, PyDict>) -> PyResult<RunConfig> {
+    let py = d.py();
+    for k in d.keys() {
+        let k: String = k.extract()?;
+        if !KEYS.contains(&k.as_str()) {
+            return Err(to_py(py, invalid("Config", &k, format!("one of the known parameters ({})", KEYS.join(", ")), "an unknown key")));
+        }
+    }
+    let mut c = RunConfig::default();
+    let condition: String = get(d, "condition", c.condition.name().to_string(), "a str")?;
+    c.condition = Condition::parse(&condition).map_err(|e| to_py(py, e))?;
+    c.n_steps = get(d, "n_steps", c.n_steps, "an int >= 1")?;
+    let n_joints: usize = get(d, "n_joints", c.arm.link_lengths.len(), "an int >= 1")?;
+    let length: f64 = get(d, "arm_length", 50.0, "a float > 0")?;
+    let links: Option<Vec<f64>> = get(d, "link_lengths", None, "a list of floats")?;
+    let limit = get(d, "joint_limit", c.arm.joint_limit, "a float")?;
+    let max_step = get(d, "max_joint_step", c.arm.max_joint_step, "a float")?;
+    if n_joints == 0 {
+        return Err(to_py(py, invalid("Config", "n_joints", "an int >= 1", 0)));
+    }
+    c.arm = match links {
+        Some(l) => ArmConfig { link_lengths: l, joint_limit: limit, max_joint_step: max_step },
+        None => ArmConfig::uniform(n_joints, length, limit, max_step),
+    };
+    c.goal_low = get(d, "goal_low", c.goal_low, "a list of floats")?;
+    c.goal_high = get(d, "goal_high", c.goal_high, "a list of floats")?;
+    c.reaching.v = get(d, "v", c.reaching.v, "a float")?;
+    c.reaching.n_subgoals = get(d, "n_subgoals", c.reaching.n_subgoals, "an int >= 1")?;
+    c.reaching.eps_max = get(d, "eps_max", c.reaching.eps_max, "a float")?;
+    c.reaching.timeout_factor = get(d, "timeout_factor", c.reaching.timeout_factor, "a float")?;
+    c.reaching.timeout_min = get(d, "timeout_min", c.reaching.timeout_min, "an int >= 1")?;
+    c.exploration.q = get(d, "q", c.exploration.q, "an int >= 1")?;
+    c.exploration.step = get(d, "explore_step", c.exploration.step, "a float")?;
+    c.local.k_neighbours = get(d, "k_neighbours", c.local.k_neighbours, "an int >= 1")?;
+    c.local.ridge = get(d, "ridge", c.local.ridge, "a float")?;
+    c.local.pinv_rcond = get(d, "pinv_rcond", c.local.pinv_rcond, "a float")?;
+    c.local.bandwidth = get(d, "bandwidth", c.local.bandwidth, "a float")?;
+    c.competence.min_c = get(d, "min_c", c.competence.min_c, "a float")?;
+    c.competence.eps_c = get(d, "eps_c", c.competence.eps_c, "a float")?;
+    c.tree.g_max = get(d, "g_max", c.tree.g_max, "an int >= 2")?;
+    c.tree.zeta = get(d, "zeta", c.tree.zeta, "an int >= 2")?;
+    c.tree.min_child = get(d, "min_child", c.tree.min_child, "an int >= 1")?;
+    c.modes.p_interest = get(d, "p_interest", c.modes.p_interest, "a float")?;
+    c.modes.p_global = get(d, "p_global", c.modes.p_global, "a float")?;
+    c.modes.p_lowest = get(d, "p_lowest", c.modes.p_lowest, "a float")?;
+    c.reset_every = get(d, "reset_every", c.reset_every, "an int >= 1")?;
+    c.eval.n_test_goals = get(d, "n_test_goals", c.eval.n_test_goals, "an int >= 1")?;
+    c.eval.n_test_configs = get(d, "n_test_configs", c.eval.n_test_configs, "an int >= 1")?;
+    c.eval.tolerance = get(d, "eval_tolerance", c.eval.tolerance, "a float")?;
+    c.eval.patience = get(d, "eval_patience", c.eval.patience, "an int >= 1")?;
+    c.eval.timeout_factor = get(d, "eval_timeout_factor", c.eval.timeout_factor, "a float")?;
+    c.eval.timeout_min = get(d, "eval_timeout_min", c.eval.timeout_min, "an int >= 1")?;
+    c.eval.schedule = get(d, "eval_schedule", c.eval.schedule, "a list of ints >= 0")?;
+    let index: String = get(d, "knn_index", c.index.name().to_string(), "a str")?;
+    c.index = IndexKind::parse(&index).ok_or_else(|| to_py(py, invalid("Config", "knn_index", "one of 'kdtree', 'brute_force'", format!("'{index}'"))))?;
+    c.warm_start_recent = get(d, "warm_start_recent", c.warm_start_recent, "an int >= 0")?;
+    c.validate().map_err(|e| to_py(py, e))?;
+    Ok(c)
+}

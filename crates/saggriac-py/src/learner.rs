@@ -1,0 +1,186 @@
+//! Binding of the run loop: build a learner from a config dict, run it with the GIL released,
+//! and hand back its records as numpy arrays.
+
+use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayMethods};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use saggriac_core::run_loop::MetricRow;
+use saggriac_core::Learner;
+
+use crate::config::run_config_from_dict;
+use crate::errors::wrap;
+
+#[pyclass(name = "Learner", module = "saggriac._core")]
+pub struct PyLearner {
+    inner: Learner,
+}
+
+fn col<'py, T: numpy::Element>(py: Python<'py>, v: Vec<T>) -> Bound<'py, PyArray1<T>> {
+    v.into_pyarray(py)
+}
+
+fn xy<'py>(py: Python<'py>, v: Vec<[f64; 2]>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let n = v.len();
+    let flat: Vec<f64> = v.into_iter().flatten().collect();
+    Ok(flat.into_pyarray(py).reshape([n, 2])?)
+}
+
+fn metric_dict<'py>(py: Python<'py>, m: &MetricRow) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("step", m.step)?;
+    d.set_item("n_samples", m.n_samples)?;
+    d.set_item("reach_error", m.reach_error)?;
+    d.set_item("pred_error", m.pred_error)?;
+    d.set_item("n_goals", m.n_goals)?;
+    d.set_item("n_regions", m.n_regions)?;
+    Ok(d)
+}
+
+#[pymethods]
+impl PyLearner {
+    /// Learner(config: dict, seed: int, eval_seed: int)
+    #[new]
+    fn new(py: Python<'_>, config: &Bound<'_, PyDict>, seed: u64, eval_seed: u64) -> PyResult<Self> {
+        let cfg = run_config_from_dict(config)?;
+        Ok(PyLearner { inner: wrap(py, Learner::new(cfg, seed, eval_seed))? })
+    }
+
+    /// Run to the end of the step budget. `callback(row: dict) -> bool | None` sees each new
+    /// evaluation; returning False stops the run. Ctrl-C also stops it (and raises).
+    /// Returns True when the budget was spent.
+    #[pyo3(signature = (callback=None))]
+    fn run(&mut self, py: Python<'_>, callback: Option<Py<PyAny>>) -> PyResult<bool> {
+        let learner = &mut self.inner;
+        let mut pending: Option<PyErr> = None;
+        let done = py.detach(|| {
+            learner.run(&mut |row: &MetricRow| {
+                Python::attach(|py| {
+                    if let Err(e) = py.check_signals() {
+                        pending = Some(e);
+                        return false;
+                    }
+                    let Some(cb) = &callback else { return true };
+                    let r = metric_dict(py, row).and_then(|d| cb.call1(py, (d,)));
+                    match r {
+                        Ok(v) => !(v.bind(py).is_instance_of::<pyo3::types::PyBool>() && !v.extract::<bool>(py).unwrap_or(true)),
+                        Err(e) => {
+                            pending = Some(e);
+                            false
+                        }
+                    }
+                })
+            })
+        });
+        match pending {
+            Some(e) => Err(e),
+            None => Ok(done),
+        }
+    }
+
+    #[getter]
+    fn steps(&self) -> u64 {
+        self.inner.steps()
+    }
+
+    #[getter]
+    fn n_samples(&self) -> usize {
+        self.inner.memory().len()
+    }
+
+    /// Learning curve: dict of 1-D arrays (step, n_samples, reach_error, pred_error, n_goals, n_regions).
+    fn metrics<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let m = &self.inner.metrics;
+        let d = PyDict::new(py);
+        d.set_item("step", col(py, m.iter().map(|r| r.step).collect()))?;
+        d.set_item("n_samples", col(py, m.iter().map(|r| r.n_samples).collect()))?;
+        d.set_item("reach_error", col(py, m.iter().map(|r| r.reach_error).collect()))?;
+        d.set_item("pred_error", col(py, m.iter().map(|r| r.pred_error).collect()))?;
+        d.set_item("n_goals", col(py, m.iter().map(|r| r.n_goals).collect()))?;
+        d.set_item("n_regions", col(py, m.iter().map(|r| r.n_regions).collect()))?;
+        Ok(d)
+    }
+
+    /// Self-generated goals: one row per goal.
+    fn goals<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let g = &self.inner.goals;
+        let d = PyDict::new(py);
+        d.set_item("goal_index", col(py, g.iter().map(|r| r.goal_index).collect()))?;
+        d.set_item("step_start", col(py, g.iter().map(|r| r.step_start).collect()))?;
+        d.set_item("step_end", col(py, g.iter().map(|r| r.step_end).collect()))?;
+        d.set_item("goal", xy(py, g.iter().map(|r| r.goal).collect())?)?;
+        d.set_item("start", xy(py, g.iter().map(|r| r.start).collect())?)?;
+        d.set_item("end", xy(py, g.iter().map(|r| r.end).collect())?)?;
+        d.set_item("mode", col(py, g.iter().map(|r| r.mode as u8).collect()))?;
+        d.set_item("region", col(py, g.iter().map(|r| r.region.map(|x| x as i64).unwrap_or(-1)).collect()))?;
+        d.set_item("competence", col(py, g.iter().map(|r| r.competence).collect()))?;
+        Ok(d)
+    }
+
+    /// Every (sub)goal attempt and the competence the high level received for it.
+    fn attempts<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let a = &self.inner.attempts;
+        let d = PyDict::new(py);
+        d.set_item("goal_index", col(py, a.iter().map(|r| r.goal_index).collect()))?;
+        d.set_item("subgoal", col(py, a.iter().map(|r| r.subgoal).collect()))?;
+        d.set_item("step_end", col(py, a.iter().map(|r| r.step_end).collect()))?;
+        d.set_item("target", xy(py, a.iter().map(|r| r.target).collect())?)?;
+        d.set_item("end", xy(py, a.iter().map(|r| r.end).collect())?)?;
+        d.set_item("competence", col(py, a.iter().map(|r| r.competence).collect()))?;
+        d.set_item("reached", col(py, a.iter().map(|r| r.reached).collect()))?;
+        d.set_item("region", col(py, a.iter().map(|r| r.region.map(|x| x as i64).unwrap_or(-1)).collect()))?;
+        Ok(d)
+    }
+
+    /// The region tree (all nodes, leaves and inner): bounds, parent, split, interest, count.
+    /// Empty arrays for conditions without a tree.
+    fn regions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        let regs = self.inner.selector().tree().map(|t| t.regions().to_vec()).unwrap_or_default();
+        let dim = self.inner.selector().dim();
+        let n = regs.len();
+        let low: Vec<f64> = regs.iter().flat_map(|r| r.low.clone()).collect();
+        let high: Vec<f64> = regs.iter().flat_map(|r| r.high.clone()).collect();
+        d.set_item("low", low.into_pyarray(py).reshape([n, dim])?)?;
+        d.set_item("high", high.into_pyarray(py).reshape([n, dim])?)?;
+        d.set_item("parent", col(py, regs.iter().map(|r| r.parent.map(|p| p as i64).unwrap_or(-1)).collect()))?;
+        d.set_item("is_leaf", col(py, regs.iter().map(|r| r.is_leaf()).collect()))?;
+        d.set_item("split_dim", col(py, regs.iter().map(|r| if r.is_leaf() { -1 } else { r.split_dim as i64 }).collect()))?;
+        d.set_item("split_value", col(py, regs.iter().map(|r| r.split_value).collect()))?;
+        d.set_item("interest", col(py, regs.iter().map(|r| r.interest).collect()))?;
+        d.set_item("n_measurements", col(py, regs.iter().map(|r| r.entries.len() as u64).collect()))?;
+        d.set_item("mean_competence", col(py, regs.iter().map(|r| r.mean().unwrap_or(f64::NAN)).collect()))?;
+        d.set_item("created_at", col(py, regs.iter().map(|r| r.created_at).collect()))?;
+        d.set_item("depth", col(py, regs.iter().map(|r| r.depth).collect()))?;
+        Ok(d)
+    }
+
+    /// Test goals (n x 2) and test configurations (n x joints) of the evaluation.
+    fn test_set<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let t = self.inner.test_set();
+        let d = PyDict::new(py);
+        d.set_item("goals", xy(py, t.goals.clone())?)?;
+        let n = t.configs.len();
+        let j = self.inner.arm().n_joints();
+        d.set_item("configs", t.configs.concat().into_pyarray(py).reshape([n, j])?)?;
+        Ok(d)
+    }
+
+    /// Micro-action counts and wall time (s) per part of the loop.
+    fn profile<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let c = self.inner.counters();
+        let t = self.inner.timers();
+        let d = PyDict::new(py);
+        d.set_item("reaching_steps", c.reaching_steps)?;
+        d.set_item("exploration_steps", c.exploration_steps)?;
+        d.set_item("explorations", c.explorations)?;
+        d.set_item("fit_failures", c.fit_failures)?;
+        d.set_item("test_steps", c.test_steps)?;
+        d.set_item("rejected_samples", self.inner.memory().rejected())?;
+        d.set_item("time_knn", t.knn)?;
+        d.set_item("time_fit", t.fit)?;
+        d.set_item("time_goal_selection", t.goal_selection)?;
+        d.set_item("time_evaluation", t.evaluation)?;
+        d.set_item("time_total", t.total)?;
+        Ok(d)
+    }
+}

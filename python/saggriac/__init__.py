@@ -1,0 +1,18 @@
+"""saggriac: SAGG-RIAC intrinsically motivated goal exploration with a Rust core.
+
+Quick start::
+
+    import saggriac
+    res = saggriac.run(saggriac.Config.from_preset("exp1"), seed=0)
+    res.reach_error  # learning curve, numpy array
+"""
+
+from . import _core
+from .config import PRESETS, Config
+from .errors import InputError, ParameterError, SaggriacError, StorageError
+from .result import RunResult
+from .runner import run
+
+__version__ = _core.__version__
+
+__all__ = ["Config", "PRESETS", "run", "RunResult", "SaggriacError", "ParameterError", "InputError", "StorageError", "__version__"]

@@ -1,0 +1,89 @@
+"""The ``saggriac`` command."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+from typing import Any
+
+from .config import PRESETS, Config
+from .errors import SaggriacError
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover
+    import tomli as tomllib
+
+
+def _parse_value(text: str) -> Any:
+    """A value as TOML reads it (numbers, booleans, lists, quoted strings); bare words stay strings."""
+    try:
+        return tomllib.loads(f"v = {text}")["v"]
+    except tomllib.TOMLDecodeError:
+        return text
+
+
+def _overrides(pairs: list[str]) -> dict[str, Any]:
+    out = {}
+    for p in pairs:
+        if "=" not in p:
+            raise SaggriacError(f"--set takes KEY=VALUE, got {p!r}.")
+        k, v = p.split("=", 1)
+        out[k.strip()] = _parse_value(v.strip())
+    return out
+
+
+def _cmd_run(args: argparse.Namespace) -> int:
+    from .runner import run
+
+    overrides = _overrides(args.set)
+    if args.steps is not None:
+        overrides["n_steps"] = args.steps
+    if args.condition is not None:
+        overrides["condition"] = args.condition
+    if args.config:
+        cfg = Config.from_toml(args.config, **overrides)
+    else:
+        cfg = Config.from_preset(args.preset, **overrides)
+    out = Path(args.out) if args.out else Path("runs") / f"{args.preset}-{cfg.condition}-seed{args.seed}"
+    res = run(cfg, seed=args.seed, out_dir=out, progress=not args.no_progress, overwrite=args.overwrite)
+    m = res.metrics
+    print(f"condition {cfg.condition}, seed {args.seed}, {int(m['step'].iloc[-1])} micro-actions in {res.manifest['wall_seconds']:.1f} s")
+    print(f"reaching error: start {m['reach_error'].iloc[0]:.3f}, middle {m['reach_error'].iloc[len(m) // 2]:.3f}, end {m['reach_error'].iloc[-1]:.3f}")
+    print(f"prediction error: start {m['pred_error'].iloc[0]:.3f}, end {m['pred_error'].iloc[-1]:.3f}")
+    print(f"results written to {out}")
+    return 0
+
+
+def build_parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(prog="saggriac", description="SAGG-RIAC goal exploration (Baranes & Oudeyer, IROS 2010).")
+    sub = p.add_subparsers(dest="command", required=True)
+    r = sub.add_parser("run", help="run one learner and save its results")
+    r.add_argument("--preset", default="exp1", choices=sorted(PRESETS), help="the paper's experiment to start from (default exp1)")
+    r.add_argument("--config", help="TOML file with parameters (and optionally preset = ...)")
+    r.add_argument("--seed", type=int, default=0, help="root seed of the run (default 0)")
+    r.add_argument("--condition", help="sagg_riac or sagg_random")
+    r.add_argument("--steps", type=int, help="number of micro-actions (overrides the preset)")
+    r.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help="override any parameter, e.g. --set g_max=40")
+    r.add_argument("--out", help="run directory (default runs/PRESET-CONDITION-seedSEED)")
+    r.add_argument("--overwrite", action="store_true", help="replace an existing run directory")
+    r.add_argument("--no-progress", action="store_true", help="no progress bar")
+    r.set_defaults(func=_cmd_run)
+    return p
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = build_parser().parse_args(argv)
+    try:
+        return args.func(args)
+    except SaggriacError as e:
+        print(f"saggriac: error: {e}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("saggriac: interrupted; nothing was written for the unfinished run.", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main())

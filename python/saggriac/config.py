@@ -1,0 +1,175 @@
+"""Configuration of one run: every parameter, its default, and the paper's two presets.
+
+The rules are checked in one place, by the Rust core (``saggriac._core.validate_config``), so
+the command line, TOML files and the Python API report the same message. This module adds the
+file and key to messages about configuration files.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from . import _core
+from .errors import ParameterError
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover - exercised on 3.10 only
+    import tomli as tomllib
+
+CONDITIONS = ("sagg_riac", "sagg_random")
+
+
+@dataclass(frozen=True)
+class Config:
+    """All parameters of a run. Defaults are the ``exp1`` preset; see docs/parameters.md."""
+
+    condition: str = "sagg_riac"
+    n_steps: int = 50_000
+    # Arm (paper Fig. 2): n joints, equal links summing to arm_length, rest pose straight.
+    n_joints: int = 15
+    arm_length: float = 50.0
+    link_lengths: tuple[float, ...] | None = None
+    joint_limit: float = math.pi / 2
+    max_joint_step: float = 0.05
+    # Goal space S'.
+    goal_low: tuple[float, float] = (0.0, -50.0)
+    goal_high: tuple[float, float] = (50.0, 50.0)
+    # Low level (paper III.D).
+    v: float = 0.5
+    n_subgoals: int = 5
+    eps_max: float = 0.25
+    timeout_factor: float = 2.0
+    timeout_min: int = 10
+    q: int = 20
+    explore_step: float = 0.01
+    # Local models (paper III.B).
+    k_neighbours: int = 45
+    ridge: float = 1e-3
+    pinv_rcond: float = 1e-2
+    bandwidth: float = 1.0
+    # Competence (eq. 7).
+    min_c: float = -1.0
+    eps_c: float = -0.05
+    # High level (paper II.D).
+    g_max: int = 50
+    zeta: int = 20
+    min_child: int = 5
+    p_interest: float = 0.7
+    p_global: float = 0.2
+    p_lowest: float = 0.1
+    reset_every: int = 2
+    # Evaluation (SPEC.md).
+    n_test_goals: int = 100
+    n_test_configs: int = 100
+    n_evals: int = 25
+    eval_schedule: tuple[int, ...] | None = None
+    eval_tolerance: float = 0.01
+    eval_patience: int = 10
+    eval_timeout_factor: float = 2.0
+    eval_timeout_min: int = 20
+    # Implementation.
+    knn_index: str = "kdtree"
+    warm_start_recent: int = 8
+
+    def __post_init__(self) -> None:
+        # Lists from TOML or JSON become tuples so configs stay hashable and comparable.
+        for name in ("link_lengths", "goal_low", "goal_high", "eval_schedule"):
+            val = getattr(self, name)
+            if isinstance(val, list):
+                object.__setattr__(self, name, tuple(val))
+        if not isinstance(self.n_evals, int) or isinstance(self.n_evals, bool) or self.n_evals < 1:
+            raise ParameterError(
+                f"The 'n_evals' parameter of Config must be an int >= 1. Got {self.n_evals!r} instead.",
+                "n_evals",
+                repr(self.n_evals),
+            )
+        if self.condition not in CONDITIONS:
+            raise ParameterError(
+                f"The 'condition' parameter of Config must be one of {', '.join(map(repr, CONDITIONS))}. "
+                f"Got {self.condition!r} instead.",
+                "condition",
+                repr(self.condition),
+            )
+        _core.validate_config(self.core_dict())
+
+    def schedule(self) -> list[int]:
+        """Time steps at which the run is evaluated (0 and the last step included)."""
+        if self.eval_schedule is not None:
+            return [int(s) for s in self.eval_schedule]
+        n = self.n_steps
+        return sorted({round(i * n / self.n_evals) for i in range(self.n_evals + 1)})
+
+    def core_dict(self) -> dict[str, Any]:
+        """The flat dict the Rust core takes."""
+        d = {f.name: getattr(self, f.name) for f in dataclasses.fields(self)}
+        d.pop("n_evals")
+        for name in ("link_lengths", "goal_low", "goal_high"):
+            if d[name] is not None:
+                d[name] = list(d[name])
+        d["eval_schedule"] = self.schedule() if isinstance(self.n_steps, int) and self.n_steps > 0 else []
+        return d
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready dict of every field (tuples as lists)."""
+        d = dataclasses.asdict(self)
+        return {k: list(v) if isinstance(v, tuple) else v for k, v in d.items()}
+
+    def replace(self, **changes: Any) -> Config:
+        check_keys(changes, source=None)
+        return dataclasses.replace(self, **changes)
+
+    @classmethod
+    def from_preset(cls, name: str, **overrides: Any) -> Config:
+        if name not in PRESETS:
+            raise ParameterError(
+                f"The 'preset' parameter must be one of {', '.join(map(repr, PRESETS))}. Got {name!r} instead.",
+                "preset",
+                repr(name),
+            )
+        check_keys(overrides, source=None)
+        return cls(**{**PRESETS[name], **overrides})
+
+    @classmethod
+    def from_toml(cls, path: str | Path, **overrides: Any) -> Config:
+        """Read a TOML file: an optional ``preset = "exp2"`` plus any parameters, flat."""
+        path = Path(path)
+        try:
+            data = tomllib.loads(path.read_text())
+        except FileNotFoundError:
+            raise ParameterError(f"Configuration file {path} does not exist.", "config", str(path)) from None
+        except tomllib.TOMLDecodeError as e:
+            raise ParameterError(f"Configuration file {path} is not valid TOML: {e}", "config", str(path)) from None
+        preset = data.pop("preset", "exp1")
+        check_keys(data, source=path)
+        try:
+            return cls.from_preset(preset, **{**data, **overrides})
+        except ParameterError as e:
+            if e.param in data or e.param == "preset":
+                raise ParameterError(f"{path}: key '{e.param}': {e}", e.param, e.value) from None
+            raise
+
+
+def check_keys(d: dict[str, Any], source: Path | None) -> None:
+    known = {f.name for f in dataclasses.fields(Config)}
+    for k in d:
+        if k not in known:
+            where = f"{source}: " if source else ""
+            raise ParameterError(
+                f"{where}The '{k}' parameter is not a parameter of Config. Known parameters: {', '.join(sorted(known))}.",
+                k,
+                repr(d[k]),
+            )
+
+
+# The paper's experiments (section IV.B); every other value is our documented choice.
+PRESETS: dict[str, dict[str, Any]] = {
+    "exp1": dict(n_steps=50_000, goal_low=(0.0, -50.0), goal_high=(50.0, 50.0), q=20),
+    "exp2": dict(n_steps=200_000, goal_low=(0.0, -150.0), goal_high=(150.0, 150.0), q=100),
+}
+

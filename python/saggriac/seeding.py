@@ -1,0 +1,20 @@
+"""Seeds. One root seed per run; the learner's and the evaluation's seeds derive from it with
+numpy's SeedSequence, so the test sets depend only on the experiment seed, not the condition."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .errors import ParameterError
+
+
+def check_seed(seed: object) -> int:
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or not 0 <= int(seed) < 2**63:
+        raise ParameterError(f"The 'seed' parameter must be an int in [0, 2**63). Got {seed!r} instead.", "seed", repr(seed))
+    return int(seed)
+
+
+def derive_seeds(seed: int) -> tuple[int, int]:
+    """(learner_seed, eval_seed) for a root seed."""
+    learner, evaluation = np.random.SeedSequence(check_seed(seed)).spawn(2)
+    return int(learner.generate_state(1, np.uint64)[0]), int(evaluation.generate_state(1, np.uint64)[0])

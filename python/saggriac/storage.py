@@ -1,0 +1,70 @@
+"""Run directories, written so that a result is never half-written: everything goes to a
+temporary sibling directory first, which is renamed into place only when complete."""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import tempfile
+from pathlib import Path
+from typing import Any
+
+import pandas as pd
+
+from .errors import StorageError
+
+MANIFEST = "run.json"
+TABLES = ("metrics", "goals", "attempts", "regions")
+
+
+def _check_writable(parent: Path) -> None:
+    try:
+        parent.mkdir(parents=True, exist_ok=True)
+    except OSError as e:
+        raise StorageError(f"Cannot create the output folder {parent}: {e.strerror}.") from None
+    if not os.access(parent, os.W_OK):
+        raise StorageError(f"The output folder {parent} is not writable.")
+
+
+def check_output_dir(out: Path, overwrite: bool = False) -> None:
+    """Fail before any work if `out` cannot be written or already holds a finished run."""
+    if (out / MANIFEST).exists() and not overwrite:
+        raise StorageError(f"{out} already holds a finished run; pass overwrite=True (--overwrite) to replace it.")
+    _check_writable(out.parent)
+
+
+def write_run(out: Path, manifest: dict[str, Any], tables: dict[str, pd.DataFrame], overwrite: bool = False) -> Path:
+    """Write a run directory atomically; the manifest is written last, so a directory with a
+    manifest is always complete."""
+    check_output_dir(out, overwrite)
+    tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.", suffix=".tmp", dir=out.parent))
+    try:
+        for name, df in tables.items():
+            df.to_parquet(tmp / f"{name}.parquet", index=False)
+        with open(tmp / MANIFEST, "w") as f:
+            json.dump(manifest, f, indent=2, sort_keys=True)
+            f.flush()
+            os.fsync(f.fileno())
+        if out.exists():
+            old = out.with_name(f".{out.name}.old")
+            shutil.rmtree(old, ignore_errors=True)
+            out.rename(old)
+            tmp.rename(out)
+            shutil.rmtree(old, ignore_errors=True)
+        else:
+            tmp.rename(out)
+    except OSError as e:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise StorageError(f"Could not write the run to {out}: {e}") from None
+    return out
+
+
+def read_run(path: Path) -> tuple[dict[str, Any], dict[str, pd.DataFrame]]:
+    path = Path(path)
+    if not (path / MANIFEST).exists():
+        raise StorageError(f"{path} is not a finished run directory (no {MANIFEST}).")
+    with open(path / MANIFEST) as f:
+        manifest = json.load(f)
+    tables = {name: pd.read_parquet(path / f"{name}.parquet") for name in TABLES if (path / f"{name}.parquet").exists()}
+    return manifest, tables
