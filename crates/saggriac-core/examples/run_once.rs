@@ -22,6 +22,10 @@ fn main() {
     }
     for kv in args.iter().skip(5) {
         let (k, v) = kv.split_once('=').expect("key=value");
+        if k == "index" {
+            cfg.index = saggriac_core::memory::IndexKind::parse(v).expect("index kind");
+            continue;
+        }
         let f: f64 = v.parse().expect("number");
         match k {
             "eps_max" => cfg.reaching.eps_max = f,

@@ -13,6 +13,7 @@ pub mod evaluation;
 pub mod exploration_phase;
 pub mod goal_selection;
 pub mod interest;
+pub mod kd_tree;
 pub mod local_model;
 pub mod memory;
 pub mod neighbours;

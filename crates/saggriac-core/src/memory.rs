@@ -1,12 +1,16 @@
 //! Sensorimotor memory: every executed micro-action (theta, dtheta, dx) with the end-effector
 //! position x before it, plus the neighbour index over theta that the local models query.
 
+use crate::kd_tree::KdTree;
 use crate::neighbours::{BruteForce, KdTreeIndex, Neighbour, NeighbourIndex, WarmStart};
 
 /// Which exact neighbour index backs the memory.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum IndexKind {
+    /// Our k-d tree (`kd_tree.rs`), the default.
     KdTree,
+    /// The `kdtree` crate, kept as a second exact implementation to compare against.
+    KdTreeCrate,
     BruteForce,
 }
 
@@ -14,6 +18,7 @@ impl IndexKind {
     pub fn parse(s: &str) -> Option<Self> {
         match s {
             "kdtree" => Some(IndexKind::KdTree),
+            "kdtree_crate" => Some(IndexKind::KdTreeCrate),
             "brute_force" => Some(IndexKind::BruteForce),
             _ => None,
         }
@@ -21,6 +26,7 @@ impl IndexKind {
     pub fn name(&self) -> &'static str {
         match self {
             IndexKind::KdTree => "kdtree",
+            IndexKind::KdTreeCrate => "kdtree_crate",
             IndexKind::BruteForce => "brute_force",
         }
     }
@@ -40,7 +46,8 @@ pub struct SensorimotorMemory {
 impl SensorimotorMemory {
     pub fn new(n: usize, m: usize, kind: IndexKind) -> Self {
         let index: Box<dyn NeighbourIndex> = match kind {
-            IndexKind::KdTree => Box::new(KdTreeIndex::new(n)),
+            IndexKind::KdTree => Box::new(KdTree::new(n)),
+            IndexKind::KdTreeCrate => Box::new(KdTreeIndex::new(n)),
             IndexKind::BruteForce => Box::new(BruteForce::new(n)),
         };
         SensorimotorMemory { n, m, theta: Vec::new(), dtheta: Vec::new(), dx: Vec::new(), x: Vec::new(), index, rejected: 0 }

@@ -1,0 +1,302 @@
+//! Our own exact, incremental k-d tree for the sensorimotor memory.
+//!
+//! Why not only the `kdtree` crate: its search allocates a vector at every node it visits and
+//! keeps a heap of nodes, which dominated our profiles (see benchmarks/). This tree keeps each
+//! leaf's coordinates contiguous, searches depth first without allocating, accepts a starting
+//! radius (the warm start), and orders by (distance, id) so it returns exactly what the
+//! brute-force reference returns, ties included.
+
+use crate::neighbours::{Neighbour, NeighbourIndex};
+
+const BUCKET: usize = 24;
+
+#[derive(Debug, Clone)]
+enum Node {
+    Leaf { ids: Vec<u32>, coords: Vec<f64> },
+    Inner { dim: usize, value: f64, left: usize, right: usize },
+}
+
+#[derive(Debug, Clone)]
+pub struct KdTree {
+    dim: usize,
+    nodes: Vec<Node>,
+    /// Tight bounding box of the points under each node: lo at [i*2*dim..], hi after it.
+    bounds: Vec<f64>,
+    len: usize,
+}
+
+/// The k best so far, kept sorted by (distance, id); k is small (tens), so insertion into a
+/// sorted array beats a heap.
+struct Best<'a> {
+    out: &'a mut Vec<Neighbour>,
+    k: usize,
+    radius_sq: f64,
+}
+
+impl Best<'_> {
+    #[inline]
+    fn worst(&self) -> f64 {
+        if self.out.len() < self.k {
+            self.radius_sq
+        } else {
+            self.out[self.k - 1].dist_sq
+        }
+    }
+    #[inline]
+    fn offer(&mut self, id: u32, d: f64) {
+        if d > self.radius_sq {
+            return;
+        }
+        let full = self.out.len() >= self.k;
+        if full {
+            let w = &self.out[self.k - 1];
+            if d > w.dist_sq || (d == w.dist_sq && id > w.id) {
+                return;
+            }
+        }
+        let pos = self.out.partition_point(|n| n.dist_sq < d || (n.dist_sq == d && n.id < id));
+        if full {
+            self.out.pop();
+        }
+        self.out.insert(pos, Neighbour { id, dist_sq: d });
+    }
+}
+
+impl KdTree {
+    pub fn new(dim: usize) -> Self {
+        let mut t = KdTree { dim, nodes: Vec::new(), bounds: Vec::new(), len: 0 };
+        t.push_node(Node::Leaf { ids: Vec::new(), coords: Vec::new() });
+        t
+    }
+
+    fn push_node(&mut self, node: Node) -> usize {
+        self.nodes.push(node);
+        self.bounds.extend(std::iter::repeat_n(f64::INFINITY, self.dim));
+        self.bounds.extend(std::iter::repeat_n(f64::NEG_INFINITY, self.dim));
+        self.nodes.len() - 1
+    }
+
+    #[inline]
+    fn extend_bounds(&mut self, node: usize, p: &[f64]) {
+        let d = self.dim;
+        let b = &mut self.bounds[node * 2 * d..(node + 1) * 2 * d];
+        let (lo, hi) = b.split_at_mut(d);
+        for i in 0..d {
+            if p[i] < lo[i] {
+                lo[i] = p[i];
+            }
+            if p[i] > hi[i] {
+                hi[i] = p[i];
+            }
+        }
+    }
+
+    /// Squared distance from q to the bounding box of `node`.
+    #[inline]
+    fn box_dist_sq(&self, node: usize, q: &[f64]) -> f64 {
+        let d = self.dim;
+        let b = &self.bounds[node * 2 * d..(node + 1) * 2 * d];
+        let (lo, hi) = b.split_at(d);
+        let mut s = 0.0;
+        for i in 0..d {
+            let v = q[i];
+            let e = if v < lo[i] {
+                lo[i] - v
+            } else if v > hi[i] {
+                v - hi[i]
+            } else {
+                0.0
+            };
+            s += e * e;
+        }
+        s
+    }
+
+    fn split_leaf(&mut self, node: usize) {
+        let d = self.dim;
+        let (dim, spread) = {
+            let b = &self.bounds[node * 2 * d..(node + 1) * 2 * d];
+            (0..d).map(|i| (i, b[d + i] - b[i])).fold((0, 0.0), |a, x| if x.1 > a.1 { x } else { a })
+        };
+        if spread <= 0.0 {
+            // All points identical: a split cannot separate them; the leaf just grows.
+            return;
+        }
+        let (ids, coords) = match std::mem::replace(&mut self.nodes[node], Node::Leaf { ids: Vec::new(), coords: Vec::new() }) {
+            Node::Leaf { ids, coords } => (ids, coords),
+            Node::Inner { .. } => unreachable!("split_leaf on an inner node"),
+        };
+        // Median of the split coordinate: balanced children whatever the data's shape.
+        let mut vals: Vec<f64> = coords.chunks_exact(d).map(|p| p[dim]).collect();
+        let mid = vals.len() / 2;
+        let (_, m, _) = vals.select_nth_unstable_by(mid, |a, b| a.total_cmp(b));
+        let mut value = *m;
+        let lo = self.bounds[node * 2 * d + dim];
+        if value <= lo {
+            // Many points at the minimum: put the cut just above them.
+            value = vals.iter().cloned().filter(|v| *v > lo).fold(f64::INFINITY, f64::min);
+        }
+        let left = self.push_node(Node::Leaf { ids: Vec::new(), coords: Vec::new() });
+        let right = self.push_node(Node::Leaf { ids: Vec::new(), coords: Vec::new() });
+        for (id, p) in ids.iter().zip(coords.chunks_exact(d)) {
+            let child = if p[dim] < value { left } else { right };
+            self.extend_bounds(child, p);
+            if let Node::Leaf { ids, coords } = &mut self.nodes[child] {
+                ids.push(*id);
+                coords.extend_from_slice(p);
+            }
+        }
+        self.nodes[node] = Node::Inner { dim, value, left, right };
+    }
+
+    fn search(&self, node: usize, q: &[f64], best: &mut Best<'_>) {
+        match &self.nodes[node] {
+            Node::Leaf { ids, coords } => {
+                let d = self.dim;
+                for (id, p) in ids.iter().zip(coords.chunks_exact(d)) {
+                    let mut s = 0.0;
+                    for i in 0..d {
+                        let e = q[i] - p[i];
+                        s += e * e;
+                    }
+                    best.offer(*id, s);
+                }
+            }
+            Node::Inner { dim, value, left, right } => {
+                let (near, far) = if q[*dim] < *value { (*left, *right) } else { (*right, *left) };
+                if self.box_dist_sq(near, q) <= best.worst() {
+                    self.search(near, q, best);
+                }
+                if self.box_dist_sq(far, q) <= best.worst() {
+                    self.search(far, q, best);
+                }
+            }
+        }
+    }
+}
+
+impl NeighbourIndex for KdTree {
+    fn dim(&self) -> usize {
+        self.dim
+    }
+    fn len(&self) -> usize {
+        self.len
+    }
+    fn add(&mut self, point: &[f64]) {
+        debug_assert_eq!(point.len(), self.dim);
+        let id = self.len as u32;
+        self.len += 1;
+        let mut node = 0;
+        loop {
+            self.extend_bounds(node, point);
+            match &mut self.nodes[node] {
+                Node::Inner { dim, value, left, right } => {
+                    node = if point[*dim] < *value { *left } else { *right };
+                }
+                Node::Leaf { ids, coords } => {
+                    ids.push(id);
+                    coords.extend_from_slice(point);
+                    if ids.len() > BUCKET && ids.len() % BUCKET == 1 {
+                        self.split_leaf(node);
+                    }
+                    return;
+                }
+            }
+        }
+    }
+    fn knn_within(&self, query: &[f64], k: usize, radius_sq: f64, out: &mut Vec<Neighbour>) {
+        out.clear();
+        if k == 0 || self.len == 0 {
+            return;
+        }
+        let mut best = Best { out, k, radius_sq };
+        if self.box_dist_sq(0, query) <= radius_sq {
+            self.search(0, query, &mut best);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::neighbours::{BruteForce, WarmStart};
+    use crate::rng::{rng_from_seed, uniform};
+
+    fn compare(points: &[f64], dim: usize, queries: &[f64], k: usize) {
+        let mut bf = BruteForce::new(dim);
+        let mut kd = KdTree::new(dim);
+        for p in points.chunks_exact(dim) {
+            bf.add(p);
+            kd.add(p);
+        }
+        let (mut a, mut b) = (Vec::new(), Vec::new());
+        for q in queries.chunks_exact(dim) {
+            bf.knn(q, k, &mut a);
+            kd.knn(q, k, &mut b);
+            assert_eq!(a, b);
+        }
+    }
+
+    #[test]
+    fn matches_brute_force_on_random_data() {
+        let mut r = rng_from_seed(11);
+        for &dim in &[1usize, 2, 15] {
+            let pts: Vec<f64> = (0..2000 * dim).map(|_| uniform(&mut r, -1.0, 1.0)).collect();
+            let qs: Vec<f64> = (0..40 * dim).map(|_| uniform(&mut r, -1.2, 1.2)).collect();
+            for &k in &[1usize, 7, 45, 3000] {
+                compare(&pts, dim, &qs, k);
+            }
+        }
+    }
+
+    #[test]
+    fn matches_brute_force_with_duplicates_and_ties() {
+        // Rest poses repeated many times, a grid (equal distances everywhere) and a trajectory.
+        let dim = 15;
+        let mut pts = vec![0.0; 700 * dim];
+        for i in 0..400 {
+            let mut p = vec![0.0; dim];
+            p[i % dim] = ((i / dim) % 3) as f64 * 0.5;
+            pts.extend(p);
+        }
+        let mut r = rng_from_seed(2);
+        let mut t = vec![0.0; dim];
+        for _ in 0..1500 {
+            t.iter_mut().for_each(|v| *v += uniform(&mut r, -0.01, 0.01));
+            pts.extend_from_slice(&t);
+        }
+        pts.extend(vec![0.0; 300 * dim]);
+        let mut qs = vec![0.0; dim];
+        let mut q2 = vec![0.0; dim];
+        q2[3] = 0.25;
+        qs.extend(q2);
+        qs.extend_from_slice(&pts[1500 * dim..1501 * dim]);
+        for &k in &[1usize, 45, 1000] {
+            compare(&pts, dim, &qs, k);
+        }
+    }
+
+    #[test]
+    fn warm_start_on_our_tree_is_exact() {
+        let dim = 15;
+        let (mut bf, mut kd) = (BruteForce::new(dim), KdTree::new(dim));
+        let mut pts = Vec::new();
+        let mut r = rng_from_seed(8);
+        let mut theta = vec![0.0; dim];
+        let mut ws = WarmStart::new(8);
+        let (mut a, mut b) = (Vec::new(), Vec::new());
+        for step in 0..6000 {
+            if step % 250 == 0 {
+                theta.iter_mut().for_each(|t| *t = 0.0);
+                ws.clear();
+            }
+            theta.iter_mut().for_each(|t| *t += uniform(&mut r, -0.02, 0.02));
+            bf.knn(&theta, 45, &mut a);
+            ws.knn(&kd, &pts, &theta, 45, &mut b);
+            assert_eq!(a, b, "step {step}");
+            bf.add(&theta);
+            kd.add(&theta);
+            pts.extend_from_slice(&theta);
+        }
+    }
+}
