@@ -6,6 +6,11 @@ use saggriac_core::{Learner, RunConfig};
 fn main() {
     let mut cfg = RunConfig::default();
     cfg.n_steps = std::env::args().nth(1).and_then(|s| s.parse().ok()).unwrap_or(50_000);
+    if std::env::args().nth(2).as_deref() == Some("exp2") {
+        cfg.goal_low = vec![0.0, -150.0];
+        cfg.goal_high = vec![150.0, 150.0];
+        cfg.exploration.q = 100;
+    }
     cfg.eval.schedule = vec![cfg.n_steps];
     cfg.eval.n_test_goals = 1;
     cfg.eval.n_test_configs = 1;
@@ -24,7 +29,20 @@ fn main() {
         crate_.add(p);
     }
     // Queries along the stored trajectory (as the controller sees them).
-    let qs: Vec<&[f64]> = (n / 2..n / 2 + 2000).map(|i| &pts[i * dim..(i + 1) * dim]).collect();
+    let mode = std::env::args().nth(3).unwrap_or_default();
+    let zero = vec![0.0; dim];
+    let mut rest_walk = Vec::new();
+    let mut t = vec![0.0; dim];
+    for i in 0..2000 {
+        if i % 50 == 0 { t.iter_mut().for_each(|v| *v = 0.0); }
+        t[i % dim] += 0.003;
+        rest_walk.extend_from_slice(&t);
+    }
+    let qs: Vec<&[f64]> = match mode.as_str() {
+        "rest" => (0..2000).map(|_| &zero[..]).collect(),
+        "restwalk" => rest_walk.chunks_exact(dim).collect(),
+        _ => (n / 2..n / 2 + 2000).map(|i| &pts[i * dim..(i + 1) * dim]).collect(),
+    };
     let mut out = Vec::new();
     for (name, idx) in [("brute", &bf as &dyn NeighbourIndex), ("ours", &ours), ("crate", &crate_)] {
         let t = std::time::Instant::now();

@@ -23,6 +23,10 @@ pub struct KdTree {
     /// Tight bounding box of the points under each node: lo at [i*2*dim..], hi after it.
     bounds: Vec<f64>,
     len: usize,
+    /// Size at the last rebuild. Cuts chosen while the data was sparse fit the dense data that
+    /// comes later badly, so the tree is rebuilt balanced each time its size doubles
+    /// (amortised O(log n) per insertion).
+    built_at: usize,
 }
 
 /// The k best so far, kept sorted by (distance, id); k is small (tens), so insertion into a
@@ -64,7 +68,7 @@ impl Best<'_> {
 
 impl KdTree {
     pub fn new(dim: usize) -> Self {
-        let mut t = KdTree { dim, nodes: Vec::new(), bounds: Vec::new(), len: 0 };
+        let mut t = KdTree { dim, nodes: Vec::new(), bounds: Vec::new(), len: 0, built_at: 0 };
         t.push_node(Node::Leaf { ids: Vec::new(), coords: Vec::new() });
         t
     }
@@ -110,6 +114,64 @@ impl KdTree {
             s += e * e;
         }
         s
+    }
+
+    /// Rebuild the whole tree balanced: median cuts on the widest dimension of each node.
+    fn rebuild(&mut self) {
+        let d = self.dim;
+        let mut coords = vec![0.0; self.len * d];
+        for node in &self.nodes {
+            if let Node::Leaf { ids, coords: c } = node {
+                for (id, p) in ids.iter().zip(c.chunks_exact(d)) {
+                    coords[*id as usize * d..(*id as usize + 1) * d].copy_from_slice(p);
+                }
+            }
+        }
+        self.nodes.clear();
+        self.bounds.clear();
+        let mut ids: Vec<u32> = (0..self.len as u32).collect();
+        self.build(&mut ids, &coords);
+        self.built_at = self.len;
+    }
+
+    fn build(&mut self, ids: &mut [u32], coords: &[f64]) -> usize {
+        let d = self.dim;
+        let node = self.push_node(Node::Leaf { ids: Vec::new(), coords: Vec::new() });
+        for &id in ids.iter() {
+            self.extend_bounds(node, &coords[id as usize * d..(id as usize + 1) * d]);
+        }
+        let (dim, spread) = {
+            let b = &self.bounds[node * 2 * d..(node + 1) * 2 * d];
+            (0..d).map(|i| (i, b[d + i] - b[i])).fold((0, 0.0), |a, x| if x.1 > a.1 { x } else { a })
+        };
+        if ids.len() <= BUCKET || spread <= 0.0 {
+            let mut leaf_ids = ids.to_vec();
+            leaf_ids.sort_unstable();
+            let leaf_coords = leaf_ids.iter().flat_map(|&id| coords[id as usize * d..(id as usize + 1) * d].iter().copied()).collect();
+            self.nodes[node] = Node::Leaf { ids: leaf_ids, coords: leaf_coords };
+            return node;
+        }
+        let key = |id: &u32| coords[*id as usize * d + dim];
+        let mid = ids.len() / 2;
+        ids.select_nth_unstable_by(mid, |a, b| key(a).total_cmp(&key(b)));
+        let mut value = key(&ids[mid]);
+        let lo = self.bounds[node * 2 * d + dim];
+        if value <= lo {
+            value = ids.iter().map(key).filter(|v| *v > lo).fold(f64::INFINITY, f64::min);
+        }
+        // Partition: strictly below the cut to the left.
+        let mut i = 0;
+        for j in 0..ids.len() {
+            if key(&ids[j]) < value {
+                ids.swap(i, j);
+                i += 1;
+            }
+        }
+        let (l, r) = ids.split_at_mut(i);
+        let left = self.build(l, coords);
+        let right = self.build(r, coords);
+        self.nodes[node] = Node::Inner { dim, value, left, right };
+        node
     }
 
     fn split_leaf(&mut self, node: usize) {
@@ -198,6 +260,9 @@ impl NeighbourIndex for KdTree {
                     coords.extend_from_slice(point);
                     if ids.len() > BUCKET && ids.len() % BUCKET == 1 {
                         self.split_leaf(node);
+                    }
+                    if self.len >= 1024 && self.len >= 2 * self.built_at {
+                        self.rebuild();
                     }
                     return;
                 }

@@ -17,8 +17,9 @@ pub struct ReachingConfig {
     /// Explore when |realised dx - expected dx| > eps_max, where the expected dx is J dtheta for
     /// the executed dtheta (the desired dx itself unless the command was cut by a bound).
     pub eps_max: f64,
-    /// Timeout of one (sub)goal attempt, in reaching micro-actions:
-    /// ceil(timeout_factor * distance / v) + timeout_min.
+    /// Timeout of one (sub)goal attempt, in micro-actions of any kind (reaching and
+    /// exploration): ceil(timeout_factor * distance / v) + timeout_min. It is checked between
+    /// phases, so an exploration phase that starts before the timeout runs its q actions.
     pub timeout_factor: f64,
     pub timeout_min: usize,
 }
@@ -76,22 +77,21 @@ impl Learner {
         let comp = self.cfg.competence;
         let start = self.arm.position();
         let d0 = ((target[0] - start[0]).powi(2) + (target[1] - start[1]).powi(2)).sqrt();
-        let timeout = rc.timeout(d0);
-        let mut n_reach = 0;
+        let timeout = rc.timeout(d0) as u64;
+        let step0 = self.steps();
         let mut interrupted = false;
         loop {
             let x = self.arm.position();
             if cost(&target, &x, &start, comp.min_c) > comp.eps_c {
                 break;
             }
-            if n_reach >= timeout {
+            if self.steps() - step0 >= timeout {
                 break;
             }
             if self.budget_spent() {
                 interrupted = true;
                 break;
             }
-            n_reach += 1;
             let dx_des = desired_step(&x, &target, rc.v);
             let mut d = std::mem::take(&mut self.buf_dtheta);
             match self.inverse_model(&dx_des, &mut d) {
