@@ -52,4 +52,5 @@ fn main() {
     let wall = t.elapsed().as_secs_f64();
     println!("wall {wall:.2}s  {:.0} steps/s  timers {:?}", l.steps() as f64 / wall, l.timers());
     println!("counters {:?}", l.counters());
+    println!("evaluation knn/fit {:?}", l.evaluation_split());
 }

@@ -123,13 +123,16 @@ pub struct Evaluator {
     warm: WarmStart,
     neighbours: Vec<Neighbour>,
     v: f64,
+    /// Seconds spent in neighbour search and in local fits during evaluations.
+    pub time_knn: f64,
+    pub time_fit: f64,
 }
 
 impl Evaluator {
     pub fn new(cfg: EvalConfig, tests: TestSet, arm: ArmConfig, local: LocalModelConfig, v: f64, warm_recent: usize) -> Result<Self> {
         let arm = Arm::new(arm)?;
         let n = arm.n_joints();
-        Ok(Evaluator { cfg, tests, arm, model: LocalModel::new(n, 2, local), warm: WarmStart::new(warm_recent.max(1)), neighbours: Vec::new(), v })
+        Ok(Evaluator { cfg, tests, arm, model: LocalModel::new(n, 2, local), warm: WarmStart::new(warm_recent.max(1)), neighbours: Vec::new(), v, time_knn: 0.0, time_fit: 0.0 })
     }
 
     /// Evaluate the model held in `memory`.
@@ -152,7 +155,9 @@ impl Evaluator {
         let mut pred_errors = Vec::with_capacity(self.tests.configs.len());
         let mut xp = [0.0; 2];
         for (c, xt) in self.tests.configs.iter().zip(&self.tests.true_x) {
+            let t0 = std::time::Instant::now();
             memory.knn(c, k, &mut self.neighbours);
+            self.time_knn += t0.elapsed().as_secs_f64();
             let ok = memory.len() >= k && self.model.fit(memory, &self.neighbours).is_ok();
             if ok {
                 self.model.predict_x(memory, &self.neighbours, c, &mut xp);
@@ -187,8 +192,14 @@ impl Evaluator {
             }
             let dx = desired_step(&x, &goal, self.v);
             let theta = self.arm.theta().to_vec();
+            let t0 = std::time::Instant::now();
             memory.knn_warm(&mut self.warm, &theta, k, &mut self.neighbours);
-            if self.model.fit(memory, &self.neighbours).and_then(|_| self.model.inverse(&dx, &mut dtheta)).is_err() {
+            let t1 = std::time::Instant::now();
+            let fitted = self.model.fit(memory, &self.neighbours).and_then(|_| self.model.inverse(&dx, &mut dtheta));
+            let t2 = std::time::Instant::now();
+            self.time_knn += (t1 - t0).as_secs_f64();
+            self.time_fit += (t2 - t1).as_secs_f64();
+            if fitted.is_err() {
                 break;
             }
             self.arm.step(&mut dtheta);

@@ -8,12 +8,78 @@
 
 use crate::neighbours::{Neighbour, NeighbourIndex};
 
-const BUCKET: usize = 24;
+const BUCKET: usize = 48;
+
+/// A leaf stores its coordinates dimension-major (all first coordinates, then all second ...,
+/// with a stride of `cap`), so the distance kernel runs over points in SIMD lanes.
+#[derive(Debug, Clone, Default)]
+struct Leaf {
+    ids: Vec<u32>,
+    cap: usize,
+    coords: Vec<f64>,
+}
+
+impl Leaf {
+    fn push(&mut self, dim: usize, id: u32, p: &[f64]) {
+        let len = self.ids.len();
+        if len == self.cap {
+            let cap = (self.cap * 2).max(BUCKET + 1);
+            let mut c = vec![0.0; dim * cap];
+            for d in 0..dim {
+                c[d * cap..d * cap + len].copy_from_slice(&self.coords[d * self.cap..d * self.cap + len]);
+            }
+            self.coords = c;
+            self.cap = cap;
+        }
+        for (d, v) in p.iter().enumerate() {
+            self.coords[d * self.cap + len] = *v;
+        }
+        self.ids.push(id);
+    }
+    fn point(&self, dim: usize, j: usize, out: &mut [f64]) {
+        for (d, o) in out.iter_mut().enumerate().take(dim) {
+            *o = self.coords[d * self.cap + j];
+        }
+    }
+}
 
 #[derive(Debug, Clone)]
 enum Node {
-    Leaf { ids: Vec<u32>, coords: Vec<f64> },
+    Leaf(Leaf),
     Inner { dim: usize, value: f64, left: usize, right: usize },
+}
+
+/// Squared distances from q to the first `len` points of a dimension-major block, summed over
+/// dimensions in order, exactly as `neighbours::dist_sq` sums them (same bits).
+#[inline(always)]
+fn block_dist_sq(q: &[f64], coords: &[f64], cap: usize, len: usize, acc: &mut [f64]) {
+    let acc = &mut acc[..len];
+    acc.iter_mut().for_each(|a| *a = 0.0);
+    for (d, &qd) in q.iter().enumerate() {
+        let row = &coords[d * cap..d * cap + len];
+        for (a, c) in acc.iter_mut().zip(row) {
+            let e = qd - c;
+            *a += e * e;
+        }
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn block_dist_sq_avx2(q: &[f64], coords: &[f64], cap: usize, len: usize, acc: &mut [f64]) {
+    // Same code compiled for 4-wide lanes; no FMA is enabled, so results are bit-identical.
+    block_dist_sq(q, coords, cap, len, acc)
+}
+
+fn distances(q: &[f64], coords: &[f64], cap: usize, len: usize, acc: &mut [f64]) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the CPU supports AVX2, checked just above.
+            return unsafe { block_dist_sq_avx2(q, coords, cap, len, acc) };
+        }
+    }
+    block_dist_sq(q, coords, cap, len, acc)
 }
 
 #[derive(Debug, Clone)]
@@ -35,6 +101,7 @@ struct Best<'a> {
     out: &'a mut Vec<Neighbour>,
     k: usize,
     radius_sq: f64,
+    acc: Vec<f64>,
 }
 
 impl Best<'_> {
@@ -69,7 +136,7 @@ impl Best<'_> {
 impl KdTree {
     pub fn new(dim: usize) -> Self {
         let mut t = KdTree { dim, nodes: Vec::new(), bounds: Vec::new(), len: 0, built_at: 0 };
-        t.push_node(Node::Leaf { ids: Vec::new(), coords: Vec::new() });
+        t.push_node(Node::Leaf(Leaf::default()));
         t
     }
 
@@ -93,6 +160,31 @@ impl KdTree {
                 hi[i] = p[i];
             }
         }
+    }
+
+    /// Is the bounding box of `node` within squared distance `limit` of q? Stops summing as
+    /// soon as the partial sum passes the limit.
+    #[inline]
+    fn box_within(&self, node: usize, q: &[f64], limit: f64) -> bool {
+        let d = self.dim;
+        let b = &self.bounds[node * 2 * d..(node + 1) * 2 * d];
+        let (lo, hi) = b.split_at(d);
+        let mut s = 0.0;
+        for i in 0..d {
+            let v = q[i];
+            let e = if v < lo[i] {
+                lo[i] - v
+            } else if v > hi[i] {
+                v - hi[i]
+            } else {
+                0.0
+            };
+            s += e * e;
+            if s > limit {
+                return false;
+            }
+        }
+        true
     }
 
     /// Squared distance from q to the bounding box of `node`.
@@ -121,9 +213,9 @@ impl KdTree {
         let d = self.dim;
         let mut coords = vec![0.0; self.len * d];
         for node in &self.nodes {
-            if let Node::Leaf { ids, coords: c } = node {
-                for (id, p) in ids.iter().zip(c.chunks_exact(d)) {
-                    coords[*id as usize * d..(*id as usize + 1) * d].copy_from_slice(p);
+            if let Node::Leaf(leaf) = node {
+                for (j, id) in leaf.ids.iter().enumerate() {
+                    leaf.point(d, j, &mut coords[*id as usize * d..(*id as usize + 1) * d]);
                 }
             }
         }
@@ -136,7 +228,7 @@ impl KdTree {
 
     fn build(&mut self, ids: &mut [u32], coords: &[f64]) -> usize {
         let d = self.dim;
-        let node = self.push_node(Node::Leaf { ids: Vec::new(), coords: Vec::new() });
+        let node = self.push_node(Node::Leaf(Leaf::default()));
         for &id in ids.iter() {
             self.extend_bounds(node, &coords[id as usize * d..(id as usize + 1) * d]);
         }
@@ -147,8 +239,11 @@ impl KdTree {
         if ids.len() <= BUCKET || spread <= 0.0 {
             let mut leaf_ids = ids.to_vec();
             leaf_ids.sort_unstable();
-            let leaf_coords = leaf_ids.iter().flat_map(|&id| coords[id as usize * d..(id as usize + 1) * d].iter().copied()).collect();
-            self.nodes[node] = Node::Leaf { ids: leaf_ids, coords: leaf_coords };
+            let mut leaf = Leaf::default();
+            for id in leaf_ids {
+                leaf.push(d, id, &coords[id as usize * d..(id as usize + 1) * d]);
+            }
+            self.nodes[node] = Node::Leaf(leaf);
             return node;
         }
         let key = |id: &u32| coords[*id as usize * d + dim];
@@ -184,12 +279,13 @@ impl KdTree {
             // All points identical: a split cannot separate them; the leaf just grows.
             return;
         }
-        let (ids, coords) = match std::mem::replace(&mut self.nodes[node], Node::Leaf { ids: Vec::new(), coords: Vec::new() }) {
-            Node::Leaf { ids, coords } => (ids, coords),
+        let leaf = match std::mem::replace(&mut self.nodes[node], Node::Leaf(Leaf::default())) {
+            Node::Leaf(leaf) => leaf,
             Node::Inner { .. } => unreachable!("split_leaf on an inner node"),
         };
+        let n = leaf.ids.len();
         // Median of the split coordinate: balanced children whatever the data's shape.
-        let mut vals: Vec<f64> = coords.chunks_exact(d).map(|p| p[dim]).collect();
+        let mut vals: Vec<f64> = leaf.coords[dim * leaf.cap..dim * leaf.cap + n].to_vec();
         let mid = vals.len() / 2;
         let (_, m, _) = vals.select_nth_unstable_by(mid, |a, b| a.total_cmp(b));
         let mut value = *m;
@@ -198,14 +294,15 @@ impl KdTree {
             // Many points at the minimum: put the cut just above them.
             value = vals.iter().cloned().filter(|v| *v > lo).fold(f64::INFINITY, f64::min);
         }
-        let left = self.push_node(Node::Leaf { ids: Vec::new(), coords: Vec::new() });
-        let right = self.push_node(Node::Leaf { ids: Vec::new(), coords: Vec::new() });
-        for (id, p) in ids.iter().zip(coords.chunks_exact(d)) {
+        let left = self.push_node(Node::Leaf(Leaf::default()));
+        let right = self.push_node(Node::Leaf(Leaf::default()));
+        let mut p = vec![0.0; d];
+        for (j, id) in leaf.ids.iter().enumerate() {
+            leaf.point(d, j, &mut p);
             let child = if p[dim] < value { left } else { right };
-            self.extend_bounds(child, p);
-            if let Node::Leaf { ids, coords } = &mut self.nodes[child] {
-                ids.push(*id);
-                coords.extend_from_slice(p);
+            self.extend_bounds(child, &p);
+            if let Node::Leaf(l) = &mut self.nodes[child] {
+                l.push(d, *id, &p);
             }
         }
         self.nodes[node] = Node::Inner { dim, value, left, right };
@@ -213,23 +310,28 @@ impl KdTree {
 
     fn search(&self, node: usize, q: &[f64], best: &mut Best<'_>) {
         match &self.nodes[node] {
-            Node::Leaf { ids, coords } => {
-                let d = self.dim;
-                for (id, p) in ids.iter().zip(coords.chunks_exact(d)) {
-                    let mut s = 0.0;
-                    for i in 0..d {
-                        let e = q[i] - p[i];
-                        s += e * e;
+            Node::Leaf(leaf) => {
+                let len = leaf.ids.len();
+                if best.acc.len() < len {
+                    best.acc.resize(len, 0.0);
+                }
+                distances(q, &leaf.coords, leaf.cap, len, &mut best.acc);
+                for j in 0..len {
+                    let dsq = best.acc[j];
+                    if dsq <= best.worst() {
+                        best.offer(leaf.ids[j], dsq);
                     }
-                    best.offer(*id, s);
                 }
             }
             Node::Inner { dim, value, left, right } => {
                 let (near, far) = if q[*dim] < *value { (*left, *right) } else { (*right, *left) };
-                if self.box_dist_sq(near, q) <= best.worst() {
+                if self.box_within(near, q, best.worst()) {
                     self.search(near, q, best);
                 }
-                if self.box_dist_sq(far, q) <= best.worst() {
+                // The far side lies beyond the cut plane: a one-coordinate test first, the tight
+                // box only if the plane is close enough.
+                let plane = q[*dim] - *value;
+                if plane * plane <= best.worst() && self.box_within(far, q, best.worst()) {
                     self.search(far, q, best);
                 }
             }
@@ -255,10 +357,10 @@ impl NeighbourIndex for KdTree {
                 Node::Inner { dim, value, left, right } => {
                     node = if point[*dim] < *value { *left } else { *right };
                 }
-                Node::Leaf { ids, coords } => {
-                    ids.push(id);
-                    coords.extend_from_slice(point);
-                    if ids.len() > BUCKET && ids.len() % BUCKET == 1 {
+                Node::Leaf(leaf) => {
+                    leaf.push(self.dim, id, point);
+                    let n = leaf.ids.len();
+                    if n > BUCKET && n % BUCKET == 1 {
                         self.split_leaf(node);
                     }
                     if self.len >= 1024 && self.len >= 2 * self.built_at {
@@ -274,7 +376,7 @@ impl NeighbourIndex for KdTree {
         if k == 0 || self.len == 0 {
             return;
         }
-        let mut best = Best { out, k, radius_sq };
+        let mut best = Best { out, k, radius_sq, acc: vec![0.0; 2 * BUCKET] };
         if self.box_dist_sq(0, query) <= radius_sq {
             self.search(0, query, &mut best);
         }

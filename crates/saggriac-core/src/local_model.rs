@@ -57,58 +57,75 @@ pub struct LocalModel {
     rhs: DMatrix<f64>,
     /// The current Jacobian estimate (m x n).
     jac: DMatrix<f64>,
+    gram_buf: Vec<f64>,
+    rhs_buf: Vec<f64>,
 }
 
 impl LocalModel {
     pub fn new(n: usize, m: usize, cfg: LocalModelConfig) -> Self {
-        LocalModel { cfg, n, m, gram: DMatrix::zeros(n, n), rhs: DMatrix::zeros(n, m), jac: DMatrix::zeros(m, n) }
+        LocalModel {
+            cfg,
+            n,
+            m,
+            gram: DMatrix::zeros(n, n),
+            rhs: DMatrix::zeros(n, m),
+            jac: DMatrix::zeros(m, n),
+            gram_buf: vec![0.0; n * n],
+            rhs_buf: vec![0.0; n * m],
+        }
     }
 
     pub fn jacobian(&self) -> &DMatrix<f64> {
         &self.jac
     }
 
-    /// Fit J on the given neighbours: J = argmin sum |dx_i - J dtheta_i|^2 + lambda |J|_F^2.
+    /// Fit J on the given neighbours: J = argmin sum w_i |dx_i - J dtheta_i|^2 + lambda |J|_F^2.
     pub fn fit(&mut self, mem: &SensorimotorMemory, neighbours: &[Neighbour]) -> std::result::Result<(), FitFailure> {
         if neighbours.len() < self.cfg.k_neighbours.min(mem.len()).max(1) || mem.len() < self.cfg.k_neighbours {
             return Err(FitFailure::NotEnoughData);
         }
         let (n, m) = (self.n, self.m);
-        self.gram.fill(0.0);
-        self.rhs.fill(0.0);
+        // Accumulate in flat buffers (upper triangle of the Gram matrix): this loop runs at every
+        // reaching step, and plain slices let the compiler drop bounds checks and vectorise.
+        self.gram_buf.iter_mut().for_each(|v| *v = 0.0);
+        self.rhs_buf.iter_mut().for_each(|v| *v = 0.0);
         // Gaussian weights with a bandwidth set by the median neighbour: the Jacobian changes
         // across the neighbourhood, so the closest samples should dominate.
         let h2 = neighbours[neighbours.len() / 2].dist_sq.max(1e-300) * self.cfg.bandwidth;
+        let mut wd = vec![0.0; n];
         for nb in neighbours {
             let w = if self.cfg.bandwidth > 0.0 { (-nb.dist_sq / h2).exp() } else { 1.0 };
             let dth = mem.dtheta(nb.id as usize);
             let dx = mem.dx(nb.id as usize);
+            for (o, d) in wd.iter_mut().zip(dth) {
+                *o = w * d;
+            }
             for a in 0..n {
-                let da = w * dth[a];
-                if da == 0.0 {
-                    continue;
+                let da = wd[a];
+                let row = &mut self.gram_buf[a * n..(a + 1) * n];
+                for (g, d) in row[a..].iter_mut().zip(&dth[a..]) {
+                    *g += da * d;
                 }
-                for b in a..n {
-                    self.gram[(a, b)] += da * dth[b];
-                }
-                for j in 0..m {
-                    self.rhs[(a, j)] += da * dx[j];
+                let r = &mut self.rhs_buf[a * m..(a + 1) * m];
+                for (o, x) in r.iter_mut().zip(dx) {
+                    *o += da * x;
                 }
             }
         }
-        let mut trace = 0.0;
-        for a in 0..n {
-            trace += self.gram[(a, a)];
-            for b in 0..a {
-                self.gram[(a, b)] = self.gram[(b, a)];
-            }
-        }
+        let trace: f64 = (0..n).map(|a| self.gram_buf[a * n + a]).sum();
         if !(trace.is_finite() && trace > 0.0) {
             return Err(FitFailure::Degenerate);
         }
         let lambda = self.cfg.ridge * trace / n as f64;
         for a in 0..n {
-            self.gram[(a, a)] += lambda;
+            for b in a..n {
+                let v = self.gram_buf[a * n + b] + if a == b { lambda } else { 0.0 };
+                self.gram[(a, b)] = v;
+                self.gram[(b, a)] = v;
+            }
+            for j in 0..m {
+                self.rhs[(a, j)] = self.rhs_buf[a * m + j];
+            }
         }
         let chol = self.gram.clone().cholesky().ok_or(FitFailure::Degenerate)?;
         let jt = chol.solve(&self.rhs);
@@ -119,9 +136,9 @@ impl LocalModel {
         Ok(())
     }
 
-    /// dtheta = J+ dx with the SVD pseudo-inverse of the fitted J.
+    /// dtheta = J+ dx with the Moore-Penrose pseudo-inverse of the fitted J.
     pub fn inverse(&self, dx: &[f64], dtheta: &mut [f64]) -> std::result::Result<(), FitFailure> {
-        pinv_apply(&self.jac, dx, self.cfg.pinv_rcond, dtheta)
+        pinv_apply_wide(&self.jac, dx, self.cfg.pinv_rcond, dtheta)
     }
 
     /// Forward prediction of x(theta): x_mean + J d, with x_mean and theta_mean the neighbours'
@@ -150,6 +167,47 @@ impl LocalModel {
             *o += (0..self.n).map(|a| self.jac[(j, a)] * d[a]).sum::<f64>();
         }
     }
+}
+
+/// J+ dx for a wide J (m x n, m <= n) through the symmetric eigen-decomposition of the small
+/// m x m matrix J J^T = U S^2 U^T: J+ = J^T U S^-2 U^T, eigenvalues below (rcond * s_max)^2
+/// dropped. This is the SVD pseudo-inverse with the same cutoff (the singular values of J are the
+/// square roots of those eigenvalues), at the cost of an m x m problem instead of an m x n SVD.
+pub fn pinv_apply_wide(j: &DMatrix<f64>, dx: &[f64], rcond: f64, dtheta: &mut [f64]) -> std::result::Result<(), FitFailure> {
+    let (m, n) = j.shape();
+    if m > n {
+        return pinv_apply(j, dx, rcond, dtheta);
+    }
+    let jjt = j * j.transpose();
+    if !jjt.iter().all(|v| v.is_finite()) {
+        return Err(FitFailure::Degenerate);
+    }
+    let eig = jjt.symmetric_eigen();
+    let smax2 = eig.eigenvalues.iter().cloned().fold(0.0f64, f64::max);
+    if !(smax2.is_finite() && smax2 > 0.0) {
+        return Err(FitFailure::Degenerate);
+    }
+    let cut = rcond * rcond * smax2;
+    // y = U S^-2 U^T dx, then dtheta = J^T y.
+    let mut y = vec![0.0; m];
+    for c in 0..m {
+        let s2 = eig.eigenvalues[c];
+        if s2 <= cut {
+            continue;
+        }
+        let u = eig.eigenvectors.column(c);
+        let proj: f64 = (0..m).map(|r| u[r] * dx[r]).sum::<f64>() / s2;
+        for r in 0..m {
+            y[r] += u[r] * proj;
+        }
+    }
+    for (a, out) in dtheta.iter_mut().enumerate() {
+        *out = (0..m).map(|r| j[(r, a)] * y[r]).sum();
+    }
+    if !dtheta.iter().all(|v| v.is_finite()) {
+        return Err(FitFailure::Degenerate);
+    }
+    Ok(())
 }
 
 /// Apply the Moore-Penrose pseudo-inverse of `j` (m x n) to `dx`, dropping singular values below
@@ -202,6 +260,27 @@ mod tests {
             assert!(((&j * &p).transpose() - &j * &p).norm() < 1e-10);
             assert!(((&p * &j).transpose() - &p * &j).norm() < 1e-10);
         }
+    }
+
+    #[test]
+    fn eigen_route_equals_svd_pseudo_inverse() {
+        for seed in 0..20u64 {
+            let j = random_matrix(2, 15, seed);
+            let dx = [0.3, -0.4];
+            let (mut a, mut b) = (vec![0.0; 15], vec![0.0; 15]);
+            pinv_apply(&j, &dx, 1e-2, &mut a).unwrap();
+            pinv_apply_wide(&j, &dx, 1e-2, &mut b).unwrap();
+            for (x, y) in a.iter().zip(&b) {
+                assert!((x - y).abs() < 1e-10 * (1.0 + x.abs()), "{x} vs {y}");
+            }
+        }
+        // Rank one: both drop the null direction.
+        let j = DMatrix::from_row_slice(2, 3, &[0.0, 0.0, 0.0, 3.0, 2.0, 1.0]);
+        let (mut a, mut b) = (vec![0.0; 3], vec![0.0; 3]);
+        pinv_apply(&j, &[1.0, 1.0], 1e-6, &mut a).unwrap();
+        pinv_apply_wide(&j, &[1.0, 1.0], 1e-6, &mut b).unwrap();
+        assert!(a.iter().zip(&b).all(|(x, y)| (x - y).abs() < 1e-12));
+        assert_eq!(pinv_apply_wide(&DMatrix::zeros(2, 3), &[1.0, 0.0], 1e-6, &mut b), Err(FitFailure::Degenerate));
     }
 
     #[test]

@@ -159,6 +159,10 @@ impl Learner {
     pub fn test_set(&self) -> &TestSet {
         &self.evaluator.tests
     }
+    /// Seconds of neighbour search and of local fits spent inside evaluations.
+    pub fn evaluation_split(&self) -> (f64, f64) {
+        (self.evaluator.time_knn, self.evaluator.time_fit)
+    }
     pub fn arm(&self) -> &Arm {
         &self.arm
     }
