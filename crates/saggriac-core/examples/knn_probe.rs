@@ -4,8 +4,7 @@ use saggriac_core::neighbours::{BruteForce, KdTreeIndex, NeighbourIndex, WarmSta
 use saggriac_core::{Learner, RunConfig};
 
 fn main() {
-    let mut cfg = RunConfig::default();
-    cfg.n_steps = std::env::args().nth(1).and_then(|s| s.parse().ok()).unwrap_or(50_000);
+    let mut cfg = RunConfig { n_steps: std::env::args().nth(1).and_then(|s| s.parse().ok()).unwrap_or(50_000), ..RunConfig::default() };
     if std::env::args().nth(2).as_deref() == Some("exp2") {
         cfg.goal_low = vec![0.0, -150.0];
         cfg.goal_high = vec![150.0, 150.0];

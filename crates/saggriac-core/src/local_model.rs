@@ -32,7 +32,9 @@ impl LocalModelConfig {
         let c = Check { owner: "LocalModel" };
         c.at_least("k_neighbours", self.k_neighbours, 1)?;
         c.positive("ridge", self.ridge)?;
-        c.in_open_closed("pinv_rcond", self.pinv_rcond, 0.0, 1.0)?;
+        if !(self.pinv_rcond.is_finite() && (MIN_RCOND..=1.0).contains(&self.pinv_rcond)) {
+            return Err(crate::error::invalid("LocalModel", "pinv_rcond", format!("a float in [{MIN_RCOND:e}, 1]"), self.pinv_rcond));
+        }
         c.non_negative("bandwidth", self.bandwidth)?;
         Ok(())
     }
@@ -173,11 +175,15 @@ impl LocalModel {
 /// m x m matrix J J^T = U S^2 U^T: J+ = J^T U S^-2 U^T, eigenvalues below (rcond * s_max)^2
 /// dropped. This is the SVD pseudo-inverse with the same cutoff (the singular values of J are the
 /// square roots of those eigenvalues), at the cost of an m x m problem instead of an m x n SVD.
+///
+/// Eigenvalues of J J^T below ~1e-16 s_max^2 are rounding noise, so the relative cutoff is never
+/// taken below `MIN_RCOND` (the configuration refuses smaller values).
 pub fn pinv_apply_wide(j: &DMatrix<f64>, dx: &[f64], rcond: f64, dtheta: &mut [f64]) -> std::result::Result<(), FitFailure> {
     let (m, n) = j.shape();
     if m > n {
-        return pinv_apply(j, dx, rcond, dtheta);
+        return pinv_apply_svd(j, dx, rcond, dtheta);
     }
+    let rcond = rcond.max(MIN_RCOND);
     let jjt = j * j.transpose();
     if !jjt.iter().all(|v| v.is_finite()) {
         return Err(FitFailure::Degenerate);
@@ -210,9 +216,18 @@ pub fn pinv_apply_wide(j: &DMatrix<f64>, dx: &[f64], rcond: f64, dtheta: &mut [f
     Ok(())
 }
 
+/// Smallest relative cutoff of the pseudo-inverse (see `pinv_apply_wide`).
+pub const MIN_RCOND: f64 = 1e-6;
+
 /// Apply the Moore-Penrose pseudo-inverse of `j` (m x n) to `dx`, dropping singular values below
-/// `rcond * sigma_max`. Fails on a zero or non-finite matrix.
+/// `rcond * sigma_max`: through J J^T for a wide J (the arm's case), by SVD otherwise.
 pub fn pinv_apply(j: &DMatrix<f64>, dx: &[f64], rcond: f64, dtheta: &mut [f64]) -> std::result::Result<(), FitFailure> {
+    pinv_apply_wide(j, dx, rcond, dtheta)
+}
+
+/// The same by nalgebra's SVD. Not used for wide matrices: nalgebra 0.35's SVD can be wrong on
+/// exactly rank-one wide inputs (nalgebra issue 1172).
+pub fn pinv_apply_svd(j: &DMatrix<f64>, dx: &[f64], rcond: f64, dtheta: &mut [f64]) -> std::result::Result<(), FitFailure> {
     let svd = j.clone().svd(true, true);
     let smax = svd.singular_values.iter().cloned().fold(0.0f64, f64::max);
     if !(smax.is_finite() && smax > 0.0) {
@@ -268,7 +283,7 @@ mod tests {
             let j = random_matrix(2, 15, seed);
             let dx = [0.3, -0.4];
             let (mut a, mut b) = (vec![0.0; 15], vec![0.0; 15]);
-            pinv_apply(&j, &dx, 1e-2, &mut a).unwrap();
+            pinv_apply_svd(&j, &dx, 1e-2, &mut a).unwrap();
             pinv_apply_wide(&j, &dx, 1e-2, &mut b).unwrap();
             for (x, y) in a.iter().zip(&b) {
                 assert!((x - y).abs() < 1e-10 * (1.0 + x.abs()), "{x} vs {y}");
@@ -277,7 +292,7 @@ mod tests {
         // Rank one: both drop the null direction.
         let j = DMatrix::from_row_slice(2, 3, &[0.0, 0.0, 0.0, 3.0, 2.0, 1.0]);
         let (mut a, mut b) = (vec![0.0; 3], vec![0.0; 3]);
-        pinv_apply(&j, &[1.0, 1.0], 1e-6, &mut a).unwrap();
+        pinv_apply_svd(&j, &[1.0, 1.0], 1e-6, &mut a).unwrap();
         pinv_apply_wide(&j, &[1.0, 1.0], 1e-6, &mut b).unwrap();
         assert!(a.iter().zip(&b).all(|(x, y)| (x - y).abs() < 1e-12));
         assert_eq!(pinv_apply_wide(&DMatrix::zeros(2, 3), &[1.0, 0.0], 1e-6, &mut b), Err(FitFailure::Degenerate));

@@ -144,7 +144,8 @@ impl RegionTree {
     }
 
     /// Record a measurement at `p`; returns the leaf it went to (before any split) and whether
-    /// that leaf was split.
+    /// that leaf was split (it is once it holds more than g_max measurements, unless they all
+    /// sit at one point, where no cut can separate them).
     pub fn add(&mut self, p: &[f64], value: f64) -> (usize, bool) {
         let root = &self.regions[0];
         let clamped: Vec<f64> = p.iter().zip(root.low.iter().zip(&root.high)).map(|(v, (lo, hi))| v.clamp(*lo, *hi)).collect();
@@ -159,10 +160,7 @@ impl RegionTree {
             reg.sum += value;
         }
         self.refresh_interest(leaf, zeta);
-        let split = self.regions[leaf].entries.len() > self.cfg.g_max;
-        if split {
-            self.split(leaf);
-        }
+        let split = self.regions[leaf].entries.len() > self.cfg.g_max && self.split(leaf);
         (leaf, split)
     }
 
@@ -197,7 +195,7 @@ impl RegionTree {
                 if a == b {
                     continue;
                 }
-                let cut = 0.5 * (a + b);
+                let cut = midpoint(a, b);
                 left.clear();
                 left.extend_from_slice(&order[..i]);
                 left.sort_unstable();
@@ -218,16 +216,34 @@ impl RegionTree {
         best.map(|(s, _, d, v)| (d, v, s))
     }
 
-    fn split(&mut self, leaf: usize) {
-        let (dim, value) = match self.best_cut(leaf) {
-            Some((d, v, _)) => (d, v),
-            None => {
-                // No valid cut between the measurements (e.g. all at one point): halve the
-                // widest side so the tree still refines.
-                let reg = &self.regions[leaf];
-                let d = (0..self.dim).max_by(|&a, &b| (reg.high[a] - reg.low[a]).total_cmp(&(reg.high[b] - reg.low[b]))).unwrap();
-                (d, 0.5 * (reg.low[d] + reg.high[d]))
+    /// The most balanced cut between distinct coordinates, with no minimum per child.
+    fn any_cut(&self, leaf: usize) -> Option<(usize, f64, f64)> {
+        let entries = &self.regions[leaf].entries;
+        let n = entries.len();
+        let mut best: Option<(usize, usize, f64)> = None; // (imbalance, dim, value)
+        for d in 0..self.dim {
+            let mut v: Vec<f64> = entries.iter().map(|&e| self.points[e as usize * self.dim + d]).collect();
+            v.sort_by(|a, b| a.total_cmp(b));
+            for i in 1..n {
+                if v[i - 1] != v[i] {
+                    let imbalance = (2 * i).abs_diff(n);
+                    if best.is_none_or(|(imb, _, _)| imbalance < imb) {
+                        best = Some((imbalance, d, midpoint(v[i - 1], v[i])));
+                    }
+                }
             }
+        }
+        best.map(|(_, d, v)| (d, v, 0.0))
+    }
+
+    /// Split a leaf; false when no cut can separate its measurements.
+    fn split(&mut self, leaf: usize) -> bool {
+        // The best cut under the min_child rule; failing that, any cut between distinct
+        // coordinates (most balanced). Measurements all at one point cannot be separated by any
+        // cut, so such a leaf is left whole until a distinct measurement arrives.
+        let cut = self.best_cut(leaf).or_else(|| self.any_cut(leaf));
+        let Some((dim, value, _)) = cut else {
+            return false;
         };
         let created_at = self.values.len() as u64;
         let parent = &self.regions[leaf];
@@ -275,6 +291,18 @@ impl RegionTree {
         self.leaves.remove(pos);
         self.leaves.push(li);
         self.leaves.push(ri);
+        true
+    }
+}
+
+/// A cut c with a < c <= b, so `x < c` sends a left and b right even when a and b are adjacent
+/// floats (where the midpoint rounds onto a).
+fn midpoint(a: f64, b: f64) -> f64 {
+    let m = 0.5 * (a + b);
+    if m > a && m <= b {
+        m
+    } else {
+        b
     }
 }
 
@@ -319,8 +347,8 @@ mod tests {
             for &e in &reg.entries {
                 let p = t.point(e as usize);
                 assert_eq!(t.leaf_of(p), l, "every point in exactly the leaf that contains it");
-                for d in 0..2 {
-                    assert!(p[d] >= reg.low[d] && (p[d] < reg.high[d] || reg.high[d] == t.high()[d]));
+                for (d, v) in p.iter().enumerate() {
+                    assert!(*v >= reg.low[d] && (*v < reg.high[d] || reg.high[d] == t.high()[d]));
                 }
             }
             total += reg.entries.len();
@@ -372,13 +400,17 @@ mod tests {
     }
 
     #[test]
-    fn identical_points_still_split() {
-        let mut t = RegionTree::new(&[0.0, 0.0], &[1.0, 2.0], RegionTreeConfig { g_max: 5, zeta: 4, min_child: 1 }).unwrap();
-        for _ in 0..6 {
+    fn identical_points_wait_for_a_distinct_one() {
+        let mut t = RegionTree::new(&[0.0, 0.0], &[1.0, 2.0], RegionTreeConfig { g_max: 5, zeta: 4, min_child: 3 }).unwrap();
+        for _ in 0..20 {
             t.add(&[0.5, 0.5], -1.0);
         }
+        // No cut can separate measurements at one point: no useless splits pile up.
+        assert_eq!(t.leaves().len(), 1);
+        // One distinct point: no cut gives both sides 3, but a cut exists and is taken.
+        t.add(&[0.5, 1.5], -0.5);
         assert_eq!(t.leaves().len(), 2);
-        assert_eq!(t.region(0).split_dim, 1);
+        assert_eq!((t.region(0).split_dim, t.region(0).split_value), (1, 1.0));
     }
 
     #[test]

@@ -22,7 +22,7 @@ fn col<'py, T: numpy::Element>(py: Python<'py>, v: Vec<T>) -> Bound<'py, PyArray
 fn xy<'py>(py: Python<'py>, v: Vec<[f64; 2]>) -> PyResult<Bound<'py, PyArray2<f64>>> {
     let n = v.len();
     let flat: Vec<f64> = v.into_iter().flatten().collect();
-    Ok(flat.into_pyarray(py).reshape([n, 2])?)
+    flat.into_pyarray(py).reshape([n, 2])
 }
 
 fn metric_dict<'py>(py: Python<'py>, m: &MetricRow) -> PyResult<Bound<'py, PyDict>> {
@@ -62,7 +62,8 @@ impl PyLearner {
                     let Some(cb) = &callback else { return true };
                     let r = metric_dict(py, row).and_then(|d| cb.call1(py, (d,)));
                     match r {
-                        Ok(v) => !(v.bind(py).is_instance_of::<pyo3::types::PyBool>() && !v.extract::<bool>(py).unwrap_or(true)),
+                        // Only an explicit False stops the run; None or anything else goes on.
+                        Ok(v) => !v.bind(py).is_instance_of::<pyo3::types::PyBool>() || v.extract::<bool>(py).unwrap_or(true),
                         Err(e) => {
                             pending = Some(e);
                             false

@@ -1,0 +1,240 @@
+//! Reproducibility of whole runs.
+//!
+//! A run is a pure function of (config, seed, eval_seed): two learners built alike must agree
+//! bit for bit. The evaluation only reads the memory, so how often it runs (and with which test
+//! set) must not change the training trajectory. The neighbour searches are exact, so the choice
+//! of index and of warm or cold search must not change it either.
+//!
+//! Floats are compared through `to_bits`, so NaN (the competence of a goal interrupted by the
+//! step budget) compares equal to itself and -0.0 differs from 0.0.
+
+use saggriac_core::memory::IndexKind;
+use saggriac_core::run_loop::{AttemptRow, Counters, GoalRow, MetricRow};
+use saggriac_core::{Condition, Learner, RunConfig};
+
+use std::sync::OnceLock;
+
+const N_STEPS: u64 = 3000;
+
+/// A small run: 3000 micro-actions, 20 test goals and 20 test configurations.
+fn small_config(condition: Condition, schedule: Vec<u64>) -> RunConfig {
+    let mut cfg = RunConfig { condition, n_steps: N_STEPS, ..RunConfig::default() };
+    cfg.eval.n_test_goals = 20;
+    cfg.eval.n_test_configs = 20;
+    cfg.eval.schedule = schedule;
+    cfg
+}
+
+/// The same run with a lighter evaluation (4 test goals, 4 test configurations), for the tests
+/// about the training trajectory: an evaluation costs more than 3000 training steps.
+fn light_config(schedule: Vec<u64>) -> RunConfig {
+    let mut cfg = small_config(Condition::SaggRiac, schedule);
+    cfg.eval.n_test_goals = 4;
+    cfg.eval.n_test_configs = 4;
+    cfg
+}
+
+const LIGHT_SEED: u64 = 13;
+const LIGHT_EVAL_SEED: u64 = 14;
+
+/// `light_config(vec![N_STEPS])` run with LIGHT_SEED: the reference trajectory, run once and
+/// shared by the tests below.
+fn light_reference() -> &'static Learner {
+    static RUN: OnceLock<Learner> = OnceLock::new();
+    RUN.get_or_init(|| run(light_config(vec![N_STEPS]), LIGHT_SEED, LIGHT_EVAL_SEED))
+}
+
+fn default_schedule() -> Vec<u64> {
+    vec![0, N_STEPS / 2, N_STEPS]
+}
+
+fn run(cfg: RunConfig, seed: u64, eval_seed: u64) -> Learner {
+    let mut l = Learner::new(cfg, seed, eval_seed).expect("valid config");
+    assert!(l.run(&mut |_| true), "the run must complete");
+    assert_eq!(l.steps(), N_STEPS);
+    l
+}
+
+fn bits2(v: &[f64; 2]) -> [u64; 2] {
+    [v[0].to_bits(), v[1].to_bits()]
+}
+
+type MetricKey = (u64, u64, u64, u64, u64, u64);
+fn metric_key(m: &MetricRow) -> MetricKey {
+    (m.step, m.n_samples, m.reach_error.to_bits(), m.pred_error.to_bits(), m.n_goals, m.n_regions)
+}
+
+type GoalKey = (u64, u64, u64, [u64; 2], [u64; 2], [u64; 2], u8, Option<usize>, u64);
+fn goal_key(g: &GoalRow) -> GoalKey {
+    (
+        g.goal_index,
+        g.step_start,
+        g.step_end,
+        bits2(&g.goal),
+        bits2(&g.start),
+        bits2(&g.end),
+        g.mode as u8,
+        g.region,
+        g.competence.to_bits(),
+    )
+}
+
+type AttemptKey = (u64, u32, u64, [u64; 2], [u64; 2], u64, bool, Option<usize>);
+fn attempt_key(a: &AttemptRow) -> AttemptKey {
+    (a.goal_index, a.subgoal, a.step_end, bits2(&a.target), bits2(&a.end), a.competence.to_bits(), a.reached, a.region)
+}
+
+fn metrics(l: &Learner) -> Vec<MetricKey> {
+    l.metrics.iter().map(metric_key).collect()
+}
+fn goals(l: &Learner) -> Vec<GoalKey> {
+    l.goals.iter().map(goal_key).collect()
+}
+fn attempts(l: &Learner) -> Vec<AttemptKey> {
+    l.attempts.iter().map(attempt_key).collect()
+}
+
+/// Every stored sample (theta, dtheta, dx, x), as bits.
+fn memory_bits(l: &Learner) -> Vec<u64> {
+    let m = l.memory();
+    let mut out = Vec::new();
+    for i in 0..m.len() {
+        for part in [m.theta(i), m.dtheta(i), m.dx(i), m.x(i)] {
+            out.extend(part.iter().map(|v| v.to_bits()));
+        }
+    }
+    out
+}
+
+/// The counters that describe training only (test_steps belongs to the evaluation).
+fn training_counters(l: &Learner) -> Counters {
+    Counters { test_steps: 0, ..l.counters().clone() }
+}
+
+/// Everything that describes what was learnt, independent of the evaluation.
+fn assert_same_training(a: &Learner, b: &Learner, what: &str) {
+    assert_eq!(goals(a), goals(b), "{what}: goals differ");
+    assert_eq!(attempts(a), attempts(b), "{what}: attempts differ");
+    assert_eq!(a.memory().len(), b.memory().len(), "{what}: memory sizes differ");
+    assert!(memory_bits(a) == memory_bits(b), "{what}: stored samples differ");
+    assert_eq!(training_counters(a), training_counters(b), "{what}: training counters differ");
+    let (ta, tb): (Vec<u64>, Vec<u64>) =
+        (a.arm().theta().iter().map(|v| v.to_bits()).collect(), b.arm().theta().iter().map(|v| v.to_bits()).collect());
+    assert_eq!(ta, tb, "{what}: final arm configurations differ");
+}
+
+fn assert_sane(l: &Learner) {
+    assert!(!l.goals.is_empty(), "a 3000-step run attempts some goals");
+    assert!(!l.attempts.is_empty());
+    assert_eq!(l.memory().len() as u64, N_STEPS, "every micro-action is stored");
+    let c = l.counters();
+    assert_eq!(c.reaching_steps + c.exploration_steps, N_STEPS);
+}
+
+#[test]
+fn same_seed_same_run_sagg_riac() {
+    let cfg = small_config(Condition::SaggRiac, default_schedule());
+    let a = run(cfg.clone(), 11, 1011);
+    let b = run(cfg, 11, 1011);
+    assert_sane(&a);
+    assert_eq!(a.metrics.len(), 3);
+    assert_eq!(metrics(&a), metrics(&b), "metrics differ");
+    assert_eq!(a.metrics.iter().map(|m| m.step).collect::<Vec<_>>(), default_schedule());
+    assert_same_training(&a, &b, "same seed");
+    assert_eq!(a.counters(), b.counters());
+    // The region tree grew the same way.
+    let (ta, tb) = (a.selector().tree().unwrap(), b.selector().tree().unwrap());
+    assert_eq!(ta.leaves(), tb.leaves());
+    assert_eq!(ta.n_measurements(), tb.n_measurements());
+}
+
+#[test]
+fn same_seed_same_run_sagg_random() {
+    let mut cfg = light_config(default_schedule());
+    cfg.condition = Condition::SaggRandom;
+    let a = run(cfg.clone(), 5, 6);
+    let b = run(cfg, 5, 6);
+    assert_sane(&a);
+    assert_eq!(metrics(&a), metrics(&b), "metrics differ");
+    assert_same_training(&a, &b, "same seed (sagg_random)");
+}
+
+#[test]
+fn different_seed_different_goals() {
+    let a = light_reference();
+    let b = run(light_config(vec![N_STEPS]), LIGHT_SEED + 1, LIGHT_EVAL_SEED);
+    let ga: Vec<[u64; 2]> = a.goals.iter().map(|g| bits2(&g.goal)).collect();
+    let gb: Vec<[u64; 2]> = b.goals.iter().map(|g| bits2(&g.goal)).collect();
+    assert_ne!(ga, gb, "seeds {} and {} chose the same goals", LIGHT_SEED, LIGHT_SEED + 1);
+    // Not just one stray goal: the very first goal already differs.
+    assert_ne!(ga[0], gb[0], "seeds {} and {} chose the same first goal", LIGHT_SEED, LIGHT_SEED + 1);
+    // Same eval seed: both met the same test set.
+    assert_eq!(a.test_set().goals, b.test_set().goals);
+}
+
+#[test]
+fn evaluation_frequency_does_not_change_learning() {
+    // Many evaluation points, at odd steps that fall in the middle of goal attempts and
+    // exploration phases, against the single final one of the reference.
+    let dense: Vec<u64> = (0..=N_STEPS).step_by(211).chain([N_STEPS]).collect();
+    let a = run(light_config(dense.clone()), LIGHT_SEED, LIGHT_EVAL_SEED);
+    let b = light_reference();
+    assert_eq!(a.metrics.len(), dense.len());
+    assert_eq!(b.metrics.len(), 1);
+    assert_same_training(&a, b, "dense vs final-only evaluation");
+    // The final evaluation reads the same memory with the same test set: same numbers.
+    assert_eq!(metric_key(a.metrics.last().unwrap()), metric_key(&b.metrics[0]));
+    assert!(a.counters().test_steps > b.counters().test_steps, "the dense schedule did evaluate more");
+}
+
+#[test]
+fn evaluation_test_set_does_not_change_learning() {
+    let a = light_reference();
+    let b = run(light_config(vec![N_STEPS]), LIGHT_SEED, LIGHT_EVAL_SEED + 1);
+    assert_same_training(a, &b, "different eval seeds");
+    assert_ne!(a.test_set().goals, b.test_set().goals, "different eval seeds drew the same test goals");
+    assert_ne!(metrics(a), metrics(&b), "different test sets gave bit-identical metrics");
+}
+
+#[test]
+fn stopping_and_resuming_does_not_change_learning() {
+    // Stop at every evaluation callback, then call run() again until it reports completion.
+    let schedule: Vec<u64> = (0..=N_STEPS).step_by(500).collect();
+    let cfg = light_config(schedule);
+    let mut pieces = Learner::new(cfg, LIGHT_SEED, LIGHT_EVAL_SEED).unwrap();
+    let mut calls = 0;
+    let mut seen = Vec::new();
+    loop {
+        calls += 1;
+        assert!(calls < 100, "run() does not make progress when stopped on every row");
+        let done = pieces.run(&mut |m| {
+            seen.push(m.step);
+            false
+        });
+        if done || pieces.steps() >= N_STEPS {
+            break;
+        }
+    }
+    assert!(calls > 2, "run() was stopped and resumed");
+    assert_same_training(light_reference(), &pieces, "stopped and resumed");
+    assert_eq!(seen, pieces.metrics.iter().map(|m| m.step).collect::<Vec<_>>(), "every row shown exactly once");
+    assert_eq!(pieces.metrics.len(), 7);
+    assert_eq!(metric_key(pieces.metrics.last().unwrap()), metric_key(&light_reference().metrics[0]));
+}
+
+#[test]
+fn exact_neighbour_search_variants_learn_the_same() {
+    // Warm-started and cold searches, over the default index or the full scan, are all exact
+    // and break ties by id, so they must drive the arm through the very same trajectory.
+    let reference = light_reference();
+    assert_eq!((reference.config().index, reference.config().warm_start_recent), (IndexKind::KdTree, 8));
+    for (index, warm) in [(IndexKind::KdTree, 0), (IndexKind::KdTree, 1), (IndexKind::BruteForce, 8), (IndexKind::BruteForce, 0)] {
+        let mut cfg = light_config(vec![N_STEPS]);
+        cfg.index = index;
+        cfg.warm_start_recent = warm;
+        let name = format!("{} warm={warm}", index.name());
+        let l = run(cfg, LIGHT_SEED, LIGHT_EVAL_SEED);
+        assert_same_training(reference, &l, &name);
+        assert_eq!(metrics(reference), metrics(&l), "{name}: metrics differ");
+    }
+}
