@@ -67,7 +67,7 @@ class Config:
     # Evaluation (SPEC.md).
     n_test_goals: int = 100
     n_test_configs: int = 100
-    n_evals: int = 25
+    n_evals: int = 20
     eval_schedule: tuple[int, ...] | None = None
     eval_tolerance: float = 0.01
     eval_patience: int = 10
