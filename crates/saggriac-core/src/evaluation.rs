@@ -123,6 +123,7 @@ pub struct Evaluator {
     warm: WarmStart,
     neighbours: Vec<Neighbour>,
     v: f64,
+    warm_start: bool,
     /// Seconds spent in neighbour search and in local fits during evaluations.
     pub time_knn: f64,
     pub time_fit: f64,
@@ -132,7 +133,7 @@ impl Evaluator {
     pub fn new(cfg: EvalConfig, tests: TestSet, arm: ArmConfig, local: LocalModelConfig, v: f64, warm_recent: usize) -> Result<Self> {
         let arm = Arm::new(arm)?;
         let n = arm.n_joints();
-        Ok(Evaluator { cfg, tests, arm, model: LocalModel::new(n, 2, local), warm: WarmStart::new(warm_recent.max(1)), neighbours: Vec::new(), v, time_knn: 0.0, time_fit: 0.0 })
+        Ok(Evaluator { cfg, tests, arm, model: LocalModel::new(n, 2, local), warm: WarmStart::new(warm_recent), neighbours: Vec::new(), v, warm_start: warm_recent > 0, time_knn: 0.0, time_fit: 0.0 })
     }
 
     /// Evaluate the model held in `memory`.
@@ -193,7 +194,11 @@ impl Evaluator {
             let dx = desired_step(&x, &goal, self.v);
             let theta = self.arm.theta().to_vec();
             let t0 = std::time::Instant::now();
-            memory.knn_warm(&mut self.warm, &theta, k, &mut self.neighbours);
+            if self.warm_start {
+                memory.knn_warm(&mut self.warm, &theta, k, &mut self.neighbours);
+            } else {
+                memory.knn(&theta, k, &mut self.neighbours);
+            }
             let t1 = std::time::Instant::now();
             let fitted = self.model.fit(memory, &self.neighbours).and_then(|_| self.model.inverse(&dx, &mut dtheta));
             let t2 = std::time::Instant::now();
