@@ -72,6 +72,21 @@ def test_sagg_random_condition_runs(small_config):
     assert res.regions.empty
 
 
+@pytest.mark.parametrize("condition", ["actuator_random", "actuator_riac"])
+def test_actuator_conditions_run(small_config, condition):
+    res = saggriac.run(small_config.replace(condition=condition, n_steps=2000), seed=1)
+    prof = res.manifest["profile"]
+    # Motor babbling only, reset to rest every `max` = 342 steps (the paper's rule, SPEC.md).
+    assert prof["babbling_steps"] == 2000 and prof["reaching_steps"] == 0
+    assert prof["actuator_reset_period"] == 342
+    assert res.goals.empty
+    assert np.all(np.isfinite(res.reach_error))
+    if condition == "actuator_riac":
+        # R-IAC's regions live in the 30-dimensional (theta, dtheta) space.
+        assert len(res.regions) > 1
+        assert [c for c in res.regions.columns if c.startswith("low_")] == [f"low_{i}" for i in range(30)]
+
+
 def test_test_goals_lie_in_the_reachable_half_disk(small_config):
     learner = _core.Learner(small_config.core_dict(), 1, 2)
     goals = learner.test_set()["goals"]

@@ -22,7 +22,7 @@ if sys.version_info >= (3, 11):
 else:  # pragma: no cover - exercised on 3.10 only
     import tomli as tomllib
 
-CONDITIONS = ("sagg_riac", "sagg_random")
+CONDITIONS = ("sagg_riac", "sagg_random", "actuator_random", "actuator_riac")
 
 
 @dataclass(frozen=True)
@@ -73,6 +73,9 @@ class Config:
     eval_patience: int = 10
     eval_timeout_factor: float = 2.0
     eval_timeout_min: int = 20
+    # ACTUATOR conditions (motor babbling).
+    babble_step: float = 0.01
+    actuator_reset_every: int = 0
     # Implementation.
     knn_index: str = "kdtree"
     warm_start_recent: int = 8

@@ -22,8 +22,11 @@ def _xy_columns(d: dict[str, np.ndarray]) -> pd.DataFrame:
     cols: dict[str, np.ndarray] = {}
     for k, v in d.items():
         if v.ndim == 2:
-            for i, axis in enumerate("xyz"[: v.shape[1]]):
-                cols[f"{k}_{axis}"] = v[:, i]
+            # x, y (, z) for task-space points; numbered columns for larger spaces such as
+            # ACTUATOR-RIAC's (theta, dtheta) regions.
+            names = "xyz" if v.shape[1] <= 3 else [str(i) for i in range(v.shape[1])]
+            for i in range(v.shape[1]):
+                cols[f"{k}_{names[i]}"] = v[:, i]
         else:
             cols[k] = v
     return pd.DataFrame(cols)

@@ -18,6 +18,10 @@ pub enum Condition {
     SaggRiac,
     /// Same low level, goals uniform in the goal space.
     SaggRandom,
+    /// Small random dtheta at every step (motor babbling).
+    ActuatorRandom,
+    /// R-IAC over (theta, dtheta), interest from the forward model's prediction error.
+    ActuatorRiac,
 }
 
 impl Condition {
@@ -25,14 +29,22 @@ impl Condition {
         match s {
             "sagg_riac" => Ok(Condition::SaggRiac),
             "sagg_random" => Ok(Condition::SaggRandom),
-            _ => Err(invalid("Run", "condition", "one of 'sagg_riac', 'sagg_random'", format!("'{s}'"))),
+            "actuator_random" => Ok(Condition::ActuatorRandom),
+            "actuator_riac" => Ok(Condition::ActuatorRiac),
+            _ => Err(invalid("Run", "condition", "one of 'sagg_riac', 'sagg_random', 'actuator_random', 'actuator_riac'", format!("'{s}'"))),
         }
     }
     pub fn name(&self) -> &'static str {
         match self {
             Condition::SaggRiac => "sagg_riac",
             Condition::SaggRandom => "sagg_random",
+            Condition::ActuatorRandom => "actuator_random",
+            Condition::ActuatorRiac => "actuator_riac",
         }
+    }
+    /// Whether the condition explores with goals in the task space (the SAGG conditions).
+    pub fn uses_goals(&self) -> bool {
+        matches!(self, Condition::SaggRiac | Condition::SaggRandom)
     }
 }
 
@@ -55,6 +67,11 @@ pub struct RunConfig {
     pub index: IndexKind,
     /// Newest samples added to the warm-start candidates of the neighbour search (0 = cold search).
     pub warm_start_recent: usize,
+    /// ACTUATOR conditions: each joint moves by a value uniform in [-babble_step, babble_step].
+    pub babble_step: f64,
+    /// ACTUATOR conditions: back to rest every this many micro-actions (0 = the paper's `max`,
+    /// computed from the goal space, see `actuator_babbling`).
+    pub actuator_reset_every: usize,
 }
 
 impl Default for RunConfig {
@@ -75,6 +92,8 @@ impl Default for RunConfig {
             eval: EvalConfig::default(),
             index: IndexKind::KdTree,
             warm_start_recent: 8,
+            babble_step: 0.01,
+            actuator_reset_every: 0,
         }
     }
 }
@@ -97,6 +116,7 @@ impl RunConfig {
         self.tree.validate()?;
         self.modes.validate()?;
         c.at_least("reset_every", self.reset_every, 1)?;
+        c.positive("babble_step", self.babble_step)?;
         self.eval.validate(self.n_steps)?;
         Ok(())
     }

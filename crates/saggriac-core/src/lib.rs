@@ -5,6 +5,7 @@
 //! level), competence, interest, the region tree and goal selection (high level), the evaluation,
 //! and the run loop tying them together.
 
+pub mod actuator_babbling;
 pub mod arm;
 pub mod competence;
 pub mod config;

@@ -4,6 +4,7 @@
 
 use std::time::Instant;
 
+use crate::actuator_babbling::actuator_reset_period;
 use crate::arm::Arm;
 use crate::config::{Condition, RunConfig};
 use crate::error::Result;
@@ -18,6 +19,7 @@ use crate::rng::{child_seed, rng_from_seed, CoreRng};
 pub enum ActionKind {
     Reaching,
     Exploration,
+    Babbling,
 }
 
 /// One evaluation point of the learning curve.
@@ -63,6 +65,7 @@ pub struct AttemptRow {
 pub struct Counters {
     pub reaching_steps: u64,
     pub exploration_steps: u64,
+    pub babbling_steps: u64,
     pub explorations: u64,
     pub fit_failures: u64,
     pub test_steps: u64,
@@ -99,6 +102,9 @@ pub struct Learner {
     pub(crate) timers: Timers,
     reported: usize,
     buf_theta: Vec<f64>,
+    /// ACTUATOR conditions: rest reset period (the paper's `max`) and micro-actions so far.
+    pub(crate) actuator_reset: usize,
+    pub(crate) babble_steps: u64,
 }
 
 impl Learner {
@@ -110,7 +116,18 @@ impl Learner {
         let n = arm.n_joints();
         let selector: Box<dyn GoalSelector> = match cfg.condition {
             Condition::SaggRiac => Box::new(SaggRiac::new(&cfg.goal_low, &cfg.goal_high, cfg.tree, cfg.modes, child_seed(seed, 1))?),
-            Condition::SaggRandom => Box::new(RandomGoals::new(&cfg.goal_low, &cfg.goal_high, child_seed(seed, 1))?),
+            Condition::SaggRandom | Condition::ActuatorRandom => Box::new(RandomGoals::new(&cfg.goal_low, &cfg.goal_high, child_seed(seed, 1))?),
+            Condition::ActuatorRiac => {
+                // R-IAC's space: joint angles within their limits, commands within the babbling step.
+                let (lim, b) = (cfg.arm.joint_limit, cfg.babble_step);
+                let low: Vec<f64> = (0..2 * n).map(|i| if i < n { -lim } else { -b }).collect();
+                let high: Vec<f64> = (0..2 * n).map(|i| if i < n { lim } else { b }).collect();
+                Box::new(SaggRiac::new(&low, &high, cfg.tree, cfg.modes, child_seed(seed, 1))?)
+            }
+        };
+        let actuator_reset = match cfg.actuator_reset_every {
+            0 => actuator_reset_period(&cfg, arm.position()),
+            r => r,
         };
         let tests = TestSet::new(&cfg.arm, &cfg.goal_low, &cfg.goal_high, cfg.eval.n_test_goals, cfg.eval.n_test_configs, eval_seed)?;
         let evaluator = Evaluator::new(cfg.eval.clone(), tests, cfg.arm.clone(), cfg.local.clone(), cfg.reaching.v, cfg.warm_start_recent)?;
@@ -134,6 +151,8 @@ impl Learner {
             timers: Timers::default(),
             reported: 0,
             buf_theta: vec![0.0; n],
+            actuator_reset,
+            babble_steps: 0,
             cfg,
         })
     }
@@ -163,6 +182,10 @@ impl Learner {
     pub fn evaluation_split(&self) -> (f64, f64) {
         (self.evaluator.time_knn, self.evaluator.time_fit)
     }
+    /// Rest-reset period of the ACTUATOR conditions (the paper's `max`).
+    pub fn actuator_reset_period(&self) -> usize {
+        self.actuator_reset
+    }
     pub fn arm(&self) -> &Arm {
         &self.arm
     }
@@ -185,6 +208,7 @@ impl Learner {
         match kind {
             ActionKind::Reaching => self.counters.reaching_steps += 1,
             ActionKind::Exploration => self.counters.exploration_steps += 1,
+            ActionKind::Babbling => self.counters.babbling_steps += 1,
         }
         // Evaluate exactly at the scheduled step; it only reads the memory.
         self.evaluate_due();
@@ -285,8 +309,19 @@ impl Learner {
         let t0 = Instant::now();
         self.evaluate_due();
         let mut completed = self.report(on_eval);
+        let goals = self.cfg.condition.uses_goals();
         while completed && !self.budget_spent() {
-            self.goal_attempt();
+            if goals {
+                self.goal_attempt();
+            } else {
+                // Babble until the next evaluation report could be due (a goal attempt's worth).
+                for _ in 0..64 {
+                    if self.budget_spent() {
+                        break;
+                    }
+                    self.babble();
+                }
+            }
             completed = self.report(on_eval);
         }
         self.timers.total += t0.elapsed().as_secs_f64();

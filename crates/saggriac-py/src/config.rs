@@ -16,7 +16,7 @@ pub const KEYS: &[&str] = &[
     "v", "n_subgoals", "eps_max", "timeout_factor", "timeout_min", "q", "explore_step", "k_neighbours", "ridge", "pinv_rcond",
     "bandwidth", "min_c", "eps_c", "g_max", "zeta", "min_child", "p_interest", "p_global", "p_lowest", "reset_every",
     "n_test_goals", "n_test_configs", "eval_tolerance", "eval_patience", "eval_timeout_factor", "eval_timeout_min",
-    "eval_schedule", "knn_index", "warm_start_recent",
+    "eval_schedule", "knn_index", "warm_start_recent", "babble_step", "actuator_reset_every",
 ];
 
 fn get<'py, T: FromPyObjectOwned<'py>>(d: &Bound<'py, PyDict>, key: &str, default: T, kind: &str) -> PyResult<T> {
@@ -86,6 +86,8 @@ pub fn run_config_from_dict(d: &Bound<'_, PyDict>) -> PyResult<RunConfig> {
     let index: String = get(d, "knn_index", c.index.name().to_string(), "a str")?;
     c.index = IndexKind::parse(&index).ok_or_else(|| to_py(py, invalid("Config", "knn_index", "one of 'kdtree', 'kdtree_crate', 'brute_force'", format!("'{index}'"))))?;
     c.warm_start_recent = get(d, "warm_start_recent", c.warm_start_recent, "an int >= 0")?;
+    c.babble_step = get(d, "babble_step", c.babble_step, "a float")?;
+    c.actuator_reset_every = get(d, "actuator_reset_every", c.actuator_reset_every, "an int >= 0")?;
     c.validate().map_err(|e| to_py(py, e))?;
     Ok(c)
 }

@@ -173,6 +173,8 @@ impl PyLearner {
         let d = PyDict::new(py);
         d.set_item("reaching_steps", c.reaching_steps)?;
         d.set_item("exploration_steps", c.exploration_steps)?;
+        d.set_item("babbling_steps", c.babbling_steps)?;
+        d.set_item("actuator_reset_period", self.inner.actuator_reset_period())?;
         d.set_item("explorations", c.explorations)?;
         d.set_item("fit_failures", c.fit_failures)?;
         d.set_item("test_steps", c.test_steps)?;
@@ -181,6 +183,9 @@ impl PyLearner {
         d.set_item("time_fit", t.fit)?;
         d.set_item("time_goal_selection", t.goal_selection)?;
         d.set_item("time_evaluation", t.evaluation)?;
+        let (eval_knn, eval_fit) = self.inner.evaluation_split();
+        d.set_item("time_evaluation_knn", eval_knn)?;
+        d.set_item("time_evaluation_fit", eval_fit)?;
         d.set_item("time_total", t.total)?;
         Ok(d)
     }
