@@ -12,7 +12,8 @@ from .config import PRESETS, Config
 from .errors import InputError, ParameterError, SaggriacError, StorageError
 from .result import RunResult
 from .runner import run
+from .study import Study, load_study, run_study
 
 __version__ = _core.__version__
 
-__all__ = ["Config", "PRESETS", "run", "RunResult", "SaggriacError", "ParameterError", "InputError", "StorageError", "__version__"]
+__all__ = ["Config", "PRESETS", "run", "RunResult", "Study", "run_study", "load_study", "SaggriacError", "ParameterError", "InputError", "StorageError", "__version__"]

@@ -56,6 +56,42 @@ def _cmd_run(args: argparse.Namespace) -> int:
     return 0
 
 
+def _cmd_reproduce(args: argparse.Namespace) -> int:
+    from .reproduce import final_summary, reproduce
+
+    written = reproduce(
+        args.experiment,
+        out_dir=args.out,
+        seeds=args.seeds,
+        steps=args.steps,
+        backend=args.backend,
+        n_workers=args.workers,
+        scheduler=args.scheduler,
+        progress=not args.no_progress,
+    )
+    out = Path(args.out) if args.out else Path(f"reproduce-{args.experiment}")
+    print(final_summary(out).to_string(index=False))
+    for name, path in written.items():
+        print(f"{name}: {path}")
+    return 0
+
+
+def _cmd_plot(args: argparse.Namespace) -> int:
+    from .reproduce import make_report
+
+    for name, path in make_report(args.study).items():
+        print(f"{name}: {path}")
+    return 0
+
+
+def _cmd_stats(args: argparse.Namespace) -> int:
+    from .reproduce import write_stats
+
+    written = write_stats(args.study)
+    print(written["stats_md"].read_text(), end="")
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="saggriac", description="SAGG-RIAC goal exploration (Baranes & Oudeyer, IROS 2010).")
     sub = p.add_subparsers(dest="command", required=True)
@@ -63,13 +99,32 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("--preset", default="exp1", choices=sorted(PRESETS), help="the paper's experiment to start from (default exp1)")
     r.add_argument("--config", help="TOML file with parameters (and optionally preset = ...)")
     r.add_argument("--seed", type=int, default=0, help="root seed of the run (default 0)")
-    r.add_argument("--condition", help="sagg_riac or sagg_random")
+    r.add_argument("--condition", help="sagg_riac (default), sagg_random, actuator_random or actuator_riac")
     r.add_argument("--steps", type=int, help="number of micro-actions (overrides the preset)")
     r.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help="override any parameter, e.g. --set g_max=40")
     r.add_argument("--out", help="run directory (default runs/PRESET-CONDITION-seedSEED)")
     r.add_argument("--overwrite", action="store_true", help="replace an existing run directory")
     r.add_argument("--no-progress", action="store_true", help="no progress bar")
     r.set_defaults(func=_cmd_run)
+
+    rp = sub.add_parser("reproduce", help="run one of the paper's experiments (4 conditions x seeds) with figures and statistics")
+    rp.add_argument("experiment", choices=sorted(PRESETS))
+    rp.add_argument("--seeds", type=int, default=15, help="seeds 0..N-1 (default 15, as the paper)")
+    rp.add_argument("--steps", type=int, help="time steps per run (default: the paper's)")
+    rp.add_argument("--out", help="study folder (default reproduce-EXPERIMENT); rerunning resumes it")
+    rp.add_argument("--backend", default="local", choices=["local", "dask"], help="process pool on this machine (default) or Dask")
+    rp.add_argument("--workers", type=int, help="worker processes (default: all cores)")
+    rp.add_argument("--scheduler", help="address of a running Dask scheduler (with --backend dask)")
+    rp.add_argument("--no-progress", action="store_true")
+    rp.set_defaults(func=_cmd_reproduce)
+
+    pl = sub.add_parser("plot", help="rebuild the figures and statistics of a study folder from its saved results")
+    pl.add_argument("study")
+    pl.set_defaults(func=_cmd_plot)
+
+    st = sub.add_parser("stats", help="rebuild the statistics table of a study folder and print it")
+    st.add_argument("study")
+    st.set_defaults(func=_cmd_stats)
     return p
 
 

@@ -1,8 +1,9 @@
 """Configuration of one run: every parameter, its default, and the paper's two presets.
 
-The rules are checked in one place, by the Rust core (``saggriac._core.validate_config``), so
-the command line, TOML files and the Python API report the same message. This module adds the
-file and key to messages about configuration files.
+The rules are checked by the Rust core (``saggriac._core.validate_config``), so the command line,
+TOML files and the Python API report the same message. Python checks only what the core never
+sees (``n_evals``, turned into a schedule here) and the condition's name (to list the choices in
+Config's terms). This module adds the file and key to messages about configuration files.
 """
 
 from __future__ import annotations

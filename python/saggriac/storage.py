@@ -34,26 +34,40 @@ def check_output_dir(out: Path, overwrite: bool = False) -> None:
     _check_writable(out.parent)
 
 
+def _fsync(path: Path) -> None:
+    fd = os.open(path, os.O_RDONLY)
+    try:
+        os.fsync(fd)
+    finally:
+        os.close(fd)
+
+
 def write_run(out: Path, manifest: dict[str, Any], tables: dict[str, pd.DataFrame], overwrite: bool = False) -> Path:
     """Write a run directory atomically; the manifest is written last, so a directory with a
-    manifest is always complete."""
+    manifest is always complete (every file and the rename are flushed to disk)."""
+    old = out.with_name(f".{out.name}.old")
+    if not out.exists() and (old / MANIFEST).exists():
+        # A previous overwrite was killed between its two renames: put the finished run back.
+        old.rename(out)
     check_output_dir(out, overwrite)
     tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.", suffix=".tmp", dir=out.parent))
     try:
+        tmp.chmod(0o755)  # mkdtemp makes it private; results are meant to be shared
         for name, df in tables.items():
             df.to_parquet(tmp / f"{name}.parquet", index=False)
+            _fsync(tmp / f"{name}.parquet")
         with open(tmp / MANIFEST, "w") as f:
             json.dump(manifest, f, indent=2, sort_keys=True)
             f.flush()
             os.fsync(f.fileno())
         if out.exists():
-            old = out.with_name(f".{out.name}.old")
             shutil.rmtree(old, ignore_errors=True)
             out.rename(old)
             tmp.rename(out)
             shutil.rmtree(old, ignore_errors=True)
         else:
             tmp.rename(out)
+        _fsync(out.parent)
     except OSError as e:
         shutil.rmtree(tmp, ignore_errors=True)
         raise StorageError(f"Could not write the run to {out}: {e}") from None
@@ -66,5 +80,8 @@ def read_run(path: Path) -> tuple[dict[str, Any], dict[str, pd.DataFrame]]:
         raise StorageError(f"{path} is not a finished run directory (no {MANIFEST}).")
     with open(path / MANIFEST) as f:
         manifest = json.load(f)
-    tables = {name: pd.read_parquet(path / f"{name}.parquet") for name in TABLES if (path / f"{name}.parquet").exists()}
+    missing = [name for name in TABLES if not (path / f"{name}.parquet").exists()]
+    if missing:
+        raise StorageError(f"{path} is damaged: {', '.join(m + '.parquet' for m in missing)} missing although {MANIFEST} is there.")
+    tables = {name: pd.read_parquet(path / f"{name}.parquet") for name in TABLES}
     return manifest, tables

@@ -1,0 +1,132 @@
+"""Figures in the manner of the paper: learning curves (Fig. 4 and 5), goal histograms with the
+region tree over time (Fig. 3; the reachable half-circle in cyan) and the arm with the quantities of the competence (Fig. 2).
+Matplotlib's object API only (no pyplot state), so figures can be made in worker processes."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+from matplotlib.figure import Figure
+from matplotlib.patches import Arc, Rectangle
+
+from .config import Config
+
+LABELS = {
+    "sagg_riac": "SAGG-RIAC",
+    "sagg_random": "SAGG-Random",
+    "actuator_random": "ACTUATOR-Random",
+    "actuator_riac": "ACTUATOR-RIAC",
+}
+METRIC_TITLES = {"reach_error": "reaching error (distance goal - end effector)", "pred_error": "prediction error (end-effector position)"}
+
+
+def plot_curves(frame: pd.DataFrame, path: str | Path, title: str = "") -> Path:
+    """Mean +- standard deviation of each metric against time steps, one line per condition."""
+    fig = Figure(figsize=(11, 4.2), layout="constrained")
+    axes = fig.subplots(1, 2)
+    conditions = [c for c in LABELS if c in set(frame["condition"])] + sorted(set(frame["condition"]) - set(LABELS))
+    for ax, metric in zip(axes, ("reach_error", "pred_error")):
+        sel = frame[frame["metric"] == metric]
+        for i, cond in enumerate(conditions):
+            g = sel[sel["condition"] == cond].groupby("step")["value"]
+            mean, std, n = g.mean(), g.std(ddof=1).fillna(0.0), g.count()
+            steps = mean.index.to_numpy()
+            (line,) = ax.plot(steps, mean.to_numpy(), label=f"{LABELS.get(cond, cond)} (n={int(n.max())})")
+            # Shade +- std, as the paper's error bars.
+            ax.fill_between(steps, (mean - std).to_numpy(), (mean + std).to_numpy(), color=line.get_color(), alpha=0.15, linewidth=0)
+        ax.set_xlabel("time steps (micro-actions)")
+        ax.set_ylabel(METRIC_TITLES[metric])
+        ax.set_ylim(bottom=0)
+        ax.grid(alpha=0.3)
+    axes[0].legend()
+    if title:
+        fig.suptitle(title)
+    path = Path(path)
+    fig.savefig(path, dpi=120)
+    return path
+
+
+def _leaves_at(regions: pd.DataFrame, n_measurements: int) -> pd.DataFrame:
+    """Leaves of the region tree when it held `n_measurements` measurements."""
+    alive = regions[regions["created_at"] <= n_measurements]
+    parents_split = set(alive["parent"][alive.index != 0].astype(int)) if len(alive) else set()
+    ids = [i for i in alive.index if i not in parents_split]
+    return regions.loc[ids]
+
+
+def plot_goal_histograms(run_dir: str | Path, path: str | Path, n_windows: int = 4, bins: int = 40) -> Path:
+    """Histograms of the self-generated goals over windows of goal indices, with the regions
+    existing at the end of each window (white) and the reachable half-circle (black)."""
+    from .result import RunResult
+
+    res = RunResult.load(run_dir)
+    cfg = res.config
+    goals, attempts, regions = res.goals, res.attempts, res.regions.reset_index(drop=True)
+    fig = Figure(figsize=(4.0 * min(n_windows, 4), 4.0 * ((n_windows + 3) // 4)), layout="constrained")
+    axes = np.atleast_1d(fig.subplots((n_windows + 3) // 4, min(n_windows, 4))).ravel()
+    n_goals = len(goals)
+    edges = np.unique(np.linspace(0, n_goals, n_windows + 1).round().astype(int))
+    lo, hi = cfg.goal_low, cfg.goal_high
+    reach = cfg.arm_length if cfg.link_lengths is None else float(sum(cfg.link_lengths))
+    for k, ax in enumerate(axes):
+        if k + 1 >= len(edges):
+            ax.set_axis_off()
+            continue
+        # The last window shows all goals, as in the paper's last panel.
+        start, end = (0, edges[-1]) if k == len(edges) - 2 and k > 0 else (edges[k], edges[k + 1])
+        sel = goals[(goals["goal_index"] >= start) & (goals["goal_index"] < end)]
+        h, xe, ye = np.histogram2d(sel["goal_x"], sel["goal_y"], bins=bins, range=[[lo[0], hi[0]], [lo[1], hi[1]]])
+        ax.imshow(h.T, origin="lower", extent=(lo[0], hi[0], lo[1], hi[1]), cmap="inferno", aspect="auto", interpolation="nearest")
+        if len(regions) and "created_at" in regions:
+            n_meas = int((attempts["goal_index"] < end).sum()) if len(attempts) else 0
+            for _, r in _leaves_at(regions, n_meas).iterrows():
+                ax.add_patch(Rectangle((r["low_x"], r["low_y"]), r["high_x"] - r["low_x"], r["high_y"] - r["low_y"], fill=False, edgecolor="white", linewidth=0.6))
+        ax.add_patch(Arc((0, 0), 2 * reach, 2 * reach, theta1=-90, theta2=90, edgecolor="cyan", linewidth=1.5))
+        ax.set_xlim(lo[0], hi[0])
+        ax.set_ylim(lo[1], hi[1])
+        ax.set_title(f"goals {start}-{end}")
+    fig.suptitle(f"{LABELS.get(cfg.condition, cfg.condition)}, seed {res.seed}: self-generated goals and regions")
+    path = Path(path)
+    fig.savefig(path, dpi=110)
+    return path
+
+
+def arm_points(theta: np.ndarray, lengths: np.ndarray) -> np.ndarray:
+    """Joint positions of the planar arm, base first (n + 1 points)."""
+    phi = np.cumsum(theta)
+    pts = np.cumsum(np.stack([lengths * np.cos(phi), lengths * np.sin(phi)], axis=1), axis=0)
+    return np.vstack([[0.0, 0.0], pts])
+
+
+def plot_arm(config: Config, path: str | Path) -> Path:
+    """The arm at rest and in a bent pose, with x_start, a goal x_g and a final position x_f: the
+    quantities of the competence C = -D(x_g, x_f) / D(x_start, x_g) (eq. 7)."""
+    n = config.n_joints
+    lengths = np.asarray(config.link_lengths if config.link_lengths else [config.arm_length / n] * n, dtype=float)
+    fig = Figure(figsize=(6.5, 5.5), layout="constrained")
+    ax = fig.subplots()
+    rest = arm_points(np.zeros(n), lengths)
+    bent = arm_points(np.full(n, 0.12), lengths)
+    ax.plot(rest[:, 0], rest[:, 1], "-o", color="0.3", markersize=3, label="rest pose (theta_rest, x_rest)")
+    ax.plot(bent[:, 0], bent[:, 1], "-o", color="tab:blue", markersize=3, label="a configuration after a reaching attempt")
+    x_start, x_f = rest[-1], bent[-1]
+    x_g = x_f + np.array([3.0, -4.0])
+    ax.plot(*x_start, "ks")
+    ax.annotate("x_start", x_start, textcoords="offset points", xytext=(5, 5))
+    ax.plot(*x_g, "r*", markersize=12)
+    ax.annotate("x_g", x_g, textcoords="offset points", xytext=(5, -12))
+    ax.plot(*x_f, "bo")
+    ax.annotate("x_f", x_f, textcoords="offset points", xytext=(-20, 6))
+    ax.plot([x_start[0], x_g[0]], [x_start[1], x_g[1]], "k--", linewidth=0.8, label="D(x_start, x_g)")
+    ax.plot([x_f[0], x_g[0]], [x_f[1], x_g[1]], "r--", linewidth=1.2, label="D(x_g, x_f)")
+    ax.add_patch(Arc((0, 0), 2 * lengths.sum(), 2 * lengths.sum(), theta1=-90, theta2=90, edgecolor="0.6", linewidth=1))
+    ax.set_aspect("equal")
+    ax.set_xlim(-5, lengths.sum() + 5)
+    ax.set_ylim(-lengths.sum() * 0.6, lengths.sum() + 5)
+    ax.legend(loc="lower left", fontsize=8)
+    ax.set_title(f"{n}-joint planar arm, total length {lengths.sum():g}")
+    path = Path(path)
+    fig.savefig(path, dpi=110)
+    return path

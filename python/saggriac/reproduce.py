@@ -1,0 +1,94 @@
+"""The paper's experiments as one-command studies: the four conditions x seeds, then the
+figures (Fig. 2-5 style) and the statistics table, all written into one folder."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+from typing import Any
+
+import pandas as pd
+
+from . import plots, statistics
+from .config import CONDITIONS, PRESETS, Config
+from .errors import ParameterError, StorageError
+from .result import RunResult
+from .study import Study, load_study, run_study
+
+FIGURES = "figures"
+
+
+def _atomic(path: Path, write: Any) -> Path:
+    """Write through a temporary sibling and rename, so a half-written file never stands."""
+    tmp = path.with_name(f".{path.name}.tmp{path.suffix}")
+    write(tmp)
+    os.replace(tmp, path)
+    return path
+
+
+def reproduce(
+    experiment: str,
+    out_dir: str | Path | None = None,
+    seeds: int = 15,
+    steps: int | None = None,
+    conditions: tuple[str, ...] = CONDITIONS,
+    backend: str = "local",
+    n_workers: int | None = None,
+    scheduler: Any = None,
+    progress: bool = True,
+) -> dict[str, Path]:
+    """Run experiment 'exp1' or 'exp2' (every condition, seeds 0..seeds-1), then write the
+    figures and statistics. Finished runs in ``out_dir`` are reused (the study resumes)."""
+    if experiment not in PRESETS:
+        raise ParameterError(f"The 'experiment' parameter must be one of {', '.join(map(repr, PRESETS))}. Got {experiment!r} instead.", "experiment", repr(experiment))
+    if isinstance(seeds, bool) or not isinstance(seeds, int) or seeds < 1:
+        raise ParameterError(f"The 'seeds' parameter must be an int >= 1. Got {seeds!r} instead.", "seeds", repr(seeds))
+    base = Config.from_preset(experiment, **({} if steps is None else {"n_steps": steps}))
+    out = Path(out_dir) if out_dir is not None else Path(f"reproduce-{experiment}")
+    study = Study(base=base, conditions=tuple(conditions), seeds=tuple(range(seeds)))
+    run_study(study, out, backend=backend, n_workers=n_workers, scheduler=scheduler, progress=progress)
+    return make_report(out, title=f"{experiment}: {seeds} seed(s), {base.n_steps} time steps")
+
+
+def make_report(out_dir: str | Path, title: str | None = None) -> dict[str, Path]:
+    """Figures and statistics of a study folder, from its saved results only."""
+    out = Path(out_dir)
+    study = Study.load(out)
+    frame = load_study(out)
+    if frame.empty:
+        raise StorageError(f"{out} holds no finished run yet.")
+    figs = out / FIGURES
+    figs.mkdir(exist_ok=True)
+    title = title or f"{len(study.seeds)} seed(s), {study.base.n_steps} time steps"
+    written: dict[str, Path] = {}
+    written["curves"] = _atomic(figs / "curves.png", lambda p: plots.plot_curves(frame, p, title))
+    written["arm"] = _atomic(figs / "arm.png", lambda p: plots.plot_arm(study.base, p))
+    for cond in ("sagg_riac", "sagg_random"):
+        for task in study.tasks():
+            run_dir = out / task.path
+            if task.condition == cond and (run_dir / "run.json").exists():
+                name = f"goals_{cond}_seed{task.seed}.png"
+                written[f"goals_{cond}"] = _atomic(figs / name, lambda p, d=run_dir: plots.plot_goal_histograms(d, p))
+                break
+    written.update(write_stats(out, frame))
+    return written
+
+
+def write_stats(out_dir: str | Path, frame: pd.DataFrame | None = None) -> dict[str, Path]:
+    """stats.csv and stats.md: ANOVA and pairwise Welch tests at the end and at checkpoints."""
+    out = Path(out_dir)
+    frame = load_study(out) if frame is None else frame
+    table = statistics.compare(frame)
+    csv = _atomic(out / "stats.csv", lambda p: table.to_csv(p, index=False))
+    md = _atomic(out / "stats.md", lambda p: p.write_text(statistics.to_markdown(table)))
+    return {"stats_csv": csv, "stats_md": md}
+
+
+def final_summary(out_dir: str | Path) -> pd.DataFrame:
+    """Mean and standard deviation of each metric at the last step, per condition."""
+    frame = load_study(out_dir)
+    last = frame[frame["step"] == frame["step"].max()]
+    return last.groupby(["metric", "condition"])["value"].agg(["mean", "std", "count"]).reset_index()
+
+
+__all__ = ["reproduce", "make_report", "write_stats", "final_summary", "RunResult"]

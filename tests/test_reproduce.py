@@ -1,0 +1,49 @@
+"""saggriac reproduce / plot / stats on a small study."""
+
+import pandas as pd
+import pytest
+
+from saggriac.cli import main
+from saggriac.reproduce import reproduce
+
+PNG = b"\x89PNG\r\n\x1a\n"
+
+
+@pytest.fixture(scope="module")
+def study_dir(tmp_path_factory):
+    out = tmp_path_factory.mktemp("rep") / "exp1"
+    reproduce("exp1", out_dir=out, seeds=2, steps=1200, conditions=("sagg_riac", "sagg_random", "actuator_random"), n_workers=2, progress=False)
+    return out
+
+
+def test_reproduce_writes_figures_and_statistics(study_dir):
+    figs = study_dir / "figures"
+    names = sorted(p.name for p in figs.iterdir())
+    assert names == ["arm.png", "curves.png", "goals_sagg_random_seed0.png", "goals_sagg_riac_seed0.png"]
+    for p in figs.iterdir():
+        assert p.read_bytes()[:8] == PNG and p.stat().st_size > 10_000
+    table = pd.read_csv(study_dir / "stats.csv")
+    end = table[table["step"] == 1200]
+    # One ANOVA over the three conditions and three pairwise tests, per metric.
+    assert sorted(end["test"].value_counts().items()) == [("anova", 2), ("welch", 6)]
+    assert end["p_value"].between(0, 1).all()
+    assert "| reach_error | 1200 | anova |" in (study_dir / "stats.md").read_text()
+
+
+def test_plot_and_stats_rebuild_from_saved_results(study_dir, capsys):
+    for p in (study_dir / "figures").iterdir():
+        p.unlink()
+    (study_dir / "stats.md").unlink()
+    assert main(["plot", str(study_dir)]) == 0
+    assert (study_dir / "figures" / "curves.png").read_bytes()[:8] == PNG
+    assert (study_dir / "stats.md").exists()
+    capsys.readouterr()
+    assert main(["stats", str(study_dir)]) == 0
+    assert "| metric | step | test |" in capsys.readouterr().out
+
+
+def test_reproduce_rejects_bad_arguments(tmp_path, capsys):
+    assert main(["stats", str(tmp_path)]) == 2
+    assert "is not a study folder" in capsys.readouterr().err
+    with pytest.raises(Exception, match="The 'seeds' parameter must be an int >= 1. Got 0 instead."):
+        reproduce("exp1", out_dir=tmp_path / "x", seeds=0)
