@@ -47,3 +47,12 @@ def test_reproduce_rejects_bad_arguments(tmp_path, capsys):
     assert "is not a study folder" in capsys.readouterr().err
     with pytest.raises(Exception, match="The 'seeds' parameter must be an int >= 1. Got 0 instead."):
         reproduce("exp1", out_dir=tmp_path / "x", seeds=0)
+
+
+def test_cli_reproduce_with_a_subset_of_conditions(tmp_path, capsys):
+    out = tmp_path / "sub"
+    rc = main(["reproduce", "exp1", "--seeds", "1", "--steps", "300", "--conditions", "sagg_random", "--workers", "1", "--out", str(out), "--no-progress"])
+    assert rc == 0
+    assert sorted(p.name for p in (out / "runs").iterdir()) == ["sagg_random"]
+    lines = capsys.readouterr().out.splitlines()
+    assert any(line.split()[:2] == ["reach_error", "sagg_random"] for line in lines)

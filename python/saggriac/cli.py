@@ -7,7 +7,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from .config import PRESETS, Config
+from .config import CONDITIONS, PRESETS, Config
 from .errors import SaggriacError
 
 if sys.version_info >= (3, 11):
@@ -59,10 +59,12 @@ def _cmd_run(args: argparse.Namespace) -> int:
 def _cmd_reproduce(args: argparse.Namespace) -> int:
     from .reproduce import final_summary, reproduce
 
+    conditions = tuple(c.strip() for c in args.conditions.split(",")) if args.conditions else CONDITIONS
     written = reproduce(
         args.experiment,
         out_dir=args.out,
         seeds=args.seeds,
+        conditions=conditions,
         steps=args.steps,
         backend=args.backend,
         n_workers=args.workers,
@@ -110,6 +112,7 @@ def build_parser() -> argparse.ArgumentParser:
     rp = sub.add_parser("reproduce", help="run one of the paper's experiments (4 conditions x seeds) with figures and statistics")
     rp.add_argument("experiment", choices=sorted(PRESETS))
     rp.add_argument("--seeds", type=int, default=15, help="seeds 0..N-1 (default 15, as the paper)")
+    rp.add_argument("--conditions", help="comma-separated subset of the conditions (default: all four)")
     rp.add_argument("--steps", type=int, help="time steps per run (default: the paper's)")
     rp.add_argument("--out", help="study folder (default reproduce-EXPERIMENT); rerunning resumes it")
     rp.add_argument("--backend", default="local", choices=["local", "dask"], help="process pool on this machine (default) or Dask")
