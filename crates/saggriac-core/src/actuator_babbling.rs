@@ -98,30 +98,8 @@ impl Learner {
     /// Forward prediction of dx for a command at the current theta: J dtheta with J fitted on the
     /// neighbours, or no motion when no model is available yet.
     fn predict_dx(&mut self, dtheta: &[f64]) -> [f64; 2] {
-        let k = self.cfg.local.k_neighbours;
-        if self.memory.len() < k {
-            return [0.0, 0.0];
-        }
-        let t0 = std::time::Instant::now();
-        let theta = self.arm.theta().to_vec();
-        if self.cfg.warm_start_recent > 0 {
-            self.memory.knn_warm(&mut self.warm, &theta, k, &mut self.neighbours);
-        } else {
-            self.memory.knn(&theta, k, &mut self.neighbours);
-        }
-        let t1 = std::time::Instant::now();
-        let fitted = self.model.fit(&self.memory, &self.neighbours);
-        self.timers.knn += (t1 - t0).as_secs_f64();
-        self.timers.fit += t1.elapsed().as_secs_f64();
-        match fitted {
-            Ok(()) => {
-                let j = self.model.jacobian();
-                let mut p = [0.0; 2];
-                for (r, v) in p.iter_mut().enumerate() {
-                    *v = (0..dtheta.len()).map(|a| j[(r, a)] * dtheta[a]).sum();
-                }
-                p
-            }
+        match self.fit_here() {
+            Ok(()) => self.expected_dx(dtheta),
             Err(_) => [0.0, 0.0],
         }
     }

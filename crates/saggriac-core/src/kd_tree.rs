@@ -187,27 +187,6 @@ impl KdTree {
         true
     }
 
-    /// Squared distance from q to the bounding box of `node`.
-    #[inline]
-    fn box_dist_sq(&self, node: usize, q: &[f64]) -> f64 {
-        let d = self.dim;
-        let b = &self.bounds[node * 2 * d..(node + 1) * 2 * d];
-        let (lo, hi) = b.split_at(d);
-        let mut s = 0.0;
-        for i in 0..d {
-            let v = q[i];
-            let e = if v < lo[i] {
-                lo[i] - v
-            } else if v > hi[i] {
-                v - hi[i]
-            } else {
-                0.0
-            };
-            s += e * e;
-        }
-        s
-    }
-
     /// Rebuild the whole tree balanced: median cuts on the widest dimension of each node.
     fn rebuild(&mut self) {
         let d = self.dim;
@@ -377,7 +356,7 @@ impl NeighbourIndex for KdTree {
             return;
         }
         let mut best = Best { out, k, radius_sq, acc: vec![0.0; 2 * BUCKET] };
-        if self.box_dist_sq(0, query) <= radius_sq {
+        if self.box_within(0, query, radius_sq) {
             self.search(0, query, &mut best);
         }
     }

@@ -131,7 +131,7 @@ impl Learner {
     }
 
     /// J dtheta with the last fitted J.
-    fn expected_dx(&self, dtheta: &[f64]) -> [f64; 2] {
+    pub(crate) fn expected_dx(&self, dtheta: &[f64]) -> [f64; 2] {
         let j = self.model.jacobian();
         let mut e = [0.0; 2];
         for (r, v) in e.iter_mut().enumerate() {
@@ -140,8 +140,8 @@ impl Learner {
         e
     }
 
-    /// dtheta = J+ dx with J fitted on the nearest stored configurations of the current theta.
-    pub(crate) fn inverse_model(&mut self, dx: &[f64; 2], dtheta: &mut [f64]) -> std::result::Result<(), FitFailure> {
+    /// Fit the local model on the nearest stored configurations of the current theta.
+    pub(crate) fn fit_here(&mut self) -> std::result::Result<(), FitFailure> {
         let k = self.cfg.local.k_neighbours;
         if self.memory.len() < k {
             return Err(FitFailure::NotEnoughData);
@@ -154,10 +154,18 @@ impl Learner {
             self.memory.knn(&theta, k, &mut self.neighbours);
         }
         let t1 = std::time::Instant::now();
-        let r = self.model.fit(&self.memory, &self.neighbours).and_then(|_| self.model.inverse(dx, dtheta));
-        let t2 = std::time::Instant::now();
+        let r = self.model.fit(&self.memory, &self.neighbours);
         self.timers.knn += (t1 - t0).as_secs_f64();
-        self.timers.fit += (t2 - t1).as_secs_f64();
+        self.timers.fit += t1.elapsed().as_secs_f64();
+        r
+    }
+
+    /// dtheta = J+ dx with J fitted on the nearest stored configurations of the current theta.
+    pub(crate) fn inverse_model(&mut self, dx: &[f64; 2], dtheta: &mut [f64]) -> std::result::Result<(), FitFailure> {
+        self.fit_here()?;
+        let t0 = std::time::Instant::now();
+        let r = self.model.inverse(dx, dtheta);
+        self.timers.fit += t0.elapsed().as_secs_f64();
         r
     }
 }
