@@ -138,6 +138,10 @@ def main(argv: list[str] | None = None) -> int:
     except SaggriacError as e:
         print(f"saggriac: error: {e}", file=sys.stderr)
         return 2
+    except BrokenPipeError:
+        # Output piped into a command that stopped reading (e.g. `| head`): not an error.
+        sys.stderr.close()
+        return 0
     except KeyboardInterrupt:
         print("saggriac: interrupted; nothing was written for the unfinished run.", file=sys.stderr)
         return 130
