@@ -365,22 +365,11 @@ impl NeighbourIndex for KdTree {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::neighbours::{BruteForce, WarmStart};
+    use crate::neighbours::reference::{assert_matches_brute, assert_warm_start_exact};
     use crate::rng::{rng_from_seed, uniform};
 
     fn compare(points: &[f64], dim: usize, queries: &[f64], k: usize) {
-        let mut bf = BruteForce::new(dim);
-        let mut kd = KdTree::new(dim);
-        for p in points.chunks_exact(dim) {
-            bf.add(p);
-            kd.add(p);
-        }
-        let (mut a, mut b) = (Vec::new(), Vec::new());
-        for q in queries.chunks_exact(dim) {
-            bf.knn(q, k, &mut a);
-            kd.knn(q, k, &mut b);
-            assert_eq!(a, b);
-        }
+        assert_matches_brute(&mut KdTree::new(dim), points, queries, k);
     }
 
     #[test]
@@ -424,25 +413,6 @@ mod tests {
 
     #[test]
     fn warm_start_on_our_tree_is_exact() {
-        let dim = 15;
-        let (mut bf, mut kd) = (BruteForce::new(dim), KdTree::new(dim));
-        let mut pts = Vec::new();
-        let mut r = rng_from_seed(8);
-        let mut theta = vec![0.0; dim];
-        let mut ws = WarmStart::new(8);
-        let (mut a, mut b) = (Vec::new(), Vec::new());
-        for step in 0..6000 {
-            if step % 250 == 0 {
-                theta.iter_mut().for_each(|t| *t = 0.0);
-                ws.clear();
-            }
-            theta.iter_mut().for_each(|t| *t += uniform(&mut r, -0.02, 0.02));
-            bf.knn(&theta, 45, &mut a);
-            ws.knn(&kd, &pts, &theta, 45, &mut b);
-            assert_eq!(a, b, "step {step}");
-            bf.add(&theta);
-            kd.add(&theta);
-            pts.extend_from_slice(&theta);
-        }
+        assert_warm_start_exact(&mut KdTree::new(15), 6000, 250, 45, 8);
     }
 }

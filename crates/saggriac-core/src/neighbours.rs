@@ -198,8 +198,57 @@ impl WarmStart {
     }
 }
 
+/// Checks shared by the tests of every index: same answers as the brute-force reference.
+#[cfg(test)]
+pub(crate) mod reference {
+    use super::*;
+    use crate::rng::{rng_from_seed, uniform};
+
+    /// Fill `index` with `points` and compare every query's answer with a full scan.
+    pub fn assert_matches_brute(index: &mut dyn NeighbourIndex, points: &[f64], queries: &[f64], k: usize) {
+        let dim = index.dim();
+        let mut bf = BruteForce::new(dim);
+        for p in points.chunks_exact(dim) {
+            bf.add(p);
+            index.add(p);
+        }
+        let (mut a, mut b) = (Vec::new(), Vec::new());
+        for q in queries.chunks_exact(dim) {
+            bf.knn(q, k, &mut a);
+            index.knn(q, k, &mut b);
+            assert_eq!(a, b);
+        }
+    }
+
+    /// Drive a warm-started search along a random walk with resets to zero (the arm's pattern)
+    /// and compare each answer with a full scan.
+    pub fn assert_warm_start_exact(index: &mut dyn NeighbourIndex, steps: usize, reset_every: usize, k: usize, seed: u64) {
+        let dim = index.dim();
+        let mut bf = BruteForce::new(dim);
+        let mut pts = Vec::new();
+        let mut r = rng_from_seed(seed);
+        let mut theta = vec![0.0; dim];
+        let mut ws = WarmStart::new(8);
+        let (mut a, mut b) = (Vec::new(), Vec::new());
+        for step in 0..steps {
+            if step % reset_every == 0 {
+                theta.iter_mut().for_each(|t| *t = 0.0);
+                ws.clear();
+            }
+            theta.iter_mut().for_each(|t| *t += uniform(&mut r, -0.02, 0.02));
+            bf.knn(&theta, k, &mut a);
+            ws.knn(index, &pts, &theta, k, &mut b);
+            assert_eq!(a, b, "step {step}");
+            bf.add(&theta);
+            index.add(&theta);
+            pts.extend_from_slice(&theta);
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
+    use super::reference::{assert_matches_brute, assert_warm_start_exact};
     use super::*;
     use crate::rng::{rng_from_seed, uniform};
 
@@ -209,18 +258,7 @@ mod tests {
     }
 
     fn check_against_brute(points: &[f64], dim: usize, queries: &[f64], k: usize) {
-        let mut bf = BruteForce::new(dim);
-        let mut kd = KdTreeIndex::new(dim);
-        for p in points.chunks_exact(dim) {
-            bf.add(p);
-            kd.add(p);
-        }
-        let (mut a, mut b) = (Vec::new(), Vec::new());
-        for q in queries.chunks_exact(dim) {
-            bf.knn(q, k, &mut a);
-            kd.knn(q, k, &mut b);
-            assert_eq!(a, b);
-        }
+        assert_matches_brute(&mut KdTreeIndex::new(dim), points, queries, k);
     }
 
     #[test]
@@ -253,30 +291,7 @@ mod tests {
 
     #[test]
     fn warm_start_is_exact_along_a_trajectory() {
-        let dim = 15;
-        let mut bf = BruteForce::new(dim);
-        let mut kd = KdTreeIndex::new(dim);
-        let mut pts = Vec::new();
-        let mut r = rng_from_seed(5);
-        let mut theta = vec![0.0; dim];
-        let mut ws = WarmStart::new(8);
-        let (mut a, mut b) = (Vec::new(), Vec::new());
-        for step in 0..4000 {
-            if step % 300 == 0 {
-                theta.iter_mut().for_each(|t| *t = 0.0);
-            }
-            for t in theta.iter_mut() {
-                *t += uniform(&mut r, -0.02, 0.02);
-            }
-            if step > 40 {
-                bf.knn(&theta, 20, &mut a);
-                ws.knn(&kd, &pts, &theta, 20, &mut b);
-                assert_eq!(a, b, "step {step}");
-            }
-            bf.add(&theta);
-            kd.add(&theta);
-            pts.extend_from_slice(&theta);
-        }
+        assert_warm_start_exact(&mut KdTreeIndex::new(15), 4000, 300, 20, 5);
     }
 
     #[test]
