@@ -65,10 +65,7 @@ fn queries_along(pts: &[f64], n_queries: usize, seed: u64) -> Vec<f64> {
     let n = pts.len() / DIM;
     let start = n / 2;
     let mut r = rng_from_seed(seed);
-    (start..start + n_queries.min(n - start))
-        .flat_map(|i| pts[i * DIM..(i + 1) * DIM].to_vec())
-        .map(|v| v + uniform(&mut r, -0.005, 0.005))
-        .collect()
+    (start..start + n_queries.min(n - start)).flat_map(|i| pts[i * DIM..(i + 1) * DIM].to_vec()).map(|v| v + uniform(&mut r, -0.005, 0.005)).collect()
 }
 
 /// Cycles through the queries in order, clearing the warm start when it wraps around (a jump).

@@ -1,8 +1,8 @@
+use nalgebra::DMatrix;
 use saggriac_core::arm::{Arm, ArmConfig};
 use saggriac_core::local_model::{LocalModel, LocalModelConfig};
 use saggriac_core::memory::{IndexKind, SensorimotorMemory};
 use saggriac_core::rng::{rng_from_seed, uniform};
-use nalgebra::DMatrix;
 
 fn main() {
     let mut arm = Arm::new(ArmConfig::uniform(15, 50.0, 1.57, 0.05)).unwrap();
@@ -37,7 +37,13 @@ fn main() {
         lm.inverse(&[0.5, 0.0], &mut dth).unwrap();
         let v = nalgebra::DVector::from_vec(dth.clone());
         let real = &jt * &v;
-        println!("k {k} ridge {ridge}: |J-Jt|/|Jt| = {:.3}  real dx for (0.5,0): {:.3},{:.3} |dth|max {:.4}", (j - &jt).norm() / jt.norm(), real[0], real[1], dth.iter().fold(0.0f64, |m, x| m.max(x.abs())));
+        println!(
+            "k {k} ridge {ridge}: |J-Jt|/|Jt| = {:.3}  real dx for (0.5,0): {:.3},{:.3} |dth|max {:.4}",
+            (j - &jt).norm() / jt.norm(),
+            real[0],
+            real[1],
+            dth.iter().fold(0.0f64, |m, x| m.max(x.abs()))
+        );
     }
     let sv = jt.clone().svd(false, false).singular_values;
     println!("true singular values {sv:?}");

@@ -8,13 +8,8 @@ use saggriac_core::{config::Condition, Learner, RunConfig};
 fn main() {
     let args: Vec<String> = std::env::args().collect();
     let steps: u64 = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(200_000);
-    let cond =
-        Condition::parse(args.get(2).map(|s| s.as_str()).unwrap_or("actuator_random")).unwrap();
-    let mut cfg = RunConfig {
-        n_steps: steps,
-        condition: cond,
-        ..RunConfig::default()
-    };
+    let cond = Condition::parse(args.get(2).map(|s| s.as_str()).unwrap_or("actuator_random")).unwrap();
+    let mut cfg = RunConfig { n_steps: steps, condition: cond, ..RunConfig::default() };
     cfg.goal_low = vec![0.0, -150.0];
     cfg.goal_high = vec![150.0, 150.0];
     cfg.exploration.q = 100;
@@ -25,9 +20,7 @@ fn main() {
     l.run(&mut |_| true);
     let mem = l.memory();
     let n = mem.n_joints();
-    let tests =
-        saggriac_core::evaluation::TestSet::new(&cfg.arm, &cfg.goal_low, &cfg.goal_high, 100, 1, 1)
-            .unwrap();
+    let tests = saggriac_core::evaluation::TestSet::new(&cfg.arm, &cfg.goal_low, &cfg.goal_high, 100, 1, 1).unwrap();
     let mut arm = Arm::new(cfg.arm.clone()).unwrap();
     let mut model = LocalModel::new(n, 2, cfg.local.clone());
     let mut ws = WarmStart::new(8);
@@ -56,11 +49,7 @@ fn main() {
             mem.knn_warm(&mut ws, &th, k, &mut nb);
             qs.push(th.clone());
             rk.push(nb.last().unwrap().dist_sq.sqrt());
-            if model
-                .fit(mem, &nb)
-                .and_then(|_| model.inverse(&dx, &mut dtheta))
-                .is_err()
-            {
+            if model.fit(mem, &nb).and_then(|_| model.inverse(&dx, &mut dtheta)).is_err() {
                 break;
             }
             arm.step(&mut dtheta);
@@ -77,31 +66,14 @@ fn main() {
         }
     }
     let el = t0.elapsed().as_secs_f64();
-    println!(
-        "{} queries, {:.1} us each (knn+fit)",
-        qs.len(),
-        el / qs.len() as f64 * 1e6
-    );
+    println!("{} queries, {:.1} us each (knn+fit)", qs.len(), el / qs.len() as f64 * 1e6);
     let mut s = rk.clone();
     s.sort_by(|a, b| a.total_cmp(b));
-    println!(
-        "r_k quantiles 10/50/90: {:.3} {:.3} {:.3}",
-        s[s.len() / 10],
-        s[s.len() / 2],
-        s[9 * s.len() / 10]
-    );
-    let steps: Vec<f64> = qs
-        .windows(2)
-        .map(|w| dist_sq(&w[0], &w[1]).sqrt())
-        .collect();
+    println!("r_k quantiles 10/50/90: {:.3} {:.3} {:.3}", s[s.len() / 10], s[s.len() / 2], s[9 * s.len() / 10]);
+    let steps: Vec<f64> = qs.windows(2).map(|w| dist_sq(&w[0], &w[1]).sqrt()).collect();
     let mut st = steps.clone();
     st.sort_by(|a, b| a.total_cmp(b));
-    println!(
-        "query step quantiles 10/50/90: {:.3} {:.3} {:.3}",
-        st[st.len() / 10],
-        st[st.len() / 2],
-        st[9 * st.len() / 10]
-    );
+    println!("query step quantiles 10/50/90: {:.3} {:.3} {:.3}", st[st.len() / 10], st[st.len() / 2], st[9 * st.len() / 10]);
     // Candidate-ball size for an anchor every query, for several margins (sampled).
     let pts: Vec<&[f64]> = (0..mem.len()).map(|i| mem.theta(i)).collect();
     for delta in [0.05, 0.1, 0.2, 0.4] {
@@ -124,11 +96,6 @@ fn main() {
         }
         sizes.sort();
         let mr = runs.iter().sum::<usize>() as f64 / runs.len() as f64;
-        println!(
-            "delta {delta}: candidates median {} p90 {} ; queries per anchor {:.1}",
-            sizes[sizes.len() / 2],
-            sizes[9 * sizes.len() / 10],
-            mr
-        );
+        println!("delta {delta}: candidates median {} p90 {} ; queries per anchor {:.1}", sizes[sizes.len() / 2], sizes[9 * sizes.len() / 10], mr);
     }
 }

@@ -33,7 +33,9 @@ fn main() {
     let mut rest_walk = Vec::new();
     let mut t = vec![0.0; dim];
     for i in 0..2000 {
-        if i % 50 == 0 { t.iter_mut().for_each(|v| *v = 0.0); }
+        if i % 50 == 0 {
+            t.iter_mut().for_each(|v| *v = 0.0);
+        }
         t[i % dim] += 0.003;
         rest_walk.extend_from_slice(&t);
     }

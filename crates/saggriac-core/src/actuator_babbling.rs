@@ -25,13 +25,7 @@ fn reachable_boundary(low: &[f64], high: &[f64], reach: f64, per_edge: usize) ->
         let ang = i as f64 / (8 * per_edge) as f64 * std::f64::consts::TAU;
         pts.push([reach * ang.cos(), reach * ang.sin()]);
     }
-    pts.retain(|p| {
-        p[0] * p[0] + p[1] * p[1] <= reach * reach * (1.0 + 1e-12)
-            && p[0] >= low[0] - 1e-9
-            && p[0] <= high[0] + 1e-9
-            && p[1] >= low[1] - 1e-9
-            && p[1] <= high[1] + 1e-9
-    });
+    pts.retain(|p| p[0] * p[0] + p[1] * p[1] <= reach * reach * (1.0 + 1e-12) && p[0] >= low[0] - 1e-9 && p[0] <= high[0] + 1e-9 && p[1] >= low[1] - 1e-9 && p[1] <= high[1] + 1e-9);
     pts
 }
 

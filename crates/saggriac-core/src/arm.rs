@@ -17,11 +17,7 @@ pub struct ArmConfig {
 impl ArmConfig {
     /// `n` equal links summing to `total_length`.
     pub fn uniform(n: usize, total_length: f64, joint_limit: f64, max_joint_step: f64) -> Self {
-        ArmConfig {
-            link_lengths: vec![total_length / n as f64; n],
-            joint_limit,
-            max_joint_step,
-        }
+        ArmConfig { link_lengths: vec![total_length / n as f64; n], joint_limit, max_joint_step }
     }
 
     pub fn validate(&self) -> Result<()> {

@@ -23,12 +23,7 @@ impl CompetenceConfig {
             return Err(invalid("Competence", "min_c", "a finite float < 0", self.min_c));
         }
         if !(self.eps_c.is_finite() && self.eps_c < 0.0 && self.eps_c > self.min_c) {
-            return Err(invalid(
-                "Competence",
-                "eps_c",
-                format!("a float with min_c < eps_c < 0 (min_c = {})", self.min_c),
-                self.eps_c,
-            ));
+            return Err(invalid("Competence", "eps_c", format!("a float with min_c < eps_c < 0 (min_c = {})", self.min_c), self.eps_c));
         }
         Ok(())
     }
@@ -89,9 +84,6 @@ mod tests {
     #[test]
     fn validation_prints_both_values() {
         let e = CompetenceConfig { min_c: -1.0, eps_c: -2.0 }.validate().unwrap_err();
-        assert_eq!(
-            e.to_string(),
-            "The 'eps_c' parameter of Competence must be a float with min_c < eps_c < 0 (min_c = -1). Got -2 instead."
-        );
+        assert_eq!(e.to_string(), "The 'eps_c' parameter of Competence must be a float with min_c < eps_c < 0 (min_c = -1). Got -2 instead.");
     }
 }

@@ -7,12 +7,7 @@ pub enum Error {
     /// A parameter broke a rule. The message follows scikit-learn's template so that users see
     /// the same wording from the CLI, a TOML file and the Python API.
     #[error("The '{param}' parameter of {owner} must be {rule}. Got {value} instead.")]
-    InvalidParameter {
-        owner: &'static str,
-        param: String,
-        rule: String,
-        value: String,
-    },
+    InvalidParameter { owner: &'static str, param: String, rule: String, value: String },
     /// Input data (a point, a goal, a competence) that cannot be used as given.
     #[error("{0}")]
     InvalidInput(String),
@@ -22,12 +17,7 @@ pub type Result<T> = std::result::Result<T, Error>;
 
 /// Build an `InvalidParameter` error.
 pub fn invalid(owner: &'static str, param: &str, rule: impl Into<String>, value: impl std::fmt::Display) -> Error {
-    Error::InvalidParameter {
-        owner,
-        param: param.to_string(),
-        rule: rule.into(),
-        value: value.to_string(),
-    }
+    Error::InvalidParameter { owner, param: param.to_string(), rule: rule.into(), value: value.to_string() }
 }
 
 /// Check helpers used by every `validate()`: each returns the error with the template filled in.

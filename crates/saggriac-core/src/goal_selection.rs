@@ -65,12 +65,7 @@ impl ModeProbabilities {
         c.probability("p_lowest", self.p_lowest)?;
         let s = self.p_interest + self.p_global + self.p_lowest;
         if (s - 1.0).abs() > 1e-9 {
-            return Err(invalid(
-                "SaggRiac",
-                "p_lowest",
-                format!("such that p_interest + p_global + p_lowest = 1 (p_interest = {}, p_global = {})", self.p_interest, self.p_global),
-                self.p_lowest,
-            ));
+            return Err(invalid("SaggRiac", "p_lowest", format!("such that p_interest + p_global + p_lowest = 1 (p_interest = {}, p_global = {})", self.p_interest, self.p_global), self.p_lowest));
         }
         Ok(())
     }

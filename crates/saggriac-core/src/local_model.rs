@@ -65,16 +65,7 @@ pub struct LocalModel {
 
 impl LocalModel {
     pub fn new(n: usize, m: usize, cfg: LocalModelConfig) -> Self {
-        LocalModel {
-            cfg,
-            n,
-            m,
-            gram: DMatrix::zeros(n, n),
-            rhs: DMatrix::zeros(n, m),
-            jac: DMatrix::zeros(m, n),
-            gram_buf: vec![0.0; n * n],
-            rhs_buf: vec![0.0; n * m],
-        }
+        LocalModel { cfg, n, m, gram: DMatrix::zeros(n, n), rhs: DMatrix::zeros(n, m), jac: DMatrix::zeros(m, n), gram_buf: vec![0.0; n * n], rhs_buf: vec![0.0; n * m] }
     }
 
     pub fn jacobian(&self) -> &DMatrix<f64> {

@@ -28,12 +28,7 @@ impl RegionTreeConfig {
         c.at_least("zeta", self.zeta, 2)?;
         c.at_least("min_child", self.min_child, 1)?;
         if 2 * self.min_child > self.g_max + 1 {
-            return Err(invalid(
-                "RegionTree",
-                "min_child",
-                format!("an int with 2 * min_child <= g_max + 1 (g_max = {})", self.g_max),
-                self.min_child,
-            ));
+            return Err(invalid("RegionTree", "min_child", format!("an int with 2 * min_child <= g_max + 1 (g_max = {})", self.g_max), self.min_child));
         }
         Ok(())
     }
@@ -85,19 +80,8 @@ impl RegionTree {
     pub fn new(low: &[f64], high: &[f64], cfg: RegionTreeConfig) -> Result<Self> {
         cfg.validate()?;
         check_bounds("RegionTree", low, high)?;
-        let root = Region {
-            low: low.to_vec(),
-            high: high.to_vec(),
-            parent: None,
-            children: None,
-            split_dim: 0,
-            split_value: f64::NAN,
-            entries: Vec::new(),
-            interest: 0.0,
-            sum: 0.0,
-            created_at: 0,
-            depth: 0,
-        };
+        let root =
+            Region { low: low.to_vec(), high: high.to_vec(), parent: None, children: None, split_dim: 0, split_value: f64::NAN, entries: Vec::new(), interest: 0.0, sum: 0.0, created_at: 0, depth: 0 };
         Ok(RegionTree { cfg, dim: low.len(), regions: vec![root], leaves: vec![0], points: Vec::new(), values: Vec::new() })
     }
 
@@ -360,12 +344,7 @@ mod tests {
         let mut r = rng_from_seed(9);
         for _ in 0..1000 {
             let p = [uniform(&mut r, 0.0, 50.0), uniform(&mut r, -50.0, 50.0)];
-            let scan: Vec<usize> = t
-                .leaves()
-                .iter()
-                .copied()
-                .filter(|&l| (0..2).all(|d| p[d] >= t.region(l).low[d] && p[d] < t.region(l).high[d]))
-                .collect();
+            let scan: Vec<usize> = t.leaves().iter().copied().filter(|&l| (0..2).all(|d| p[d] >= t.region(l).low[d] && p[d] < t.region(l).high[d])).collect();
             assert_eq!(scan, vec![t.leaf_of(&p)]);
         }
     }

@@ -275,16 +275,7 @@ impl Learner {
             let t1 = Instant::now();
             let region = self.selector.update(&target, out.competence);
             self.timers.goal_selection += t1.elapsed().as_secs_f64();
-            self.attempts.push(AttemptRow {
-                goal_index: self.goals_done,
-                subgoal: i as u32,
-                step_end: self.steps,
-                target,
-                end: out.end,
-                competence: out.competence,
-                reached: out.reached,
-                region,
-            });
+            self.attempts.push(AttemptRow { goal_index: self.goals_done, subgoal: i as u32, step_end: self.steps, target, end: out.end, competence: out.competence, reached: out.reached, region });
             if i == l {
                 last_c = out.competence;
             }

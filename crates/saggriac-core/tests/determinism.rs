@@ -66,17 +66,7 @@ fn metric_key(m: &MetricRow) -> MetricKey {
 
 type GoalKey = (u64, u64, u64, [u64; 2], [u64; 2], [u64; 2], u8, Option<usize>, u64);
 fn goal_key(g: &GoalRow) -> GoalKey {
-    (
-        g.goal_index,
-        g.step_start,
-        g.step_end,
-        bits2(&g.goal),
-        bits2(&g.start),
-        bits2(&g.end),
-        g.mode as u8,
-        g.region,
-        g.competence.to_bits(),
-    )
+    (g.goal_index, g.step_start, g.step_end, bits2(&g.goal), bits2(&g.start), bits2(&g.end), g.mode as u8, g.region, g.competence.to_bits())
 }
 
 type AttemptKey = (u64, u32, u64, [u64; 2], [u64; 2], u64, bool, Option<usize>);
@@ -118,8 +108,7 @@ fn assert_same_training(a: &Learner, b: &Learner, what: &str) {
     assert_eq!(a.memory().len(), b.memory().len(), "{what}: memory sizes differ");
     assert!(memory_bits(a) == memory_bits(b), "{what}: stored samples differ");
     assert_eq!(training_counters(a), training_counters(b), "{what}: training counters differ");
-    let (ta, tb): (Vec<u64>, Vec<u64>) =
-        (a.arm().theta().iter().map(|v| v.to_bits()).collect(), b.arm().theta().iter().map(|v| v.to_bits()).collect());
+    let (ta, tb): (Vec<u64>, Vec<u64>) = (a.arm().theta().iter().map(|v| v.to_bits()).collect(), b.arm().theta().iter().map(|v| v.to_bits()).collect());
     assert_eq!(ta, tb, "{what}: final arm configurations differ");
 }
 

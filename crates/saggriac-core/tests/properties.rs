@@ -37,19 +37,11 @@ fn cases(cases: u32) -> ProptestConfig {
 
 /// Bounds of one dimension: ordinary, tiny, huge, and far from zero with coarse float spacing.
 fn interval() -> impl Strategy<Value = (f64, f64)> {
-    prop_oneof![
-        Just((0.0, 1.0)),
-        Just((0.0, 1e-9)),
-        Just((-1e12, 1e12)),
-        Just((1e9, 1e9 + 1e-3)),
-        (-100.0..100.0f64, 1e-6..1e3f64).prop_map(|(l, w)| (l, l + w)),
-    ]
+    prop_oneof![Just((0.0, 1.0)), Just((0.0, 1e-9)), Just((-1e12, 1e12)), Just((1e9, 1e9 + 1e-3)), (-100.0..100.0f64, 1e-6..1e3f64).prop_map(|(l, w)| (l, l + w)),]
 }
 
 fn tree_config() -> impl Strategy<Value = RegionTreeConfig> {
-    (2usize..=12, 2usize..=12)
-        .prop_flat_map(|(g_max, zeta)| (Just(g_max), Just(zeta), 1usize..=g_max.div_ceil(2)))
-        .prop_map(|(g_max, zeta, min_child)| RegionTreeConfig { g_max, zeta, min_child })
+    (2usize..=12, 2usize..=12).prop_flat_map(|(g_max, zeta)| (Just(g_max), Just(zeta), 1usize..=g_max.div_ceil(2))).prop_map(|(g_max, zeta, min_child)| RegionTreeConfig { g_max, zeta, min_child })
 }
 
 /// How the measurement points are laid out, as fractions of the box in each dimension.
@@ -68,13 +60,7 @@ enum Layout {
 }
 
 fn layout() -> impl Strategy<Value = Layout> {
-    prop_oneof![
-        Just(Layout::Uniform),
-        Just(Layout::Identical),
-        Just(Layout::Grid),
-        (1usize..5).prop_map(Layout::Pool),
-        Just(Layout::Outside),
-    ]
+    prop_oneof![Just(Layout::Uniform), Just(Layout::Identical), Just(Layout::Grid), (1usize..5).prop_map(Layout::Pool), Just(Layout::Outside),]
 }
 
 /// How measurement values evolve.
@@ -170,14 +156,7 @@ fn check_g_max(t: &RegionTree, after: &str) -> TestResult {
         let r = t.region(l);
         if r.entries.len() > g_max {
             let first = t.point(r.entries[0] as usize).to_vec();
-            prop_assert!(
-                r.entries.iter().all(|&e| t.point(e as usize) == &first[..]),
-                "leaf {} holds {} > g_max = {} entries {} that are not all at one point",
-                l,
-                r.entries.len(),
-                g_max,
-                after
-            );
+            prop_assert!(r.entries.iter().all(|&e| t.point(e as usize) == &first[..]), "leaf {} holds {} > g_max = {} entries {} that are not all at one point", l, r.entries.len(), g_max, after);
         }
     }
     Ok(())
@@ -246,13 +225,7 @@ fn check_tree(t: &RegionTree) -> TestResult {
     // The leaves' volumes add up to the root's.
     let root_vol = volume(root_low, root_high);
     let leaf_vol: f64 = t.leaves().iter().map(|&l| volume(&t.region(l).low, &t.region(l).high)).sum();
-    prop_assert!(
-        (leaf_vol - root_vol).abs() <= 1e-9 * root_vol,
-        "leaf volumes {} vs root volume {} ({} leaves)",
-        leaf_vol,
-        root_vol,
-        t.leaves().len()
-    );
+    prop_assert!((leaf_vol - root_vol).abs() <= 1e-9 * root_vol, "leaf volumes {} vs root volume {} ({} leaves)", leaf_vol, root_vol, t.leaves().len());
 
     // Every measurement sits in exactly one leaf, in time order; that leaf is the one leaf_of
     // finds and the only leaf a linear scan finds.
@@ -712,9 +685,7 @@ fn shaped(n: usize, v: &[f64], shape: Shape, exp: i32, c: f64) -> DMatrix<f64> {
 }
 
 fn jacobian_with(shapes: impl Strategy<Value = Shape> + Clone + 'static) -> impl Strategy<Value = DMatrix<f64>> {
-    (1usize..=20)
-        .prop_flat_map(move |n| (Just(n), prop::collection::vec(-1.0..1.0f64, 3 * n), shapes.clone(), -6i32..=6, -2.0..2.0f64))
-        .prop_map(|(n, v, shape, exp, c)| shaped(n, &v, shape, exp, c))
+    (1usize..=20).prop_flat_map(move |n| (Just(n), prop::collection::vec(-1.0..1.0f64, 3 * n), shapes.clone(), -6i32..=6, -2.0..2.0f64)).prop_map(|(n, v, shape, exp, c)| shaped(n, &v, shape, exp, c))
 }
 
 fn jacobian() -> impl Strategy<Value = DMatrix<f64>> {
@@ -852,10 +823,13 @@ proptest! {
 /// Jacobian of the tip of a planar arm: column a is sum_{i >= a} l_i (-sin phi_i, cos phi_i).
 fn arm_jacobian(lengths: &[f64], theta: &[f64]) -> DMatrix<f64> {
     let n = theta.len();
-    let phi: Vec<f64> = theta.iter().scan(0.0, |s, t| {
-        *s += t;
-        Some(*s)
-    }).collect();
+    let phi: Vec<f64> = theta
+        .iter()
+        .scan(0.0, |s, t| {
+            *s += t;
+            Some(*s)
+        })
+        .collect();
     DMatrix::from_fn(2, n, |r, a| (a..n).map(|i| if r == 0 { -lengths[i] * phi[i].sin() } else { lengths[i] * phi[i].cos() }).sum())
 }
 

@@ -11,6 +11,7 @@ use saggriac_core::{Condition, RunConfig};
 use crate::errors::to_py;
 
 /// The keys `run_config_from_dict` understands (kept in the order of the parameters page).
+#[rustfmt::skip]
 pub const KEYS: &[&str] = &[
     "condition", "n_steps", "n_joints", "arm_length", "link_lengths", "joint_limit", "max_joint_step", "goal_low", "goal_high",
     "v", "n_subgoals", "eps_max", "timeout_factor", "timeout_min", "q", "explore_step", "k_neighbours", "ridge", "pinv_rcond",
