@@ -9,6 +9,7 @@ Quick start::
 
 from . import _core
 from .config import PRESETS, Config
+from .goal_selection import RandomSelector, SaggRiacSelector
 from .errors import InputError, ParameterError, SaggriacError, StorageError
 from .result import RunResult
 from .runner import run
@@ -16,4 +17,4 @@ from .study import Study, load_study, run_study
 
 __version__ = _core.__version__
 
-__all__ = ["Config", "PRESETS", "run", "RunResult", "Study", "run_study", "load_study", "SaggriacError", "ParameterError", "InputError", "StorageError", "__version__"]
+__all__ = ["Config", "PRESETS", "run", "RunResult", "SaggRiacSelector", "RandomSelector", "Study", "run_study", "load_study", "SaggriacError", "ParameterError", "InputError", "StorageError", "__version__"]

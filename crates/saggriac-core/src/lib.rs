@@ -7,6 +7,7 @@
 
 pub mod actuator_babbling;
 pub mod arm;
+pub mod ask_tell;
 pub mod competence;
 pub mod config;
 pub mod error;

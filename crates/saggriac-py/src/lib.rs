@@ -5,6 +5,7 @@ use pyo3::prelude::*;
 
 mod config;
 mod errors;
+mod goal_selector;
 mod learner;
 
 /// validate_config(config: dict) -> None: raise ParameterError if any parameter breaks a rule.
@@ -16,6 +17,7 @@ fn validate_config(config: &Bound<'_, pyo3::types::PyDict>) -> PyResult<()> {
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<learner::PyLearner>()?;
+    m.add_class::<goal_selector::PyAskTell>()?;
     m.add("CONFIG_KEYS", config::KEYS.to_vec())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add("GIT_COMMIT", env!("SAGGRIAC_GIT_COMMIT"))?;

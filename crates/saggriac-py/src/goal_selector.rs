@@ -1,0 +1,110 @@
+//! Binding of the ask/tell goal selectors (`saggriac_core::ask_tell`), numpy at the boundary.
+
+use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use saggriac_core::ask_tell::AskTell;
+use saggriac_core::error::invalid;
+use saggriac_core::goal_selection::ModeProbabilities;
+use saggriac_core::region_tree::RegionTreeConfig;
+
+use crate::errors::{to_py, wrap};
+
+#[pyclass(name = "AskTell", module = "saggriac._core")]
+pub struct PyAskTell {
+    inner: AskTell,
+}
+
+fn rows<'py>(py: Python<'py>, flat: Vec<f64>, d: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let n = flat.len() / d.max(1);
+    flat.into_pyarray(py).reshape([n, d])
+}
+
+#[pymethods]
+impl PyAskTell {
+    /// AskTell(kind: "sagg_riac" | "random", low, high, seed, g_max, zeta, min_child, p_interest, p_global, p_lowest)
+    #[new]
+    #[pyo3(signature = (kind, low, high, seed, g_max=50, zeta=20, min_child=5, p_interest=0.7, p_global=0.2, p_lowest=0.1))]
+    #[allow(clippy::too_many_arguments)]
+    fn new(py: Python<'_>, kind: &str, low: Vec<f64>, high: Vec<f64>, seed: u64, g_max: usize, zeta: usize, min_child: usize, p_interest: f64, p_global: f64, p_lowest: f64) -> PyResult<Self> {
+        let inner = match kind {
+            "sagg_riac" => AskTell::sagg_riac(&low, &high, RegionTreeConfig { g_max, zeta, min_child }, ModeProbabilities { p_interest, p_global, p_lowest }, seed),
+            "random" => AskTell::random(&low, &high, seed),
+            other => return Err(to_py(py, invalid("GoalSelector", "kind", "one of 'sagg_riac', 'random'", format!("'{other}'")))),
+        };
+        Ok(PyAskTell { inner: wrap(py, inner)? })
+    }
+
+    #[getter]
+    fn dim(&self) -> usize {
+        self.inner.dim()
+    }
+    #[getter]
+    fn low<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        self.inner.selector().low().to_vec().into_pyarray(py)
+    }
+    #[getter]
+    fn high<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        self.inner.selector().high().to_vec().into_pyarray(py)
+    }
+
+    /// -> (goal array, mode code, region id or -1)
+    fn sample<'py>(&mut self, py: Python<'py>) -> (Bound<'py, PyArray1<f64>>, u8, i64) {
+        let c = self.inner.sample();
+        (c.goal.into_pyarray(py), c.mode as u8, c.region.map(|r| r as i64).unwrap_or(-1))
+    }
+
+    fn sample_batch<'py>(&mut self, py: Python<'py>, n: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let d = self.inner.dim();
+        let flat = self.inner.sample_batch(n);
+        rows(py, flat, d)
+    }
+
+    fn update(&mut self, py: Python<'_>, goal: PyReadonlyArray1<'_, f64>, competence: f64) -> PyResult<i64> {
+        let g = goal.as_slice()?.to_vec();
+        wrap(py, self.inner.update(&g, competence))
+    }
+
+    fn update_batch<'py>(&mut self, py: Python<'py>, goals: PyReadonlyArray2<'py, f64>, competences: PyReadonlyArray1<'py, f64>) -> PyResult<Bound<'py, PyArray1<i64>>> {
+        let shape = goals.shape();
+        if shape[1] != self.inner.dim() {
+            return Err(to_py(py, saggriac_core::Error::InvalidInput(format!("goals must have shape (n, {}); got {:?}.", self.inner.dim(), shape))));
+        }
+        let g = goals.as_array().iter().copied().collect::<Vec<f64>>();
+        let c = competences.as_slice()?.to_vec();
+        Ok(wrap(py, self.inner.update_batch(&g, &c))?.into_pyarray(py))
+    }
+
+    /// Every region of the tree (an empty table for a selector without regions).
+    fn regions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        let dim = self.inner.dim();
+        let regs = self.inner.selector().tree().map(|t| t.regions().to_vec()).unwrap_or_default();
+        d.set_item("low", rows(py, regs.iter().flat_map(|r| r.low.clone()).collect(), dim)?)?;
+        d.set_item("high", rows(py, regs.iter().flat_map(|r| r.high.clone()).collect(), dim)?)?;
+        d.set_item("interest", regs.iter().map(|r| r.interest).collect::<Vec<_>>().into_pyarray(py))?;
+        d.set_item("n_measurements", regs.iter().map(|r| r.entries.len() as u64).collect::<Vec<_>>().into_pyarray(py))?;
+        d.set_item("mean_competence", regs.iter().map(|r| r.mean().unwrap_or(f64::NAN)).collect::<Vec<_>>().into_pyarray(py))?;
+        d.set_item("is_leaf", regs.iter().map(|r| r.is_leaf()).collect::<Vec<_>>().into_pyarray(py))?;
+        d.set_item("parent", regs.iter().map(|r| r.parent.map(|p| p as i64).unwrap_or(-1)).collect::<Vec<_>>().into_pyarray(py))?;
+        d.set_item("depth", regs.iter().map(|r| r.depth).collect::<Vec<_>>().into_pyarray(py))?;
+        d.set_item("split_dim", regs.iter().map(|r| if r.is_leaf() { -1 } else { r.split_dim as i64 }).collect::<Vec<_>>().into_pyarray(py))?;
+        d.set_item("split_value", regs.iter().map(|r| r.split_value).collect::<Vec<_>>().into_pyarray(py))?;
+        d.set_item("created_at", regs.iter().map(|r| r.created_at).collect::<Vec<_>>().into_pyarray(py))?;
+        Ok(d)
+    }
+
+    /// What was asked (goal, mode, region) and told (goal, competence, region), in order.
+    fn history<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        let dim = self.inner.dim();
+        let i = &self.inner;
+        d.set_item("asked_goal", rows(py, i.asked.clone(), dim)?)?;
+        d.set_item("asked_mode", i.asked_mode.clone().into_pyarray(py))?;
+        d.set_item("asked_region", i.asked_region.clone().into_pyarray(py))?;
+        d.set_item("told_goal", rows(py, i.told.clone(), dim)?)?;
+        d.set_item("told_competence", i.told_competence.clone().into_pyarray(py))?;
+        d.set_item("told_region", i.told_region.clone().into_pyarray(py))?;
+        Ok(d)
+    }
+}

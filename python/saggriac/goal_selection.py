@@ -1,0 +1,147 @@
+"""Goal selection on its own, ask/tell style: SAGG-RIAC as a curriculum teacher for any learner.
+
+    teacher = SaggRiacSelector(low=[0, 0], high=[1, 1], seed=0)
+    for _ in range(1000):
+        goal = teacher.sample()
+        competence = my_learner.try_goal(goal)   # any float, higher is better (paper: <= 0)
+        teacher.update(goal, competence)
+
+The region tree, the interest (competence progress) and the three goal modes are the Rust core's,
+the same code the run loop uses.
+"""
+
+from __future__ import annotations
+
+from typing import Any, Protocol, runtime_checkable
+
+import numpy as np
+
+from . import _core
+from .errors import InputError
+
+#: Names of the mode codes in ``history()["asked_mode"]`` and ``last_mode``.
+MODES = {0: "initial", 1: "interest", 2: "global", 3: "lowest_competence", 4: "random", 5: "external"}
+
+
+@runtime_checkable
+class GoalSelectorProtocol(Protocol):
+    """What the run loop needs from a goal selector (built-in or written in Python)."""
+
+    low: np.ndarray
+    high: np.ndarray
+
+    def sample(self) -> np.ndarray: ...
+
+    def update(self, goal: np.ndarray, competence: float) -> Any: ...
+
+
+def _vector(name: str, value: Any, dim: int | None = None) -> np.ndarray:
+    try:
+        arr = np.ascontiguousarray(value, dtype=np.float64)
+    except (TypeError, ValueError) as e:
+        raise InputError(f"{name} must be an array of floats; got {value!r}.") from e
+    if arr.ndim != 1 or (dim is not None and arr.shape[0] != dim):
+        want = f"shape ({dim},)" if dim is not None else "a 1-D array"
+        raise InputError(f"{name} must have {want}; got shape {arr.shape}.")
+    return arr
+
+
+class _AskTellSelector:
+    _kind = ""
+
+    def __init__(self, low: Any, high: Any, seed: int, **params: Any) -> None:
+        lo = _vector("low", low)
+        hi = _vector("high", high)
+        self._inner = _core.AskTell(self._kind, lo.tolist(), hi.tolist(), int(seed), **params)
+        self.seed = int(seed)
+        self.last_mode: str | None = None
+        self.last_region: int | None = None
+
+    @property
+    def dim(self) -> int:
+        return self._inner.dim
+
+    @property
+    def low(self) -> np.ndarray:
+        return self._inner.low
+
+    @property
+    def high(self) -> np.ndarray:
+        return self._inner.high
+
+    def sample(self) -> np.ndarray:
+        """Next goal (1-D array). Its mode and region are in ``last_mode`` / ``last_region``."""
+        goal, mode, region = self._inner.sample()
+        self.last_mode = MODES[mode]
+        self.last_region = None if region < 0 else region
+        return goal
+
+    def sample_batch(self, n: int) -> np.ndarray:
+        """``n`` goals at once, shape (n, dim): as n calls of ``sample()`` without updates."""
+        if not isinstance(n, (int, np.integer)) or isinstance(n, bool) or n < 0:
+            raise InputError(f"n must be an int >= 0; got {n!r}.")
+        return self._inner.sample_batch(int(n))
+
+    def update(self, goal: Any, competence: float) -> int | None:
+        """Report the competence obtained for ``goal``. Returns the region that recorded it."""
+        g = _vector("goal", goal, self.dim)
+        try:
+            c = float(competence)
+        except (TypeError, ValueError) as e:
+            raise InputError(f"competence must be a float; got {competence!r}.") from e
+        r = self._inner.update(g, c)
+        return None if r < 0 else int(r)
+
+    def update_batch(self, goals: Any, competences: Any) -> np.ndarray:
+        """Report many competences at once (goals shape (n, dim)). A bad row changes nothing."""
+        g = np.ascontiguousarray(goals, dtype=np.float64)
+        c = np.ascontiguousarray(competences, dtype=np.float64)
+        if g.ndim != 2 or c.ndim != 1 or g.shape[0] != c.shape[0]:
+            raise InputError(f"goals must have shape (n, {self.dim}) and competences shape (n,); got {g.shape} and {c.shape}.")
+        return self._inner.update_batch(g, c)
+
+    def regions(self) -> dict[str, np.ndarray]:
+        """Every region (inner nodes too): bounds, interest, measurements, split, depth."""
+        return self._inner.regions()
+
+    def leaves(self) -> dict[str, np.ndarray]:
+        """The current leaves only: the regions goals are drawn from."""
+        r = self.regions()
+        keep = r["is_leaf"]
+        return {k: v[keep] for k, v in r.items()}
+
+    @property
+    def n_regions(self) -> int:
+        """Number of leaves (1 before the first split)."""
+        return max(1, int(self.regions()["is_leaf"].sum()))
+
+    def history(self) -> dict[str, np.ndarray]:
+        """What was asked (goal, mode, region) and told (goal, competence, region), in order."""
+        return self._inner.history()
+
+    def __repr__(self) -> str:
+        return f"{type(self).__name__}(dim={self.dim}, seed={self.seed}, regions={self.n_regions})"
+
+
+class SaggRiacSelector(_AskTellSelector):
+    """SAGG-RIAC's high level over the box [low, high] of any dimension.
+
+    Goals come from a region drawn by interest (``p_interest``), from the whole box
+    (``p_global``) or from the region of lowest mean competence (``p_lowest``). A region holding
+    more than ``g_max`` measurements is split where the interest of its two halves differs most;
+    interest is the competence progress over the last ``zeta`` measurements.
+    """
+
+    _kind = "sagg_riac"
+
+    def __init__(self, low: Any, high: Any, seed: int = 0, *, g_max: int = 50, zeta: int = 20, min_child: int = 5, p_interest: float = 0.7, p_global: float = 0.2, p_lowest: float = 0.1) -> None:
+        super().__init__(low, high, seed, g_max=g_max, zeta=zeta, min_child=min_child, p_interest=p_interest, p_global=p_global, p_lowest=p_lowest)
+
+
+class RandomSelector(_AskTellSelector):
+    """Goals uniform in [low, high] (SAGG-Random's high level); ``update`` only records."""
+
+    _kind = "random"
+
+    def __init__(self, low: Any, high: Any, seed: int = 0) -> None:
+        super().__init__(low, high, seed)
