@@ -26,7 +26,7 @@ def test_stub_matches_module():
     top, methods = _stub_names()
     public = {n for n in dir(_core) if not n.startswith("_")} | {"__version__"}
     assert top == public
-    actual = {f"Learner.{n}" for n in dir(_core.Learner) if not n.startswith("_")}
+    actual = {f"{c}.{n}" for c in ("Learner", "AskTell") for n in dir(getattr(_core, c)) if not n.startswith("_")}
     assert methods == actual
 
 

@@ -49,7 +49,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
     out = Path(args.out) if args.out else Path("runs") / f"{args.preset}-{cfg.condition}-seed{args.seed}"
     res = run(cfg, seed=args.seed, out_dir=out, progress=not args.no_progress, overwrite=args.overwrite)
     m = res.metrics
-    print(f"condition {cfg.condition}, seed {args.seed}, {int(m['step'].iloc[-1])} micro-actions in {res.manifest['wall_seconds']:.1f} s")
+    print(f"condition {cfg.condition}, seed {args.seed}, {int(m['step'].iloc[-1])} {'movements' if cfg.paradigm == 'episodic' else 'micro-actions'} in {res.manifest['wall_seconds']:.1f} s")
     print(f"reaching error: start {m['reach_error'].iloc[0]:.3f}, middle {m['reach_error'].iloc[len(m) // 2]:.3f}, end {m['reach_error'].iloc[-1]:.3f}")
     print(f"prediction error: start {m['pred_error'].iloc[0]:.3f}, end {m['pred_error'].iloc[-1]:.3f}")
     print(f"results written to {out}")
@@ -98,11 +98,11 @@ def build_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="saggriac", description="SAGG-RIAC goal exploration (Baranes & Oudeyer, IROS 2010).")
     sub = p.add_subparsers(dest="command", required=True)
     r = sub.add_parser("run", help="run one learner and save its results")
-    r.add_argument("--preset", default="exp1", choices=sorted(PRESETS), help="the paper's experiment to start from (default exp1)")
+    r.add_argument("--preset", default="exp1", choices=sorted(PRESETS), help="the paper's experiments exp1 and exp2, or explauto's episodic task (default exp1)")
     r.add_argument("--config", help="TOML file with parameters (and optionally preset = ...)")
     r.add_argument("--seed", type=int, default=0, help="root seed of the run (default 0)")
     r.add_argument("--condition", help="sagg_riac (default), sagg_random, actuator_random or actuator_riac")
-    r.add_argument("--steps", type=int, help="number of micro-actions (overrides the preset)")
+    r.add_argument("--steps", type=int, help="number of time steps: micro-actions, or movements in the episodic paradigm (overrides the preset)")
     r.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help="override any parameter, e.g. --set g_max=40")
     r.add_argument("--out", help="run directory (default runs/PRESET-CONDITION-seedSEED)")
     r.add_argument("--overwrite", action="store_true", help="replace an existing run directory")

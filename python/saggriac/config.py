@@ -77,6 +77,11 @@ class Config:
     # ACTUATOR conditions (motor babbling).
     babble_step: float = 0.01
     actuator_reset_every: int = 0
+    # Episodic paradigm (one whole configuration per goal; see docs/episodic.md).
+    paradigm: str = "micro_actions"
+    episodic_noise: float = 0.05
+    episodic_refine: bool = False
+    episodic_k: int = 20
     # Implementation.
     knn_index: str = "kdtree"
     warm_start_recent: int = 8
@@ -175,5 +180,14 @@ def check_keys(d: dict[str, Any], source: Path | None) -> None:
 PRESETS: dict[str, dict[str, Any]] = {
     "exp1": dict(n_steps=50_000, goal_low=(0.0, -50.0), goal_high=(50.0, 50.0), q=20),
     "exp2": dict(n_steps=200_000, goal_low=(0.0, -150.0), goal_high=(150.0, 150.0), q=100),
+    # The task explauto's SAGG-RIAC tutorial runs: episodic, 15 joints, limits +-pi, goals in
+    # [-50, 50]^2 (test goals: the reachable disk of radius 50).
+    "explauto": dict(
+        paradigm="episodic",
+        n_steps=50_000,
+        joint_limit=math.pi,
+        goal_low=(-50.0, -50.0),
+        goal_high=(50.0, 50.0),
+    ),
 }
 

@@ -1,5 +1,5 @@
 """Figures in the manner of the paper: learning curves (Fig. 4 and 5), goal histograms with the
-region tree over time (Fig. 3; the reachable half-circle in cyan) and the arm with the quantities of the competence (Fig. 2).
+region tree over time (Fig. 3; the boundary of the reachable disk in cyan) and the arm with the quantities of the competence (Fig. 2).
 Matplotlib's object API only (no pyplot state), so figures can be made in worker processes."""
 
 from __future__ import annotations
@@ -58,7 +58,7 @@ def _leaves_at(regions: pd.DataFrame, n_measurements: int) -> pd.DataFrame:
 
 def plot_goal_histograms(run_dir: str | Path, path: str | Path, n_windows: int = 4, bins: int = 40) -> Path:
     """Histograms of the self-generated goals over windows of goal indices, with the regions
-    existing at the end of each window (white) and the reachable half-circle (black)."""
+    existing at the end of each window (white) and the boundary of the reachable disk (cyan)."""
     from .result import RunResult
 
     res = RunResult.load(run_dir)
@@ -83,7 +83,8 @@ def plot_goal_histograms(run_dir: str | Path, path: str | Path, n_windows: int =
             n_meas = int((attempts["goal_index"] < end).sum()) if len(attempts) else 0
             for _, r in _leaves_at(regions, n_meas).iterrows():
                 ax.add_patch(Rectangle((r["low_x"], r["low_y"]), r["high_x"] - r["low_x"], r["high_y"] - r["low_y"], fill=False, edgecolor="white", linewidth=0.6))
-        ax.add_patch(Arc((0, 0), 2 * reach, 2 * reach, theta1=-90, theta2=90, edgecolor="cyan", linewidth=1.5))
+        # The whole reachable circle; the axis limits clip it to the goal space.
+        ax.add_patch(Arc((0, 0), 2 * reach, 2 * reach, theta1=0, theta2=360, edgecolor="cyan", linewidth=1.5))
         ax.set_xlim(lo[0], hi[0])
         ax.set_ylim(lo[1], hi[1])
         ax.set_title(f"goals {start}-{end}")

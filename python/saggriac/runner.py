@@ -39,7 +39,7 @@ def run(
     progress: bool = False,
     overwrite: bool = False,
 ) -> RunResult:
-    """Run one learner for ``config.n_steps`` micro-actions and return its result.
+    """Run one learner for ``config.n_steps`` time steps (micro-actions, or movements when episodic) and return its result.
 
     With ``out_dir`` the run directory is written atomically (manifest ``run.json`` with the
     resolved configuration, seeds, version and git commit; Parquet tables for metrics, goals,

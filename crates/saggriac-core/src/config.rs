@@ -2,6 +2,7 @@
 
 use crate::arm::ArmConfig;
 use crate::competence::CompetenceConfig;
+use crate::episodic::EpisodicConfig;
 use crate::error::{invalid, Check, Result};
 use crate::evaluation::EvalConfig;
 use crate::exploration_phase::ExplorationConfig;
@@ -48,9 +49,36 @@ impl Condition {
     }
 }
 
+/// How the low level acts (see `episodic.rs`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Paradigm {
+    /// The paper's: goals reached through subgoals by micro-actions; one step = one micro-action.
+    MicroActions,
+    /// One whole configuration per goal, executed at once; one step = one movement.
+    Episodic,
+}
+
+impl Paradigm {
+    pub fn parse(s: &str) -> Result<Self> {
+        match s {
+            "micro_actions" => Ok(Paradigm::MicroActions),
+            "episodic" => Ok(Paradigm::Episodic),
+            _ => Err(invalid("Run", "paradigm", "one of 'micro_actions', 'episodic'", format!("'{s}'"))),
+        }
+    }
+    pub fn name(&self) -> &'static str {
+        match self {
+            Paradigm::MicroActions => "micro_actions",
+            Paradigm::Episodic => "episodic",
+        }
+    }
+}
+
 #[derive(Debug, Clone, PartialEq)]
 pub struct RunConfig {
     pub condition: Condition,
+    pub paradigm: Paradigm,
+    pub episodic: EpisodicConfig,
     pub n_steps: u64,
     pub arm: ArmConfig,
     pub goal_low: Vec<f64>,
@@ -78,6 +106,8 @@ impl Default for RunConfig {
     fn default() -> Self {
         RunConfig {
             condition: Condition::SaggRiac,
+            paradigm: Paradigm::MicroActions,
+            episodic: EpisodicConfig::default(),
             n_steps: 50_000,
             arm: ArmConfig::uniform(15, 50.0, std::f64::consts::FRAC_PI_2, 0.05),
             goal_low: vec![0.0, -50.0],
@@ -118,6 +148,7 @@ impl RunConfig {
         c.at_least("reset_every", self.reset_every, 1)?;
         c.positive("babble_step", self.babble_step)?;
         self.eval.validate(self.n_steps)?;
+        self.episodic.validate(self.arm.link_lengths.len())?;
         Ok(())
     }
 }

@@ -6,6 +6,7 @@
 use crate::arm::{Arm, ArmConfig};
 use crate::error::{invalid, Check, Result};
 use crate::local_model::{LocalModel, LocalModelConfig};
+use crate::episodic::{EpisodicConfig, EpisodicMemory};
 use crate::memory::SensorimotorMemory;
 use crate::neighbours::{Neighbour, WarmStart};
 use crate::reaching_controller::desired_step;
@@ -171,6 +172,41 @@ impl Evaluator {
             pred_errors.push(((xp[0] - xt[0]).powi(2) + (xp[1] - xt[1]).powi(2)).sqrt());
         }
         EvalResult { reach_errors, pred_errors, test_steps }
+    }
+
+    /// The same test sets for the episodic paradigm: each test goal gets one configuration from
+    /// the inverse model without exploration noise, executed at once; each test configuration
+    /// gets the forward model's prediction.
+    pub fn evaluate_episodic(&mut self, memory: &mut EpisodicMemory, cfg: &EpisodicConfig, rcond: f64) -> EvalResult {
+        let n = self.arm.n_joints();
+        let mut theta = vec![0.0; n];
+        let t0 = std::time::Instant::now();
+        let reach_errors = self
+            .tests
+            .goals
+            .iter()
+            .map(|g| {
+                if !memory.inverse(g, cfg, rcond, &mut theta) {
+                    theta.iter_mut().for_each(|t| *t = 0.0);
+                }
+                self.arm.set_theta(&theta);
+                let x = self.arm.position();
+                ((g[0] - x[0]).powi(2) + (g[1] - x[1]).powi(2)).sqrt()
+            })
+            .collect::<Vec<f64>>();
+        let pred_errors = self
+            .tests
+            .configs
+            .iter()
+            .zip(&self.tests.true_x)
+            .map(|(c, xt)| {
+                let xp = memory.predict(c, cfg).unwrap_or([0.0, 0.0]);
+                ((xp[0] - xt[0]).powi(2) + (xp[1] - xt[1]).powi(2)).sqrt()
+            })
+            .collect();
+        self.time_knn += t0.elapsed().as_secs_f64();
+        let steps = reach_errors.len() as u64;
+        EvalResult { reach_errors, pred_errors, test_steps: steps }
     }
 
     /// Closed-loop reach with the learnt inverse model only: no exploration, no storing.

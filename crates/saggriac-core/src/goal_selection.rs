@@ -93,31 +93,31 @@ impl SaggRiac {
     /// interests are equal.
     fn interest_leaf(&mut self) -> usize {
         let leaves = self.tree.leaves();
-        let min = leaves.iter().map(|&l| self.tree.region(l).interest).fold(f64::INFINITY, f64::min);
-        let total: f64 = leaves.iter().map(|&l| (self.tree.region(l).interest - min).abs()).sum();
+        let interest = self.tree.leaf_interests();
+        let min = interest.iter().copied().fold(f64::INFINITY, f64::min);
+        let total: f64 = interest.iter().map(|i| (i - min).abs()).sum();
         if !(total > 0.0 && total.is_finite()) {
             return leaves[index(&mut self.rng, leaves.len())];
         }
         let mut u = unit(&mut self.rng) * total;
-        for &l in leaves {
-            let w = (self.tree.region(l).interest - min).abs();
+        for (&l, i) in leaves.iter().zip(interest) {
+            let w = (i - min).abs();
             if u < w {
                 return l;
             }
             u -= w;
         }
         // Rounding left u just above the last weight: take the last leaf with weight.
-        *leaves.iter().rev().find(|&&l| self.tree.region(l).interest > min).unwrap_or(&leaves[leaves.len() - 1])
+        leaves.iter().zip(interest).rev().find(|(_, &i)| i > min).map(|(&l, _)| l).unwrap_or(leaves[leaves.len() - 1])
     }
 
     /// The leaf of lowest mean competence among leaves holding measurements.
     fn lowest_leaf(&self) -> usize {
         let mut best = (f64::INFINITY, self.tree.leaves()[0]);
-        for &l in self.tree.leaves() {
-            if let Some(m) = self.tree.region(l).mean() {
-                if m < best.0 {
-                    best = (m, l);
-                }
+        for (&l, &m) in self.tree.leaves().iter().zip(self.tree.leaf_means()) {
+            // NaN marks an empty leaf, which `m < best` skips.
+            if m < best.0 {
+                best = (m, l);
             }
         }
         best.1

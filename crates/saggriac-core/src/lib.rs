@@ -10,6 +10,7 @@ pub mod arm;
 pub mod ask_tell;
 pub mod competence;
 pub mod config;
+pub mod episodic;
 pub mod error;
 pub mod evaluation;
 pub mod exploration_phase;

@@ -72,6 +72,12 @@ pub struct RegionTree {
     dim: usize,
     regions: Vec<Region>,
     leaves: Vec<usize>,
+    /// Interest and mean value (NaN when empty) of each leaf, in the order of `leaves`: goal
+    /// selection scans these on every draw, so they are kept contiguous.
+    leaf_interest: Vec<f64>,
+    leaf_mean: Vec<f64>,
+    /// Position of each region in `leaves` (usize::MAX for inner regions).
+    leaf_pos: Vec<usize>,
     points: Vec<f64>,
     values: Vec<f64>,
 }
@@ -82,7 +88,7 @@ impl RegionTree {
         check_bounds("RegionTree", low, high)?;
         let root =
             Region { low: low.to_vec(), high: high.to_vec(), parent: None, children: None, split_dim: 0, split_value: f64::NAN, entries: Vec::new(), interest: 0.0, sum: 0.0, created_at: 0, depth: 0 };
-        Ok(RegionTree { cfg, dim: low.len(), regions: vec![root], leaves: vec![0], points: Vec::new(), values: Vec::new() })
+        Ok(RegionTree { cfg, dim: low.len(), regions: vec![root], leaves: vec![0], leaf_interest: vec![0.0], leaf_mean: vec![f64::NAN], leaf_pos: vec![0], points: Vec::new(), values: Vec::new() })
     }
 
     pub fn config(&self) -> &RegionTreeConfig {
@@ -100,6 +106,14 @@ impl RegionTree {
     /// Leaf ids, in creation order.
     pub fn leaves(&self) -> &[usize] {
         &self.leaves
+    }
+    /// Interest of each leaf, in the order of `leaves()`.
+    pub fn leaf_interests(&self) -> &[f64] {
+        &self.leaf_interest
+    }
+    /// Mean value of each leaf (NaN when it holds none), in the order of `leaves()`.
+    pub fn leaf_means(&self) -> &[f64] {
+        &self.leaf_mean
     }
     pub fn n_measurements(&self) -> usize {
         self.values.len()
@@ -144,8 +158,15 @@ impl RegionTree {
             reg.sum += value;
         }
         self.refresh_interest(leaf, zeta);
+        self.sync_leaf(leaf);
         let split = self.regions[leaf].entries.len() > self.cfg.g_max && self.split(leaf);
         (leaf, split)
+    }
+
+    fn sync_leaf(&mut self, leaf: usize) {
+        let pos = self.leaf_pos[leaf];
+        self.leaf_interest[pos] = self.regions[leaf].interest;
+        self.leaf_mean[pos] = self.regions[leaf].mean().unwrap_or(f64::NAN);
     }
 
     fn refresh_interest(&mut self, leaf: usize, zeta: usize) {
@@ -275,6 +296,17 @@ impl RegionTree {
         self.leaves.remove(pos);
         self.leaves.push(li);
         self.leaves.push(ri);
+        self.leaf_pos.resize(self.regions.len(), usize::MAX);
+        self.leaf_pos[leaf] = usize::MAX;
+        for (i, &l) in self.leaves.iter().enumerate() {
+            self.leaf_pos[l] = i;
+        }
+        self.leaf_interest.remove(pos);
+        self.leaf_mean.remove(pos);
+        self.leaf_interest.extend([0.0, 0.0]);
+        self.leaf_mean.extend([f64::NAN, f64::NAN]);
+        self.sync_leaf(li);
+        self.sync_leaf(ri);
         true
     }
 }
@@ -338,6 +370,11 @@ mod tests {
             total += reg.entries.len();
         }
         assert_eq!(total, 3000);
+        // The contiguous copies goal selection scans agree with the regions, bit for bit.
+        for (i, &l) in t.leaves().iter().enumerate() {
+            assert_eq!(t.leaf_interests()[i].to_bits(), t.region(l).interest.to_bits());
+            assert_eq!(t.leaf_means()[i].to_bits(), t.region(l).mean().unwrap_or(f64::NAN).to_bits());
+        }
         // Leaf volumes sum to the root volume, and a linear scan agrees with the descent.
         let vol: f64 = t.leaves().iter().map(|&l| (0..2).map(|d| t.region(l).high[d] - t.region(l).low[d]).product::<f64>()).sum();
         assert!((vol - 5000.0).abs() < 1e-6);

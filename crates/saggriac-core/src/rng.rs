@@ -35,6 +35,15 @@ pub fn unit(rng: &mut CoreRng) -> f64 {
     rng.random::<f64>()
 }
 
+/// Standard normal draw (Box-Muller; one of the pair is discarded so each call uses a fixed
+/// number of draws, which keeps streams easy to reason about).
+#[inline]
+pub fn normal(rng: &mut CoreRng) -> f64 {
+    let u1 = 1.0 - rng.random::<f64>(); // (0, 1]: ln is finite
+    let u2 = rng.random::<f64>();
+    (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
+}
+
 /// Uniform index in [0, n).
 #[inline]
 pub fn index(rng: &mut CoreRng, n: usize) -> usize {

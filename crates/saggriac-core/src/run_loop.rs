@@ -6,7 +6,8 @@ use std::time::Instant;
 
 use crate::actuator_babbling::actuator_reset_period;
 use crate::arm::Arm;
-use crate::config::{Condition, RunConfig};
+use crate::config::{Condition, Paradigm, RunConfig};
+use crate::episodic::EpisodicMemory;
 use crate::error::Result;
 use crate::evaluation::{Evaluator, TestSet};
 use crate::goal_selection::{GoalSelector, Mode, RandomGoals, SaggRiac};
@@ -92,9 +93,11 @@ pub struct Learner {
     pub(crate) neighbours: Vec<Neighbour>,
     pub(crate) buf_dtheta: Vec<f64>,
     evaluator: Evaluator,
-    steps: u64,
+    pub(crate) steps: u64,
     next_eval: usize,
-    goals_done: u64,
+    pub(crate) goals_done: u64,
+    /// The episodic paradigm's memory (None for micro-actions).
+    pub(crate) episodic: Option<EpisodicMemory>,
     pub metrics: Vec<MetricRow>,
     pub goals: Vec<GoalRow>,
     pub attempts: Vec<AttemptRow>,
@@ -120,8 +123,10 @@ impl Learner {
             Condition::ActuatorRiac => {
                 // R-IAC's space: joint angles within their limits, commands within the babbling step.
                 let (lim, b) = (cfg.arm.joint_limit, cfg.babble_step);
-                let low: Vec<f64> = (0..2 * n).map(|i| if i < n { -lim } else { -b }).collect();
-                let high: Vec<f64> = (0..2 * n).map(|i| if i < n { lim } else { b }).collect();
+                // Episodic movements are whole configurations: the space is theta alone.
+                let dims = if cfg.paradigm == Paradigm::Episodic { n } else { 2 * n };
+                let low: Vec<f64> = (0..dims).map(|i| if i < n { -lim } else { -b }).collect();
+                let high: Vec<f64> = (0..dims).map(|i| if i < n { lim } else { b }).collect();
                 Box::new(SaggRiac::new(&low, &high, cfg.tree, cfg.modes, child_seed(seed, 1))?)
             }
         };
@@ -153,6 +158,7 @@ impl Learner {
             buf_theta: vec![0.0; n],
             actuator_reset,
             babble_steps: 0,
+            episodic: (cfg.paradigm == Paradigm::Episodic).then(|| EpisodicMemory::new(n)),
             cfg,
         })
     }
@@ -215,7 +221,7 @@ impl Learner {
         Some(dx)
     }
 
-    fn evaluate_due(&mut self) {
+    pub(crate) fn evaluate_due(&mut self) {
         while self.next_eval < self.cfg.eval.schedule.len() && self.cfg.eval.schedule[self.next_eval] <= self.steps {
             self.next_eval += 1;
             self.evaluate_now();
@@ -225,12 +231,15 @@ impl Learner {
     /// Run one evaluation now and record it.
     pub fn evaluate_now(&mut self) -> MetricRow {
         let t0 = Instant::now();
-        let r = self.evaluator.evaluate(&self.memory);
+        let r = match self.episodic.as_mut() {
+            Some(mem) => self.evaluator.evaluate_episodic(mem, &self.cfg.episodic, self.cfg.local.pinv_rcond),
+            None => self.evaluator.evaluate(&self.memory),
+        };
         self.timers.evaluation += t0.elapsed().as_secs_f64();
         self.counters.test_steps += r.test_steps;
         let row = MetricRow {
             step: self.steps,
-            n_samples: self.memory.len() as u64,
+            n_samples: self.episodic.as_ref().map(|m| m.len()).unwrap_or(self.memory.len()) as u64,
             reach_error: r.mean_reach(),
             pred_error: r.mean_pred(),
             n_goals: self.goals_done,
@@ -301,8 +310,16 @@ impl Learner {
         self.evaluate_due();
         let mut completed = self.report(on_eval);
         let goals = self.cfg.condition.uses_goals();
+        let episodic = self.cfg.paradigm == Paradigm::Episodic;
         while completed && !self.budget_spent() {
-            if goals {
+            if episodic {
+                for _ in 0..64 {
+                    if self.budget_spent() {
+                        break;
+                    }
+                    self.episode();
+                }
+            } else if goals {
                 self.goal_attempt();
             } else {
                 // Babble until the next evaluation report could be due (a goal attempt's worth).

@@ -6,6 +6,7 @@ use pyo3::types::PyDict;
 use saggriac_core::arm::ArmConfig;
 use saggriac_core::error::invalid;
 use saggriac_core::memory::IndexKind;
+use saggriac_core::config::Paradigm;
 use saggriac_core::{Condition, RunConfig};
 
 use crate::errors::to_py;
@@ -17,7 +18,7 @@ pub const KEYS: &[&str] = &[
     "v", "n_subgoals", "eps_max", "timeout_factor", "timeout_min", "q", "explore_step", "k_neighbours", "ridge", "pinv_rcond",
     "bandwidth", "min_c", "eps_c", "g_max", "zeta", "min_child", "p_interest", "p_global", "p_lowest", "reset_every",
     "n_test_goals", "n_test_configs", "eval_tolerance", "eval_patience", "eval_timeout_factor", "eval_timeout_min",
-    "eval_schedule", "knn_index", "warm_start_recent", "babble_step", "actuator_reset_every",
+    "eval_schedule", "knn_index", "warm_start_recent", "babble_step", "actuator_reset_every", "paradigm", "episodic_noise", "episodic_refine", "episodic_k",
 ];
 
 fn get<'py, T: FromPyObjectOwned<'py>>(d: &Bound<'py, PyDict>, key: &str, default: T, kind: &str) -> PyResult<T> {
@@ -89,6 +90,11 @@ pub fn run_config_from_dict(d: &Bound<'_, PyDict>) -> PyResult<RunConfig> {
     c.warm_start_recent = get(d, "warm_start_recent", c.warm_start_recent, "an int >= 0")?;
     c.babble_step = get(d, "babble_step", c.babble_step, "a float")?;
     c.actuator_reset_every = get(d, "actuator_reset_every", c.actuator_reset_every, "an int >= 0")?;
+    let paradigm: String = get(d, "paradigm", c.paradigm.name().to_string(), "a str")?;
+    c.paradigm = Paradigm::parse(&paradigm).map_err(|e| to_py(py, e))?;
+    c.episodic.noise = get(d, "episodic_noise", c.episodic.noise, "a float")?;
+    c.episodic.refine = get(d, "episodic_refine", c.episodic.refine, "a bool")?;
+    c.episodic.k_refine = get(d, "episodic_k", c.episodic.k_refine, "an int >= 1")?;
     c.validate().map_err(|e| to_py(py, e))?;
     Ok(c)
 }

@@ -1,0 +1,230 @@
+//! The episodic paradigm (explauto, IMGEP): one goal, one whole joint configuration proposed by
+//! the inverse model, executed at once, one sample (theta, x). The inverse model is the nearest
+//! neighbour of the goal among the reached positions, plus Gaussian exploration noise, and
+//! optionally a first-order correction from a local linear model around that neighbour. One time
+//! step is one movement. The goal selectors and the evaluation's test sets are the same as for
+//! micro-actions.
+
+use nalgebra::DMatrix;
+
+use crate::arm::TASK_DIM;
+use crate::competence::competence;
+use crate::config::Condition;
+use crate::error::{Check, Result};
+use crate::kd_tree::KdTree;
+use crate::local_model::pinv_apply_wide;
+use crate::neighbours::{Neighbour, NeighbourIndex};
+use crate::rng::{normal, uniform};
+use crate::run_loop::{AttemptRow, GoalRow, Learner};
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EpisodicConfig {
+    /// Standard deviation of the Gaussian noise added to every joint of a proposal (rad).
+    pub noise: f64,
+    /// Refine the nearest neighbour's configuration with a local linear model.
+    pub refine: bool,
+    /// Neighbours (in joint space) of the local linear model used by `refine`.
+    pub k_refine: usize,
+}
+
+impl Default for EpisodicConfig {
+    fn default() -> Self {
+        EpisodicConfig { noise: 0.05, refine: false, k_refine: 20 }
+    }
+}
+
+impl EpisodicConfig {
+    pub fn validate(&self, n_joints: usize) -> Result<()> {
+        let c = Check { owner: "Episodic" };
+        c.non_negative("episodic_noise", self.noise)?;
+        c.at_least("episodic_k", self.k_refine, n_joints.min(2))?;
+        Ok(())
+    }
+}
+
+/// Every movement's (theta, x), indexed by x (for the inverse model) and by theta (for the
+/// forward model and the local fits).
+pub struct EpisodicMemory {
+    n: usize,
+    thetas: Vec<f64>,
+    xs: Vec<f64>,
+    by_x: KdTree,
+    by_theta: KdTree,
+    nb: Vec<Neighbour>,
+}
+
+impl EpisodicMemory {
+    pub fn new(n: usize) -> Self {
+        EpisodicMemory { n, thetas: Vec::new(), xs: Vec::new(), by_x: KdTree::new(TASK_DIM), by_theta: KdTree::new(n), nb: Vec::new() }
+    }
+    pub fn len(&self) -> usize {
+        self.xs.len() / TASK_DIM
+    }
+    pub fn is_empty(&self) -> bool {
+        self.xs.is_empty()
+    }
+    pub fn theta(&self, i: usize) -> &[f64] {
+        &self.thetas[i * self.n..(i + 1) * self.n]
+    }
+    pub fn x(&self, i: usize) -> [f64; 2] {
+        [self.xs[2 * i], self.xs[2 * i + 1]]
+    }
+
+    /// Store one movement; a non-finite value is refused (returns false) and never indexed.
+    pub fn add(&mut self, theta: &[f64], x: [f64; 2]) -> bool {
+        if !(theta.iter().all(|v| v.is_finite()) && x.iter().all(|v| v.is_finite())) {
+            return false;
+        }
+        self.thetas.extend_from_slice(theta);
+        self.xs.extend_from_slice(&x);
+        self.by_x.add(&x);
+        self.by_theta.add(theta);
+        true
+    }
+
+    /// Inverse model without noise: the configuration that reached closest to `goal`, optionally
+    /// moved by J+ (goal - x_nn). Returns false when the memory is empty.
+    pub fn inverse(&mut self, goal: &[f64; 2], cfg: &EpisodicConfig, rcond: f64, out: &mut [f64]) -> bool {
+        let mut nb = std::mem::take(&mut self.nb);
+        self.by_x.knn(goal, 1, &mut nb);
+        let Some(first) = nb.first().copied() else {
+            self.nb = nb;
+            return false;
+        };
+        let i = first.id as usize;
+        out.copy_from_slice(self.theta(i));
+        if cfg.refine {
+            let base = self.theta(i).to_vec();
+            self.by_theta.knn(&base, cfg.k_refine + 1, &mut nb);
+            if let Some(j) = self.local_jacobian(&base, self.x(i), &nb) {
+                let x0 = self.x(i);
+                let dx = [goal[0] - x0[0], goal[1] - x0[1]];
+                let mut d = vec![0.0; self.n];
+                if pinv_apply_wide(&j, &dx, rcond, &mut d).is_ok() {
+                    // A first-order step is only trusted as far as the neighbourhood extends.
+                    let reach = nb.iter().map(|b| b.dist_sq).fold(0.0, f64::max).sqrt();
+                    let norm = d.iter().map(|v| v * v).sum::<f64>().sqrt();
+                    let s = if norm > reach && norm > 0.0 { reach / norm } else { 1.0 };
+                    out.iter_mut().zip(&d).for_each(|(o, v)| *o += s * v);
+                }
+            }
+        }
+        self.nb = nb;
+        true
+    }
+
+    /// Forward model: the nearest stored configuration's position, optionally corrected by the
+    /// local linear model. None when the memory is empty.
+    pub fn predict(&mut self, theta: &[f64], cfg: &EpisodicConfig) -> Option<[f64; 2]> {
+        let mut nb = std::mem::take(&mut self.nb);
+        let k = if cfg.refine { cfg.k_refine } else { 1 };
+        self.by_theta.knn(theta, k, &mut nb);
+        let out = nb.first().map(|f| {
+            let i = f.id as usize;
+            let mut x = self.x(i);
+            if cfg.refine {
+                let base = self.theta(i).to_vec();
+                if let Some(j) = self.local_jacobian(&base, x, &nb) {
+                    let d: Vec<f64> = theta.iter().zip(&base).map(|(a, b)| a - b).collect();
+                    for (r, xr) in x.iter_mut().enumerate() {
+                        *xr += (0..self.n).map(|a| j[(r, a)] * d[a]).sum::<f64>();
+                    }
+                }
+            }
+            x
+        });
+        self.nb = nb;
+        out
+    }
+
+    /// Least squares J with x_i - x0 ~ J (theta_i - theta0) over the neighbours, ridge-damped
+    /// so that fewer neighbours than joints still give the minimum-norm answer. None if the
+    /// neighbours carry no information (all at theta0).
+    fn local_jacobian(&self, theta0: &[f64], x0: [f64; 2], nb: &[Neighbour]) -> Option<DMatrix<f64>> {
+        let n = self.n;
+        let rows: Vec<usize> = nb.iter().map(|b| b.id as usize).filter(|&i| self.theta(i) != theta0).collect();
+        if rows.is_empty() {
+            return None;
+        }
+        let dth = DMatrix::from_fn(rows.len(), n, |r, a| self.theta(rows[r])[a] - theta0[a]);
+        let dx = DMatrix::from_fn(rows.len(), TASK_DIM, |r, c| self.x(rows[r])[c] - x0[c]);
+        let mut gram = dth.transpose() * &dth;
+        let trace = gram.trace();
+        if !(trace.is_finite() && trace > 0.0) {
+            return None;
+        }
+        for a in 0..n {
+            gram[(a, a)] += 1e-6 * trace / n as f64;
+        }
+        let jt = gram.cholesky()?.solve(&(dth.transpose() * dx));
+        jt.iter().all(|v| v.is_finite()).then(|| jt.transpose())
+    }
+}
+
+impl Learner {
+    /// One movement: choose (goal or configuration), propose, execute at once, store, report.
+    pub(crate) fn episode(&mut self) {
+        let n = self.arm.n_joints();
+        let lim = self.cfg.arm.joint_limit;
+        let rest = {
+            let zero = vec![0.0; n];
+            self.arm.forward(&zero)
+        };
+        let mut theta = vec![0.0; n];
+        let t0 = std::time::Instant::now();
+        let choice = match self.cfg.condition {
+            Condition::SaggRiac | Condition::SaggRandom | Condition::ActuatorRiac => Some(self.selector.sample()),
+            Condition::ActuatorRandom => None,
+        };
+        self.timers.goal_selection += t0.elapsed().as_secs_f64();
+        let goal = match (&choice, self.cfg.condition.uses_goals()) {
+            (Some(c), true) => Some([c.goal[0], c.goal[1]]),
+            _ => None,
+        };
+        let mem = self.episodic.as_mut().expect("episodic memory exists in the episodic paradigm");
+        match (self.cfg.condition, &choice) {
+            (Condition::ActuatorRandom, _) => theta.iter_mut().for_each(|t| *t = uniform(&mut self.rng, -lim, lim)),
+            (Condition::ActuatorRiac, Some(c)) => theta.copy_from_slice(&c.goal),
+            (_, _) => {
+                let g = goal.expect("a goal for the SAGG conditions");
+                let t1 = std::time::Instant::now();
+                // Before any movement the inverse model knows nothing: start from rest.
+                mem.inverse(&g, &self.cfg.episodic, self.cfg.local.pinv_rcond, &mut theta);
+                self.timers.knn += t1.elapsed().as_secs_f64();
+                let s = self.cfg.episodic.noise;
+                if s > 0.0 {
+                    theta.iter_mut().for_each(|t| *t += s * normal(&mut self.rng));
+                }
+            }
+        }
+        theta.iter_mut().for_each(|t| *t = t.clamp(-lim, lim));
+        // ACTUATOR-RIAC's interest: progress of the forward model's error on this movement.
+        let predicted = if self.cfg.condition == Condition::ActuatorRiac { mem.predict(&theta, &self.cfg.episodic) } else { None };
+        self.arm.set_theta(&theta);
+        let x = self.arm.position();
+        mem.add(self.arm.theta(), x);
+        let step_start = self.steps;
+        self.steps += 1;
+        self.counters.babbling_steps += u64::from(goal.is_none());
+        self.counters.reaching_steps += u64::from(goal.is_some());
+        let t2 = std::time::Instant::now();
+        match (goal, &choice) {
+            (Some(g), Some(c)) => {
+                let comp = competence(&g, &x, &rest, &self.cfg.competence);
+                let region = self.selector.update(&g, comp);
+                self.attempts.push(AttemptRow { goal_index: self.goals_done, subgoal: 1, step_end: self.steps, target: g, end: x, competence: comp, reached: comp == 0.0, region });
+                self.goals.push(GoalRow { goal_index: self.goals_done, step_start, step_end: self.steps, goal: g, start: rest, end: x, mode: c.mode, region: c.region, competence: comp });
+                self.goals_done += 1;
+            }
+            (None, Some(_)) => {
+                let err = predicted.map(|p| ((p[0] - x[0]).powi(2) + (p[1] - x[1]).powi(2)).sqrt());
+                if let Some(e) = err {
+                    self.selector.update(self.arm.theta(), -e);
+                }
+            }
+            _ => {}
+        }
+        self.timers.goal_selection += t2.elapsed().as_secs_f64();
+        self.evaluate_due();
+    }
+}
