@@ -53,12 +53,12 @@ impl Learner {
     /// One babbling micro-action (ACTUATOR conditions).
     pub(crate) fn babble(&mut self) {
         if self.babble_steps % self.actuator_reset as u64 == 0 {
-            self.arm.reset();
+            self.body.reset();
             self.warm.clear();
         }
         self.babble_steps += 1;
         let step = self.cfg.babble_step;
-        let theta0 = self.arm.theta().to_vec();
+        let theta0 = self.body.theta().to_vec();
         let mut d = std::mem::take(&mut self.buf_dtheta);
         match self.cfg.condition {
             Condition::ActuatorRiac => {

@@ -164,12 +164,9 @@ impl EpisodicMemory {
 impl Learner {
     /// One movement: choose (goal or configuration), propose, execute at once, store, report.
     pub(crate) fn episode(&mut self) {
-        let n = self.arm.n_joints();
+        let n = self.body.n_joints();
         let lim = self.cfg.arm.joint_limit;
-        let rest = {
-            let zero = vec![0.0; n];
-            self.arm.forward(&zero)
-        };
+        let rest = self.rest_x;
         let mut theta = vec![0.0; n];
         let t0 = std::time::Instant::now();
         let choice = match self.cfg.condition {
@@ -200,9 +197,9 @@ impl Learner {
         theta.iter_mut().for_each(|t| *t = t.clamp(-lim, lim));
         // ACTUATOR-RIAC's interest: progress of the forward model's error on this movement.
         let predicted = if self.cfg.condition == Condition::ActuatorRiac { mem.predict(&theta, &self.cfg.episodic) } else { None };
-        self.arm.set_theta(&theta);
-        let x = self.arm.position();
-        mem.add(self.arm.theta(), x);
+        self.body.set_theta(&theta);
+        let x = self.body.position();
+        mem.add(self.body.theta(), x);
         let step_start = self.steps;
         self.steps += 1;
         self.counters.babbling_steps += u64::from(goal.is_none());
@@ -219,7 +216,7 @@ impl Learner {
             (None, Some(_)) => {
                 let err = predicted.map(|p| ((p[0] - x[0]).powi(2) + (p[1] - x[1]).powi(2)).sqrt());
                 if let Some(e) = err {
-                    self.selector.update(self.arm.theta(), -e);
+                    self.selector.update(self.body.theta(), -e);
                 }
             }
             _ => {}

@@ -4,6 +4,7 @@
 //! evaluation neither counts as time nor changes what is learnt.
 
 use crate::arm::{Arm, ArmConfig};
+use crate::body::Body;
 use crate::error::{invalid, Check, Result};
 use crate::local_model::{LocalModel, LocalModelConfig};
 use crate::episodic::{EpisodicConfig, EpisodicMemory};
@@ -66,8 +67,14 @@ impl TestSet {
     /// Goals uniform in the reachable part of the goal box (the box intersected with the disk of
     /// radius = arm length), by rejection; configurations uniform in the joint limits.
     pub fn new(arm: &ArmConfig, goal_low: &[f64], goal_high: &[f64], n_goals: usize, n_configs: usize, seed: u64) -> Result<Self> {
-        let a = Arm::new(arm.clone())?;
-        let r = a.total_length();
+        let mut a = Arm::new(arm.clone())?;
+        Self::with_body(arm, &mut a, goal_low, goal_high, n_goals, n_configs, seed)
+    }
+
+    /// The same draws, with the true positions of the test configurations measured on `body`
+    /// (placed there at once; this is not a time step). `arm` gives the reach and joint limits.
+    pub fn with_body(arm: &ArmConfig, body: &mut dyn Body, goal_low: &[f64], goal_high: &[f64], n_goals: usize, n_configs: usize, seed: u64) -> Result<Self> {
+        let r: f64 = arm.link_lengths.iter().sum();
         let mut rng = rng_from_seed(seed);
         let mut goals = Vec::with_capacity(n_goals);
         // Clip the sampling box to the disk's bounding box so rejection stays cheap.
@@ -89,7 +96,13 @@ impl TestSet {
         let lim = arm.joint_limit;
         let n = arm.link_lengths.len();
         let configs: Vec<Vec<f64>> = (0..n_configs).map(|_| (0..n).map(|_| uniform(&mut rng, -lim, lim)).collect()).collect();
-        let true_x = configs.iter().map(|c| a.forward(c)).collect();
+        let true_x = configs
+            .iter()
+            .map(|c| {
+                body.set_theta(c);
+                body.position()
+            })
+            .collect();
         Ok(TestSet { goals, configs, true_x })
     }
 }
@@ -119,7 +132,8 @@ fn mean(v: &[f64]) -> f64 {
 pub struct Evaluator {
     pub cfg: EvalConfig,
     pub tests: TestSet,
-    arm: Arm,
+    /// The body the test reaches run on, when the learner's body can make a copy.
+    scratch: Option<Box<dyn Body>>,
     model: LocalModel,
     warm: WarmStart,
     neighbours: Vec<Neighbour>,
@@ -131,28 +145,47 @@ pub struct Evaluator {
 }
 
 impl Evaluator {
-    pub fn new(cfg: EvalConfig, tests: TestSet, arm: ArmConfig, local: LocalModelConfig, v: f64, warm_recent: usize) -> Result<Self> {
-        let arm = Arm::new(arm)?;
-        let n = arm.n_joints();
-        Ok(Evaluator { cfg, tests, arm, model: LocalModel::new(n, 2, local), warm: WarmStart::new(warm_recent), neighbours: Vec::new(), v, warm_start: warm_recent > 0, time_knn: 0.0, time_fit: 0.0 })
+    pub fn new(cfg: EvalConfig, tests: TestSet, scratch: Option<Box<dyn Body>>, n_joints: usize, local: LocalModelConfig, v: f64, warm_recent: usize) -> Self {
+        Evaluator { cfg, tests, scratch, model: LocalModel::new(n_joints, 2, local), warm: WarmStart::new(warm_recent), neighbours: Vec::new(), v, warm_start: warm_recent > 0, time_knn: 0.0, time_fit: 0.0 }
     }
 
-    /// Evaluate the model held in `memory`.
-    pub fn evaluate(&mut self, memory: &SensorimotorMemory) -> EvalResult {
-        let mut reach_errors = Vec::with_capacity(self.tests.goals.len());
-        let mut test_steps = 0;
-        self.arm.reset();
-        for i in 0..self.tests.goals.len() {
-            // Even tests start from rest, odd ones from where the previous test ended.
-            if i % 2 == 0 {
-                self.arm.reset();
+    /// Run `f` on the scratch body if there is one, else on `main`, put back afterwards.
+    fn on_body<T>(&mut self, main: &mut dyn Body, f: impl FnOnce(&mut Self, &mut dyn Body) -> T) -> T {
+        match self.scratch.take() {
+            Some(mut s) => {
+                let out = f(self, s.as_mut());
+                self.scratch = Some(s);
+                out
             }
-            self.warm.clear();
-            let g = self.tests.goals[i];
-            let (err, steps) = self.test_reach(memory, g);
-            reach_errors.push(err);
-            test_steps += steps;
+            None => {
+                let saved = main.theta().to_vec();
+                let out = f(self, &mut *main);
+                main.set_theta(&saved);
+                out
+            }
         }
+    }
+
+    /// Evaluate the model held in `memory`; test reaches run on a copy of `body` or, if it
+    /// cannot be copied, on `body` itself, which is put back where it was.
+    pub fn evaluate(&mut self, memory: &SensorimotorMemory, body: &mut dyn Body) -> EvalResult {
+        let (reach_errors, test_steps) = self.on_body(body, |ev, arm| {
+            let mut reach_errors = Vec::with_capacity(ev.tests.goals.len());
+            let mut test_steps = 0;
+            arm.reset();
+            for i in 0..ev.tests.goals.len() {
+                // Even tests start from rest, odd ones from where the previous test ended.
+                if i % 2 == 0 {
+                    arm.reset();
+                }
+                ev.warm.clear();
+                let g = ev.tests.goals[i];
+                let (err, steps) = ev.test_reach(memory, arm, g);
+                reach_errors.push(err);
+                test_steps += steps;
+            }
+            (reach_errors, test_steps)
+        });
         let k = self.model.cfg.k_neighbours;
         let mut pred_errors = Vec::with_capacity(self.tests.configs.len());
         let mut xp = [0.0; 2];
@@ -177,23 +210,23 @@ impl Evaluator {
     /// The same test sets for the episodic paradigm: each test goal gets one configuration from
     /// the inverse model without exploration noise, executed at once; each test configuration
     /// gets the forward model's prediction.
-    pub fn evaluate_episodic(&mut self, memory: &mut EpisodicMemory, cfg: &EpisodicConfig, rcond: f64) -> EvalResult {
-        let n = self.arm.n_joints();
-        let mut theta = vec![0.0; n];
+    pub fn evaluate_episodic(&mut self, memory: &mut EpisodicMemory, body: &mut dyn Body, cfg: &EpisodicConfig, rcond: f64) -> EvalResult {
         let t0 = std::time::Instant::now();
-        let reach_errors = self
-            .tests
-            .goals
-            .iter()
-            .map(|g| {
-                if !memory.inverse(g, cfg, rcond, &mut theta) {
-                    theta.iter_mut().for_each(|t| *t = 0.0);
-                }
-                self.arm.set_theta(&theta);
-                let x = self.arm.position();
-                ((g[0] - x[0]).powi(2) + (g[1] - x[1]).powi(2)).sqrt()
-            })
-            .collect::<Vec<f64>>();
+        let reach_errors = self.on_body(body, |ev, arm| {
+            let mut theta = vec![0.0; arm.n_joints()];
+            ev.tests
+                .goals
+                .iter()
+                .map(|g| {
+                    if !memory.inverse(g, cfg, rcond, &mut theta) {
+                        theta.iter_mut().for_each(|t| *t = 0.0);
+                    }
+                    arm.set_theta(&theta);
+                    let x = arm.position();
+                    ((g[0] - x[0]).powi(2) + (g[1] - x[1]).powi(2)).sqrt()
+                })
+                .collect::<Vec<f64>>()
+        });
         let pred_errors = self
             .tests
             .configs
@@ -210,25 +243,25 @@ impl Evaluator {
     }
 
     /// Closed-loop reach with the learnt inverse model only: no exploration, no storing.
-    fn test_reach(&mut self, memory: &SensorimotorMemory, goal: [f64; 2]) -> (f64, u64) {
+    fn test_reach(&mut self, memory: &SensorimotorMemory, arm: &mut dyn Body, goal: [f64; 2]) -> (f64, u64) {
         let dist = |x: [f64; 2]| ((goal[0] - x[0]).powi(2) + (goal[1] - x[1]).powi(2)).sqrt();
-        let d0 = dist(self.arm.position());
+        let d0 = dist(arm.position());
         let timeout = (self.cfg.timeout_factor * d0 / self.v).ceil() as usize + self.cfg.timeout_min;
         let k = self.model.cfg.k_neighbours;
         let mut best = d0;
         let mut since_best = 0;
         let mut steps = 0;
-        let mut dtheta = vec![0.0; self.arm.n_joints()];
+        let mut dtheta = vec![0.0; arm.n_joints()];
         if memory.len() < k {
             return (d0, 0);
         }
         for _ in 0..timeout {
-            let x = self.arm.position();
+            let x = arm.position();
             if dist(x) <= self.cfg.tolerance {
                 break;
             }
             let dx = desired_step(&x, &goal, self.v);
-            let theta = self.arm.theta().to_vec();
+            let theta = arm.theta().to_vec();
             let t0 = std::time::Instant::now();
             if self.warm_start {
                 memory.knn_warm(&mut self.warm, &theta, k, &mut self.neighbours);
@@ -243,9 +276,9 @@ impl Evaluator {
             if fitted.is_err() {
                 break;
             }
-            self.arm.step(&mut dtheta);
+            arm.step(&mut dtheta);
             steps += 1;
-            let d = dist(self.arm.position());
+            let d = dist(arm.position());
             if d < best {
                 best = d;
                 since_best = 0;
@@ -256,6 +289,6 @@ impl Evaluator {
                 }
             }
         }
-        (dist(self.arm.position()), steps)
+        (dist(arm.position()), steps)
     }
 }

@@ -36,10 +36,10 @@ impl Learner {
     /// Stops early only when the run's step budget is spent.
     pub(crate) fn explore(&mut self) {
         let step = self.cfg.exploration.step;
-        let centre = self.arm.theta().to_vec();
+        let centre = self.body.theta().to_vec();
         for _ in 0..self.cfg.exploration.q {
             let mut d = std::mem::take(&mut self.buf_dtheta);
-            for ((v, c), t) in d.iter_mut().zip(&centre).zip(self.arm.theta()) {
+            for ((v, c), t) in d.iter_mut().zip(&centre).zip(self.body.theta()) {
                 *v = c + uniform(&mut self.rng, -step, step) - t;
             }
             let done = self.micro_action(&mut d, ActionKind::Exploration).is_none();

@@ -20,6 +20,8 @@ pub enum Mode {
     LowestCompetence = 3,
     /// A selector without a high level (SAGG-Random).
     Random = 4,
+    /// A goal from a user's selector.
+    External = 5,
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -41,6 +43,10 @@ pub trait GoalSelector: Send + Sync {
     fn update(&mut self, point: &[f64], competence: f64) -> Option<usize>;
     fn tree(&self) -> Option<&RegionTree> {
         None
+    }
+    /// True once a user's selector has failed; the run loop stops.
+    fn failed(&self) -> bool {
+        false
     }
 }
 

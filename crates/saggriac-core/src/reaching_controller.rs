@@ -75,13 +75,13 @@ impl Learner {
     pub(crate) fn reach(&mut self, target: [f64; 2]) -> AttemptOutcome {
         let rc = self.cfg.reaching;
         let comp = self.cfg.competence;
-        let start = self.arm.position();
+        let start = self.body.position();
         let d0 = ((target[0] - start[0]).powi(2) + (target[1] - start[1]).powi(2)).sqrt();
         let timeout = rc.timeout(d0) as u64;
         let step0 = self.steps();
         let mut interrupted = false;
         loop {
-            let x = self.arm.position();
+            let x = self.body.position();
             if cost(&target, &x, &start, comp.min_c) > comp.eps_c {
                 break;
             }
@@ -125,7 +125,7 @@ impl Learner {
                 }
             }
         }
-        let end = self.arm.position();
+        let end = self.body.position();
         let c = clip(cost(&target, &end, &start, comp.min_c), &comp);
         AttemptOutcome { start, end, competence: c, reached: c == 0.0, interrupted: interrupted && c != 0.0 }
     }
@@ -147,7 +147,7 @@ impl Learner {
             return Err(FitFailure::NotEnoughData);
         }
         let t0 = std::time::Instant::now();
-        let theta = self.arm.theta().to_vec();
+        let theta = self.body.theta().to_vec();
         if self.cfg.warm_start_recent > 0 {
             self.memory.knn_warm(&mut self.warm, &theta, k, &mut self.neighbours);
         } else {

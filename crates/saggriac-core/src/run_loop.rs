@@ -6,9 +6,10 @@ use std::time::Instant;
 
 use crate::actuator_babbling::actuator_reset_period;
 use crate::arm::Arm;
+use crate::body::Body;
 use crate::config::{Condition, Paradigm, RunConfig};
 use crate::episodic::EpisodicMemory;
-use crate::error::Result;
+use crate::error::{invalid, Result};
 use crate::evaluation::{Evaluator, TestSet};
 use crate::goal_selection::{GoalSelector, Mode, RandomGoals, SaggRiac};
 use crate::local_model::LocalModel;
@@ -84,7 +85,9 @@ pub struct Timers {
 
 pub struct Learner {
     pub(crate) cfg: RunConfig,
-    pub(crate) arm: Arm,
+    pub(crate) body: Box<dyn Body>,
+    /// End-effector position at rest (the start of every episodic movement).
+    pub(crate) rest_x: [f64; 2],
     pub(crate) memory: SensorimotorMemory,
     pub(crate) model: LocalModel,
     pub(crate) selector: Box<dyn GoalSelector>,
@@ -114,10 +117,33 @@ impl Learner {
     /// Build a learner. `seed` drives the learner (goal choices, exploration); `eval_seed` draws
     /// the test sets, so every condition of one experiment seed meets the same tests.
     pub fn new(cfg: RunConfig, seed: u64, eval_seed: u64) -> Result<Self> {
+        Self::with_parts(cfg, seed, eval_seed, None, None)
+    }
+
+    /// A learner acting on `body` (default: the built-in arm of `cfg.arm`) and choosing goals
+    /// with `selector` (default: the condition's own). A user's body must have the configured
+    /// number of joints; a user's selector replaces the high level of a SAGG condition.
+    pub fn with_parts(cfg: RunConfig, seed: u64, eval_seed: u64, body: Option<Box<dyn Body>>, selector: Option<Box<dyn GoalSelector>>) -> Result<Self> {
         cfg.validate()?;
-        let arm = Arm::new(cfg.arm.clone())?;
-        let n = arm.n_joints();
-        let selector: Box<dyn GoalSelector> = match cfg.condition {
+        let mut body: Box<dyn Body> = match body {
+            Some(b) => b,
+            None => Box::new(Arm::new(cfg.arm.clone())?),
+        };
+        let n = cfg.arm.link_lengths.len();
+        if body.n_joints() != n {
+            return Err(invalid("Run", "n_joints", format!("the number of joints of the environment ({})", body.n_joints()), n));
+        }
+        body.reset();
+        let rest_x = body.position();
+        if let Some(s) = &selector {
+            if !cfg.condition.uses_goals() {
+                return Err(invalid("Run", "condition", "'sagg_riac' or 'sagg_random' when a goal selector is given (the ACTUATOR conditions choose no goals)", format!("'{}'", cfg.condition.name())));
+            }
+            if s.dim() != cfg.goal_low.len() {
+                return Err(invalid("Run", "goal_selector", format!("a selector over the {}-D goal space", cfg.goal_low.len()), format!("a {}-D selector", s.dim())));
+            }
+        }
+        let own: Box<dyn GoalSelector> = match cfg.condition {
             Condition::SaggRiac => Box::new(SaggRiac::new(&cfg.goal_low, &cfg.goal_high, cfg.tree, cfg.modes, child_seed(seed, 1))?),
             Condition::SaggRandom | Condition::ActuatorRandom => Box::new(RandomGoals::new(&cfg.goal_low, &cfg.goal_high, child_seed(seed, 1))?),
             Condition::ActuatorRiac => {
@@ -130,12 +156,14 @@ impl Learner {
                 Box::new(SaggRiac::new(&low, &high, cfg.tree, cfg.modes, child_seed(seed, 1))?)
             }
         };
+        let selector = selector.unwrap_or(own);
         let actuator_reset = match cfg.actuator_reset_every {
-            0 => actuator_reset_period(&cfg, arm.position()),
+            0 => actuator_reset_period(&cfg, rest_x),
             r => r,
         };
-        let tests = TestSet::new(&cfg.arm, &cfg.goal_low, &cfg.goal_high, cfg.eval.n_test_goals, cfg.eval.n_test_configs, eval_seed)?;
-        let evaluator = Evaluator::new(cfg.eval.clone(), tests, cfg.arm.clone(), cfg.local.clone(), cfg.reaching.v, cfg.warm_start_recent)?;
+        let tests = TestSet::with_body(&cfg.arm, body.as_mut(), &cfg.goal_low, &cfg.goal_high, cfg.eval.n_test_goals, cfg.eval.n_test_configs, eval_seed)?;
+        body.reset();
+        let evaluator = Evaluator::new(cfg.eval.clone(), tests, body.scratch(), n, cfg.local.clone(), cfg.reaching.v, cfg.warm_start_recent);
         Ok(Learner {
             memory: SensorimotorMemory::new(n, 2, cfg.index),
             model: LocalModel::new(n, 2, cfg.local.clone()),
@@ -145,7 +173,8 @@ impl Learner {
             neighbours: Vec::new(),
             buf_dtheta: vec![0.0; n],
             evaluator,
-            arm,
+            body,
+            rest_x,
             steps: 0,
             next_eval: 0,
             goals_done: 0,
@@ -192,8 +221,13 @@ impl Learner {
     pub fn actuator_reset_period(&self) -> usize {
         self.actuator_reset
     }
-    pub fn arm(&self) -> &Arm {
-        &self.arm
+    pub fn body(&self) -> &dyn Body {
+        self.body.as_ref()
+    }
+
+    /// A user's body or goal selector failed: the run stops and the binding reports why.
+    pub fn failed(&self) -> bool {
+        self.body.failed() || self.selector.failed()
     }
 
     pub(crate) fn budget_spent(&self) -> bool {
@@ -203,12 +237,15 @@ impl Learner {
     /// Execute one micro-action on the arm and store it. Returns the realised dx, or None
     /// (without moving) when the step budget is spent.
     pub(crate) fn micro_action(&mut self, dtheta: &mut [f64], kind: ActionKind) -> Option<[f64; 2]> {
-        if self.budget_spent() {
+        if self.budget_spent() || self.failed() {
             return None;
         }
-        self.buf_theta.copy_from_slice(self.arm.theta());
-        let x0 = self.arm.position();
-        let dx = self.arm.step(dtheta);
+        self.buf_theta.copy_from_slice(self.body.theta());
+        let x0 = self.body.position();
+        let dx = self.body.step(dtheta);
+        if self.body.failed() {
+            return None;
+        }
         self.memory.add(&self.buf_theta, dtheta, &dx, &x0);
         self.steps += 1;
         match kind {
@@ -231,9 +268,10 @@ impl Learner {
     /// Run one evaluation now and record it.
     pub fn evaluate_now(&mut self) -> MetricRow {
         let t0 = Instant::now();
+        let body = self.body.as_mut();
         let r = match self.episodic.as_mut() {
-            Some(mem) => self.evaluator.evaluate_episodic(mem, &self.cfg.episodic, self.cfg.local.pinv_rcond),
-            None => self.evaluator.evaluate(&self.memory),
+            Some(mem) => self.evaluator.evaluate_episodic(mem, body, &self.cfg.episodic, self.cfg.local.pinv_rcond),
+            None => self.evaluator.evaluate(&self.memory, body),
         };
         self.timers.evaluation += t0.elapsed().as_secs_f64();
         self.counters.test_steps += r.test_steps;
@@ -262,14 +300,14 @@ impl Learner {
     /// One goal attempt: rest reset if due, goal choice, l subgoal attempts.
     fn goal_attempt(&mut self) {
         if self.goals_done % self.cfg.reset_every as u64 == 0 {
-            self.arm.reset();
+            self.body.reset();
             self.warm.clear();
         }
         let t0 = Instant::now();
         let choice = self.selector.sample();
         self.timers.goal_selection += t0.elapsed().as_secs_f64();
         let g = [choice.goal[0], choice.goal[1]];
-        let start = self.arm.position();
+        let start = self.body.position();
         let step_start = self.steps;
         let l = self.cfg.reaching.n_subgoals;
         let mut last_c = f64::NAN;
@@ -295,7 +333,7 @@ impl Learner {
             step_end: self.steps,
             goal: g,
             start,
-            end: self.arm.position(),
+            end: self.body.position(),
             mode: choice.mode,
             region: choice.region,
             competence: last_c,
@@ -311,10 +349,10 @@ impl Learner {
         let mut completed = self.report(on_eval);
         let goals = self.cfg.condition.uses_goals();
         let episodic = self.cfg.paradigm == Paradigm::Episodic;
-        while completed && !self.budget_spent() {
+        while completed && !self.budget_spent() && !self.failed() {
             if episodic {
                 for _ in 0..64 {
-                    if self.budget_spent() {
+                    if self.budget_spent() || self.failed() {
                         break;
                     }
                     self.episode();
@@ -324,7 +362,7 @@ impl Learner {
             } else {
                 // Babble until the next evaluation report could be due (a goal attempt's worth).
                 for _ in 0..64 {
-                    if self.budget_spent() {
+                    if self.budget_spent() || self.failed() {
                         break;
                     }
                     self.babble();

@@ -108,7 +108,7 @@ fn assert_same_training(a: &Learner, b: &Learner, what: &str) {
     assert_eq!(a.memory().len(), b.memory().len(), "{what}: memory sizes differ");
     assert!(memory_bits(a) == memory_bits(b), "{what}: stored samples differ");
     assert_eq!(training_counters(a), training_counters(b), "{what}: training counters differ");
-    let (ta, tb): (Vec<u64>, Vec<u64>) = (a.arm().theta().iter().map(|v| v.to_bits()).collect(), b.arm().theta().iter().map(|v| v.to_bits()).collect());
+    let (ta, tb): (Vec<u64>, Vec<u64>) = (a.body().theta().iter().map(|v| v.to_bits()).collect(), b.body().theta().iter().map(|v| v.to_bits()).collect());
     assert_eq!(ta, tb, "{what}: final arm configurations differ");
 }
 

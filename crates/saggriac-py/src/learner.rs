@@ -161,7 +161,7 @@ impl PyLearner {
         let d = PyDict::new(py);
         d.set_item("goals", xy(py, t.goals.clone())?)?;
         let n = t.configs.len();
-        let j = self.inner.arm().n_joints();
+        let j = self.inner.body().n_joints();
         d.set_item("configs", t.configs.concat().into_pyarray(py).reshape([n, j])?)?;
         Ok(d)
     }

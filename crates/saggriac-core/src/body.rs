@@ -1,0 +1,53 @@
+//! What the learner acts on: the built-in planar arm, or a user's environment (the Python
+//! binding wraps one). The run loop, the exploration phase and the evaluation only see this
+//! trait.
+
+use crate::arm::Arm;
+
+pub trait Body: Send + Sync {
+    fn n_joints(&self) -> usize;
+    fn theta(&self) -> &[f64];
+    /// End-effector position in the task space.
+    fn position(&self) -> [f64; 2];
+    /// Back to the rest pose. Not a time step.
+    fn reset(&mut self);
+    /// Put the body in a configuration at once: a whole movement in the episodic paradigm, a
+    /// placement during evaluation.
+    fn set_theta(&mut self, theta: &[f64]);
+    /// One micro-action: writes the realised joint change into `dtheta`, returns the realised dx.
+    fn step(&mut self, dtheta: &mut [f64]) -> [f64; 2];
+    /// An independent copy for the evaluation's test reaches, if the body can make one. Without
+    /// it the evaluation runs on this body and puts it back where it was.
+    fn scratch(&self) -> Option<Box<dyn Body>> {
+        None
+    }
+    /// True once the body has failed (a user's environment raised or returned bad values); the
+    /// run loop stops at the next step.
+    fn failed(&self) -> bool {
+        false
+    }
+}
+
+impl Body for Arm {
+    fn n_joints(&self) -> usize {
+        Arm::n_joints(self)
+    }
+    fn theta(&self) -> &[f64] {
+        Arm::theta(self)
+    }
+    fn position(&self) -> [f64; 2] {
+        Arm::position(self)
+    }
+    fn reset(&mut self) {
+        Arm::reset(self)
+    }
+    fn set_theta(&mut self, theta: &[f64]) {
+        Arm::set_theta(self, theta)
+    }
+    fn step(&mut self, dtheta: &mut [f64]) -> [f64; 2] {
+        Arm::step(self, dtheta)
+    }
+    fn scratch(&self) -> Option<Box<dyn Body>> {
+        Some(Box::new(self.clone()))
+    }
+}
