@@ -7,14 +7,14 @@ Quick start::
     res.reach_error  # learning curve, numpy array
 """
 
-from . import _core
+from . import _core, environments, testing
 from .config import PRESETS, Config
 from .goal_selection import RandomSelector, SaggRiacSelector
-from .errors import InputError, ParameterError, SaggriacError, StorageError
+from .errors import ConformanceError, InputError, ParameterError, SaggriacError, StorageError
 from .result import RunResult
 from .runner import run
 from .study import Study, load_study, run_study
 
 __version__ = _core.__version__
 
-__all__ = ["Config", "PRESETS", "run", "RunResult", "SaggRiacSelector", "RandomSelector", "Study", "run_study", "load_study", "SaggriacError", "ParameterError", "InputError", "StorageError", "__version__"]
+__all__ = ["Config", "PRESETS", "run", "RunResult", "SaggRiacSelector", "RandomSelector", "Study", "run_study", "load_study", "SaggriacError", "ConformanceError", "ParameterError", "InputError", "StorageError", "__version__"]

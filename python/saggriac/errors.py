@@ -22,3 +22,7 @@ class InputError(SaggriacError, ValueError):
 
 class StorageError(SaggriacError, OSError):
     """A run directory cannot be written or read."""
+
+
+class ConformanceError(SaggriacError, TypeError):
+    """A user's environment or goal selector does not follow the protocol saggriac needs."""

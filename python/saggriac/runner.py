@@ -14,7 +14,7 @@ from . import _core
 from .config import Config
 from .errors import ParameterError
 from .result import RunResult
-from .seeding import check_seed, derive_seeds
+from .seeding import check_seed, derive_seeds, environment_seed
 from .storage import check_output_dir, write_run
 
 
@@ -38,6 +38,9 @@ def run(
     out_dir: str | Path | None = None,
     progress: bool = False,
     overwrite: bool = False,
+    *,
+    environment: Any = None,
+    goal_selector: Any = None,
 ) -> RunResult:
     """Run one learner for ``config.n_steps`` time steps (micro-actions, or movements when episodic) and return its result.
 
@@ -54,7 +57,19 @@ def run(
     if out is not None:
         check_output_dir(out, overwrite)
     learner_seed, eval_seed = derive_seeds(seed)
-    learner = _core.Learner(config.core_dict(), learner_seed, eval_seed)
+    extra = {}
+    if environment is not None:
+        # The core calls it from its loop; check the protocol first so mistakes read plainly.
+        from .testing import check_environment_interface
+
+        check_environment_interface(environment, config)
+        extra["environment"] = environment
+    if goal_selector is not None:
+        from .testing import check_goal_selector_interface
+
+        check_goal_selector_interface(goal_selector, config)
+        extra["goal_selector"] = goal_selector
+    learner = _core.Learner(config.core_dict(), learner_seed, eval_seed, env_seed=environment_seed(seed), **extra)
 
     bar = None
     if progress:
@@ -91,6 +106,10 @@ def run(
         "wall_seconds": wall,
         "profile": learner.profile(),
     }
+    if environment is not None:
+        manifest["environment"] = f"{type(environment).__module__}.{type(environment).__qualname__}"
+    if goal_selector is not None:
+        manifest["goal_selector"] = f"{type(goal_selector).__module__}.{type(goal_selector).__qualname__}"
     path = None
     if out is not None:
         path = write_run(out, manifest, {"metrics": metrics, "goals": goals, "attempts": attempts, "regions": regions}, overwrite)

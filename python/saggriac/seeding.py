@@ -14,6 +14,13 @@ def check_seed(seed: object) -> int:
     return int(seed)
 
 
+def environment_seed(seed: int) -> int:
+    """Seed passed once to a user's environment's ``reset(seed=...)``: a third child of the root
+    seed, independent of the learner's and the evaluation's."""
+    child = np.random.SeedSequence(check_seed(seed)).spawn(3)[2]
+    return int(child.generate_state(1, np.uint64)[0])
+
+
 def derive_seeds(seed: int) -> tuple[int, int]:
     """(learner_seed, eval_seed) for a root seed."""
     learner, evaluation = np.random.SeedSequence(check_seed(seed)).spawn(2)

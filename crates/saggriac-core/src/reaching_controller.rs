@@ -88,7 +88,7 @@ impl Learner {
             if self.steps() - step0 >= timeout {
                 break;
             }
-            if self.budget_spent() {
+            if self.budget_spent() || self.failed() {
                 interrupted = true;
                 break;
             }

@@ -8,11 +8,14 @@ use saggriac_core::run_loop::MetricRow;
 use saggriac_core::Learner;
 
 use crate::config::run_config_from_dict;
-use crate::errors::wrap;
+use crate::errors::{to_py, wrap};
+use crate::python_parts::{Failure, PyBody, PySelector, Slot};
 
 #[pyclass(name = "Learner", module = "saggriac._core")]
 pub struct PyLearner {
     inner: Learner,
+    /// First failure of a user's environment or goal selector during a run.
+    slot: Slot,
 }
 
 fn col<'py, T: numpy::Element>(py: Python<'py>, v: Vec<T>) -> Bound<'py, PyArray1<T>> {
@@ -36,13 +39,42 @@ fn metric_dict<'py>(py: Python<'py>, m: &MetricRow) -> PyResult<Bound<'py, PyDic
     Ok(d)
 }
 
+impl PyLearner {
+    fn failure(py: Python<'_>, slot: &Slot, step: u64) -> Option<PyErr> {
+        let f = slot.lock().unwrap_or_else(|e| e.into_inner()).take()?;
+        Some(match f {
+            Failure::Raised(e) => e,
+            Failure::Invalid(msg) => to_py(py, saggriac_core::Error::InvalidInput(format!("{msg} (at time step {step}; nothing from that call was stored)"))),
+        })
+    }
+    fn take_failure(&mut self, py: Python<'_>) -> Option<PyErr> {
+        Self::failure(py, &self.slot, self.inner.steps())
+    }
+}
+
 #[pymethods]
 impl PyLearner {
-    /// Learner(config: dict, seed: int, eval_seed: int)
+    /// Learner(config: dict, seed: int, eval_seed: int, environment=None, goal_selector=None, env_seed=0)
     #[new]
-    fn new(py: Python<'_>, config: &Bound<'_, PyDict>, seed: u64, eval_seed: u64) -> PyResult<Self> {
+    #[pyo3(signature = (config, seed, eval_seed, environment=None, goal_selector=None, env_seed=0))]
+    fn new(py: Python<'_>, config: &Bound<'_, PyDict>, seed: u64, eval_seed: u64, environment: Option<Py<PyAny>>, goal_selector: Option<Py<PyAny>>, env_seed: u64) -> PyResult<Self> {
         let cfg = run_config_from_dict(config)?;
-        Ok(PyLearner { inner: wrap(py, Learner::new(cfg, seed, eval_seed))? })
+        let slot: Slot = Default::default();
+        let n = cfg.arm.link_lengths.len();
+        let body = match environment {
+            Some(env) => Some(Box::new(PyBody::new(py, env, n, env_seed, slot.clone())?) as Box<dyn saggriac_core::body::Body>),
+            None => None,
+        };
+        let selector = match goal_selector {
+            Some(s) => Some(Box::new(PySelector::new(py, s, slot.clone())?) as Box<dyn saggriac_core::goal_selection::GoalSelector>),
+            None => None,
+        };
+        let mut this = PyLearner { inner: wrap(py, Learner::with_parts(cfg, seed, eval_seed, body, selector)).map_err(|e| Self::failure(py, &slot, 0).unwrap_or(e))?, slot };
+        // The environment may already have failed while the test set was measured.
+        if let Some(e) = this.take_failure(py) {
+            return Err(e);
+        }
+        Ok(this)
     }
 
     /// Run to the end of the step budget. `callback(row: dict) -> bool | None` sees each new
@@ -72,6 +104,9 @@ impl PyLearner {
                 })
             })
         });
+        if let Some(e) = self.take_failure(py) {
+            return Err(e);
+        }
         match pending {
             Some(e) => Err(e),
             None => Ok(done),

@@ -7,6 +7,7 @@ mod config;
 mod errors;
 mod goal_selector;
 mod learner;
+mod python_parts;
 
 /// validate_config(config: dict) -> None: raise ParameterError if any parameter breaks a rule.
 #[pyfunction]

@@ -1,0 +1,103 @@
+"""Environments written in Python, and the typed spaces that describe their bounds.
+
+The run loop (in Rust) needs only this from an environment, Gymnasium-style:
+
+* ``joint_space``: a :class:`Box` of the joint angles (symmetric limits, one per joint);
+* ``reset(*, seed=None, options=None) -> (theta, x)``: back to rest, or, with
+  ``options={"theta": theta}``, placed at once in that configuration (a whole movement in the
+  episodic paradigm; the evaluation also uses it to measure test configurations). ``seed`` comes
+  once, before the run, from the run's root seed;
+* ``step(dtheta) -> (theta, x)``: one micro-action; the loop reads the realised change from the
+  returned ``theta``.
+
+``theta`` has one float per joint, ``x`` is the end-effector position (2 floats). Optional:
+``action_space`` and ``task_space`` boxes, for documentation and checks.
+:func:`saggriac.testing.check_environment` tells whether an object conforms.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any, Protocol, runtime_checkable
+
+import numpy as np
+
+
+class Box:
+    """A box of floats: ``low <= v <= high`` elementwise (a minimal ``gymnasium.spaces.Box``)."""
+
+    def __init__(self, low: Any, high: Any, shape: tuple[int, ...] | None = None) -> None:
+        lo = np.asarray(low, dtype=np.float64)
+        hi = np.asarray(high, dtype=np.float64)
+        if shape is not None:
+            lo = np.broadcast_to(lo, shape).copy()
+            hi = np.broadcast_to(hi, shape).copy()
+        if lo.shape != hi.shape or not np.all(np.isfinite(lo)) or not np.all(np.isfinite(hi)) or not np.all(lo <= hi):
+            raise ValueError(f"Box needs finite low <= high of one shape; got low={lo!r}, high={hi!r}.")
+        self.low, self.high = lo, hi
+        self.shape = lo.shape
+        self.dtype = np.dtype(np.float64)
+
+    def contains(self, v: Any) -> bool:
+        a = np.asarray(v, dtype=np.float64)
+        return a.shape == self.shape and bool(np.all(a >= self.low) and np.all(a <= self.high))
+
+    def sample(self, rng: np.random.Generator) -> np.ndarray:
+        return rng.uniform(self.low, self.high)
+
+    def __repr__(self) -> str:
+        return f"Box(low={self.low.tolist()}, high={self.high.tolist()})"
+
+
+@runtime_checkable
+class Environment(Protocol):
+    joint_space: Box
+
+    def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None) -> tuple[np.ndarray, np.ndarray]: ...
+
+    def step(self, dtheta: np.ndarray) -> tuple[np.ndarray, np.ndarray]: ...
+
+
+class PlanarArm:
+    """The paper's planar arm in pure Python: the built-in arm's arithmetic, operation for
+    operation, so both give the same trajectory bit for bit. A starting point for your own
+    bodies, and the reference the tests compare the Rust arm with.
+
+    A micro-action is scaled down (direction kept) so that no joint moves more than
+    ``max_joint_step``, then the angles are clipped to ``[-joint_limit, joint_limit]``.
+    """
+
+    def __init__(self, n_joints: int = 15, arm_length: float = 50.0, link_lengths: Any = None, joint_limit: float = math.pi / 2, max_joint_step: float = 0.05) -> None:
+        self.lengths = [float(v) for v in link_lengths] if link_lengths is not None else [arm_length / n_joints] * n_joints
+        n = len(self.lengths)
+        self.joint_limit = float(joint_limit)
+        self.max_joint_step = float(max_joint_step)
+        self.joint_space = Box(-self.joint_limit, self.joint_limit, (n,))
+        self.action_space = Box(-self.max_joint_step, self.max_joint_step, (n,))
+        reach = sum(self.lengths)
+        self.task_space = Box(-reach, reach, (2,))
+        self.theta = np.zeros(n)
+
+    def forward(self, theta: Any) -> np.ndarray:
+        phi, x, y = 0.0, 0.0, 0.0
+        for length, t in zip(self.lengths, theta):
+            phi += float(t)
+            x += length * math.cos(phi)
+            y += length * math.sin(phi)
+        return np.array([x, y])
+
+    def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None) -> tuple[np.ndarray, np.ndarray]:
+        lim = self.joint_limit
+        if options and "theta" in options:
+            self.theta = np.array([min(max(float(v), -lim), lim) for v in options["theta"]])
+        else:
+            self.theta = np.zeros(len(self.lengths))
+        return self.theta.copy(), self.forward(self.theta)
+
+    def step(self, dtheta: Any) -> tuple[np.ndarray, np.ndarray]:
+        d = [float(v) for v in dtheta]
+        max_abs = max((abs(v) for v in d), default=0.0)
+        scale = self.max_joint_step / max_abs if max_abs > self.max_joint_step else 1.0
+        lim = self.joint_limit
+        self.theta = np.array([min(max(t + v * scale, -lim), lim) for t, v in zip(self.theta, d)])
+        return self.theta.copy(), self.forward(self.theta)

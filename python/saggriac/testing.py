@@ -1,0 +1,140 @@
+"""Conformance checkers for components users plug into saggriac.
+
+``check_environment(env)`` and ``check_goal_selector(selector)`` exercise an object the way the
+run loop will, and raise :class:`saggriac.errors.ConformanceError` naming the first thing that is
+wrong. Our own tests run them over every built-in component.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from .errors import ConformanceError, ParameterError
+
+
+def _bounds(obj: Any, owner: str, attr_low: str, attr_high: str) -> tuple[np.ndarray, np.ndarray]:
+    try:
+        lo = np.asarray(getattr(obj, attr_low), dtype=np.float64)
+        hi = np.asarray(getattr(obj, attr_high), dtype=np.float64)
+    except AttributeError as e:
+        raise ConformanceError(f"{owner} needs '{attr_low}' and '{attr_high}' arrays: {e}.") from None
+    except (TypeError, ValueError):
+        raise ConformanceError(f"{owner}.{attr_low} and {owner}.{attr_high} must be arrays of floats.") from None
+    if lo.ndim != 1 or lo.shape != hi.shape or lo.size == 0:
+        raise ConformanceError(f"{owner}.{attr_low} and {owner}.{attr_high} must be 1-D arrays of one non-zero length; got shapes {lo.shape} and {hi.shape}.")
+    if not (np.all(np.isfinite(lo)) and np.all(np.isfinite(hi)) and np.all(lo < hi)):
+        raise ConformanceError(f"{owner} bounds must be finite with {attr_low} < {attr_high}; got {lo.tolist()} and {hi.tolist()}.")
+    return lo, hi
+
+
+def _pair(out: Any, n: int, call: str) -> tuple[np.ndarray, np.ndarray]:
+    if not (isinstance(out, tuple) and len(out) == 2):
+        raise ConformanceError(f"{call} must return a pair (theta, x); got {out!r}.")
+    try:
+        theta = np.asarray(out[0], dtype=np.float64)
+        x = np.asarray(out[1], dtype=np.float64)
+    except (TypeError, ValueError):
+        raise ConformanceError(f"{call} must return arrays of floats; got {out!r}.") from None
+    if theta.shape != (n,):
+        raise ConformanceError(f"theta returned by {call} must have shape ({n},), one angle per joint; got {theta.shape}.")
+    if x.shape != (2,):
+        raise ConformanceError(f"x returned by {call} must have shape (2,); got {x.shape}.")
+    if not (np.all(np.isfinite(theta)) and np.all(np.isfinite(x))):
+        raise ConformanceError(f"{call} returned a non-finite value: theta={theta.tolist()}, x={x.tolist()}.")
+    return theta, x
+
+
+def _joint_space(env: Any) -> tuple[np.ndarray, np.ndarray]:
+    if not hasattr(env, "joint_space"):
+        raise ConformanceError("environment needs a 'joint_space' attribute: a Box of the joint angles (saggriac.environments.Box or gymnasium.spaces.Box).")
+    for method in ("reset", "step"):
+        if not callable(getattr(env, method, None)):
+            raise ConformanceError(f"environment needs a '{method}' method (see saggriac.environments).")
+    lo, hi = _bounds(env.joint_space, "environment.joint_space", "low", "high")
+    if not np.allclose(lo, -hi, rtol=0, atol=1e-12) or not np.allclose(hi, hi[0], rtol=0, atol=1e-12):
+        raise ConformanceError(f"environment.joint_space must have the same symmetric limit on every joint, [-limit, limit]; got low={lo.tolist()}, high={hi.tolist()}.")
+    return lo, hi
+
+
+def check_environment_interface(env: Any, config: Any) -> None:
+    """The cheap checks ``saggriac.run`` makes before a run: the attributes exist and agree with
+    the configuration (number of joints, joint limit)."""
+    lo, hi = _joint_space(env)
+    if len(hi) != config.n_joints and config.link_lengths is None:
+        raise ParameterError(f"The 'n_joints' parameter of Config must match the environment's joint_space ({len(hi)} joints). Got {config.n_joints} instead.", "n_joints", repr(config.n_joints))
+    if not math.isclose(float(hi[0]), config.joint_limit, rel_tol=1e-12):
+        raise ParameterError(f"The 'joint_limit' parameter of Config must match the environment's joint_space (limit {float(hi[0])!r}). Got {config.joint_limit!r} instead.", "joint_limit", repr(config.joint_limit))
+
+
+def check_goal_selector_interface(selector: Any, config: Any) -> None:
+    """The cheap checks ``saggriac.run`` makes before a run: methods exist and the bounds are the
+    configured goal space."""
+    for method in ("sample", "update"):
+        if not callable(getattr(selector, method, None)):
+            raise ConformanceError(f"goal_selector needs a '{method}' method (sample() -> goal, update(goal, competence)).")
+    lo, hi = _bounds(selector, "goal_selector", "low", "high")
+    if not (np.array_equal(lo, np.asarray(config.goal_low, dtype=float)) and np.array_equal(hi, np.asarray(config.goal_high, dtype=float))):
+        raise ParameterError(
+            f"The 'goal_low'/'goal_high' parameters of Config must be the goal_selector's bounds ({lo.tolist()}, {hi.tolist()}). Got {list(config.goal_low)}, {list(config.goal_high)} instead.",
+            "goal_low",
+            repr(config.goal_low),
+        )
+
+
+def check_environment(env: Any, n_steps: int = 50, seed: int = 0) -> None:
+    """Check that ``env`` follows the environment protocol of ``saggriac.environments``.
+
+    Resets with a seed (twice: the same pose), places the body at random configurations (twice
+    each: the same position; the angles kept), runs ``n_steps`` small micro-actions (finite
+    values, angles within the joint space) and a zero micro-action (nothing moves)."""
+    lo, hi = _joint_space(env)
+    n = len(hi)
+    rng = np.random.default_rng(seed)
+    t0, x0 = _pair(env.reset(seed=seed), n, "environment.reset(seed=...)")
+    t1, x1 = _pair(env.reset(seed=seed), n, "environment.reset(seed=...)")
+    if not (np.array_equal(t0, t1) and np.array_equal(x0, x1)):
+        raise ConformanceError("environment.reset(seed=s) must give the same (theta, x) each time for the same s.")
+    for _ in range(5):
+        target = rng.uniform(lo, hi)
+        ta, xa = _pair(env.reset(options={"theta": target}), n, "environment.reset(options={'theta': ...})")
+        tb, xb = _pair(env.reset(options={"theta": target}), n, "environment.reset(options={'theta': ...})")
+        if not np.allclose(ta, target, rtol=0, atol=1e-9):
+            raise ConformanceError(f"environment.reset(options={{'theta': t}}) must place the joints at t (within the joint space); asked {target.tolist()}, got {ta.tolist()}.")
+        if not np.array_equal(xa, xb):
+            raise ConformanceError("environment.reset(options={'theta': t}) must give the same x each time for the same t.")
+    theta, _ = _pair(env.reset(), n, "environment.reset()")
+    step = 0.01 * (hi - lo)
+    if hasattr(env, "action_space"):
+        alo, ahi = _bounds(env.action_space, "environment.action_space", "low", "high")
+        step = np.minimum(step, np.minimum(-alo, ahi))
+    for i in range(n_steps):
+        theta, x = _pair(env.step(rng.uniform(-step, step)), n, f"environment.step() (call {i + 1})")
+        if np.any(theta < lo - 1e-12) or np.any(theta > hi + 1e-12):
+            raise ConformanceError(f"theta returned by environment.step() must stay within joint_space; got {theta.tolist()}.")
+    t2, x2 = _pair(env.step(np.zeros(n)), n, "environment.step(zeros)")
+    if not np.allclose(t2, theta, rtol=0, atol=1e-12):
+        raise ConformanceError("environment.step(zeros) must leave the joints where they are.")
+
+
+def check_goal_selector(selector: Any, n_goals: int = 200, seed: int = 0) -> None:
+    """Check that ``selector`` follows the goal-selector protocol: ``low``/``high`` bounds,
+    ``sample()`` returning finite goals inside them, ``update(goal, competence)`` accepting a
+    competence in [-1, 0] for each."""
+    for method in ("sample", "update"):
+        if not callable(getattr(selector, method, None)):
+            raise ConformanceError(f"goal_selector needs a '{method}' method (sample() -> goal, update(goal, competence)).")
+    lo, hi = _bounds(selector, "goal_selector", "low", "high")
+    rng = np.random.default_rng(seed)
+    for i in range(n_goals):
+        try:
+            g = np.asarray(selector.sample(), dtype=np.float64)
+        except (TypeError, ValueError):
+            raise ConformanceError(f"goal_selector.sample() must return an array of {len(lo)} floats (call {i + 1}).") from None
+        if g.shape != lo.shape:
+            raise ConformanceError(f"goal_selector.sample() must return shape {lo.shape}; got {g.shape} (call {i + 1}).")
+        if not np.all(np.isfinite(g)) or np.any(g < lo) or np.any(g > hi):
+            raise ConformanceError(f"goal_selector.sample() must return a finite goal within [low, high]; got {g.tolist()} (call {i + 1}).")
+        selector.update(g, -float(rng.uniform(0.0, 1.0)))
