@@ -38,6 +38,12 @@ class Config:
     link_lengths: tuple[float, ...] | None = None
     joint_limit: float = math.pi / 2
     max_joint_step: float = 0.05
+    # Body variants (beyond the paper): noise, and one link changing length at a given step.
+    motor_noise: float = 0.0
+    sensor_noise: float = 0.0
+    body_change_step: int | None = None
+    body_change_link: int | None = None
+    body_change_length: float | None = None
     # Goal space S'.
     goal_low: tuple[float, float] = (0.0, -50.0)
     goal_high: tuple[float, float] = (50.0, 50.0)

@@ -2,6 +2,7 @@
 //! origin, joint angles relative to the previous link, rest pose straight along +x.
 
 use crate::error::{invalid, Check, Result};
+use crate::rng::{normal, rng_from_seed, CoreRng};
 
 /// Geometry and actuation limits of a planar serial arm.
 #[derive(Debug, Clone, PartialEq)]
@@ -12,12 +13,18 @@ pub struct ArmConfig {
     pub joint_limit: f64,
     /// Largest absolute change of any joint in one micro-action (radians).
     pub max_joint_step: f64,
+    /// Standard deviation of Gaussian noise added to each joint's executed change (radians).
+    pub motor_noise: f64,
+    /// Standard deviation of Gaussian noise on each coordinate of every position reading.
+    pub sensor_noise: f64,
+    /// Seed of the noise (set by the learner from the run's seed).
+    pub noise_seed: u64,
 }
 
 impl ArmConfig {
     /// `n` equal links summing to `total_length`.
     pub fn uniform(n: usize, total_length: f64, joint_limit: f64, max_joint_step: f64) -> Self {
-        ArmConfig { link_lengths: vec![total_length / n as f64; n], joint_limit, max_joint_step }
+        ArmConfig { link_lengths: vec![total_length / n as f64; n], joint_limit, max_joint_step, motor_noise: 0.0, sensor_noise: 0.0, noise_seed: 0 }
     }
 
     pub fn validate(&self) -> Result<()> {
@@ -32,6 +39,8 @@ impl ArmConfig {
         }
         c.in_open_closed("joint_limit", self.joint_limit, 0.0, std::f64::consts::PI)?;
         c.positive("max_joint_step", self.max_joint_step)?;
+        c.non_negative("motor_noise", self.motor_noise)?;
+        c.non_negative("sensor_noise", self.sensor_noise)?;
         Ok(())
     }
 }
@@ -41,7 +50,9 @@ impl ArmConfig {
 pub struct Arm {
     cfg: ArmConfig,
     theta: Vec<f64>,
+    /// The last position reading (the true position when there is no sensor noise).
     x: [f64; 2],
+    rng: CoreRng,
 }
 
 /// Dimension of the task space of the planar arm.
@@ -51,7 +62,8 @@ impl Arm {
     pub fn new(cfg: ArmConfig) -> Result<Self> {
         cfg.validate()?;
         let n = cfg.link_lengths.len();
-        let mut arm = Arm { cfg, theta: vec![0.0; n], x: [0.0; 2] };
+        let rng = rng_from_seed(cfg.noise_seed);
+        let mut arm = Arm { cfg, theta: vec![0.0; n], x: [0.0; 2], rng };
         arm.reset();
         Ok(arm)
     }
@@ -75,7 +87,23 @@ impl Arm {
     /// Back to the rest pose (all joints at 0: straight along +x). Not a micro-action.
     pub fn reset(&mut self) {
         self.theta.iter_mut().for_each(|t| *t = 0.0);
-        self.x = self.forward(&self.theta);
+        self.x = self.read(self.forward(&self.theta));
+    }
+
+    /// A position reading: the true position plus sensor noise, if any.
+    fn read(&mut self, x: [f64; 2]) -> [f64; 2] {
+        let s = self.cfg.sensor_noise;
+        if s > 0.0 {
+            [x[0] + s * normal(&mut self.rng), x[1] + s * normal(&mut self.rng)]
+        } else {
+            x
+        }
+    }
+
+    /// Change one link's length (a body that changes during a run).
+    pub fn set_link_length(&mut self, link: usize, length: f64) {
+        self.cfg.link_lengths[link] = length;
+        self.x = self.read(self.forward(&self.theta));
     }
 
     /// Put the arm in a given configuration (clipped to the joint limits).
@@ -84,7 +112,7 @@ impl Arm {
         for (t, &v) in self.theta.iter_mut().zip(theta) {
             *t = v.clamp(-lim, lim);
         }
-        self.x = self.forward(&self.theta);
+        self.x = self.read(self.forward(&self.theta));
     }
 
     /// End-effector position for a configuration: x = sum_i l_i (cos phi_i, sin phi_i),
@@ -108,12 +136,14 @@ impl Arm {
         let max_abs = dtheta.iter().fold(0.0f64, |m, d| m.max(d.abs()));
         let scale = if max_abs > self.cfg.max_joint_step { self.cfg.max_joint_step / max_abs } else { 1.0 };
         let lim = self.cfg.joint_limit;
+        let noise = self.cfg.motor_noise;
         for (t, d) in self.theta.iter_mut().zip(dtheta.iter_mut()) {
-            let target = (*t + *d * scale).clamp(-lim, lim);
+            let cmd = if noise > 0.0 { *d * scale + noise * normal(&mut self.rng) } else { *d * scale };
+            let target = (*t + cmd).clamp(-lim, lim);
             *d = target - *t;
             *t = target;
         }
-        let x_new = self.forward(&self.theta);
+        let x_new = self.read(self.forward(&self.theta));
         let dx = [x_new[0] - self.x[0], x_new[1] - self.x[1]];
         self.x = x_new;
         dx
@@ -139,7 +169,7 @@ mod tests {
     #[test]
     fn two_link_closed_form() {
         // Classic 2-link formula: x = l1 cos t1 + l2 cos(t1 + t2).
-        let a = Arm::new(ArmConfig { link_lengths: vec![3.0, 2.0], joint_limit: PI, max_joint_step: 1.0 }).unwrap();
+        let a = Arm::new(ArmConfig { link_lengths: vec![3.0, 2.0], ..ArmConfig::uniform(1, 1.0, PI, 1.0) }).unwrap();
         for &(t1, t2) in &[(0.3, -1.1), (1.5, 2.0), (-2.5, 0.7)] {
             let x = a.forward(&[t1, t2]);
             let ex = [3.0 * f64::cos(t1) + 2.0 * f64::cos(t1 + t2), 3.0 * f64::sin(t1) + 2.0 * f64::sin(t1 + t2)];

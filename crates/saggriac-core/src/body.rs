@@ -21,6 +21,10 @@ pub trait Body: Send + Sync {
     fn scratch(&self) -> Option<Box<dyn Body>> {
         None
     }
+    /// Change one link's length during a run (re-adaptation studies). False if the body cannot.
+    fn set_link_length(&mut self, _link: usize, _length: f64) -> bool {
+        false
+    }
     /// True once the body has failed (a user's environment raised or returned bad values); the
     /// run loop stops at the next step.
     fn failed(&self) -> bool {
@@ -49,5 +53,9 @@ impl Body for Arm {
     }
     fn scratch(&self) -> Option<Box<dyn Body>> {
         Some(Box::new(self.clone()))
+    }
+    fn set_link_length(&mut self, link: usize, length: f64) -> bool {
+        Arm::set_link_length(self, link, length);
+        true
     }
 }

@@ -74,8 +74,17 @@ impl Paradigm {
     }
 }
 
+/// A body that changes during a run: at time step `step`, link `link` takes length `length`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BodyChange {
+    pub step: u64,
+    pub link: usize,
+    pub length: f64,
+}
+
 #[derive(Debug, Clone, PartialEq)]
 pub struct RunConfig {
+    pub body_change: Option<BodyChange>,
     pub condition: Condition,
     pub paradigm: Paradigm,
     pub episodic: EpisodicConfig,
@@ -106,6 +115,7 @@ impl Default for RunConfig {
     fn default() -> Self {
         RunConfig {
             condition: Condition::SaggRiac,
+            body_change: None,
             paradigm: Paradigm::MicroActions,
             episodic: EpisodicConfig::default(),
             n_steps: 50_000,
@@ -149,6 +159,16 @@ impl RunConfig {
         c.positive("babble_step", self.babble_step)?;
         self.eval.validate(self.n_steps)?;
         self.episodic.validate(self.arm.link_lengths.len())?;
+        if let Some(b) = self.body_change {
+            let n = self.arm.link_lengths.len();
+            if b.link >= n {
+                return Err(invalid("Run", "body_change_link", format!("an int in [0, {n}) (a link of the {n}-joint arm)"), b.link));
+            }
+            c.positive("body_change_length", b.length)?;
+            if b.step == 0 || b.step > self.n_steps {
+                return Err(invalid("Run", "body_change_step", format!("an int in [1, n_steps] (n_steps = {})", self.n_steps), b.step));
+            }
+        }
         Ok(())
     }
 }

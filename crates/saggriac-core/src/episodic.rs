@@ -202,6 +202,7 @@ impl Learner {
         mem.add(self.body.theta(), x);
         let step_start = self.steps;
         self.steps += 1;
+        self.apply_body_change();
         self.counters.babbling_steps += u64::from(goal.is_none());
         self.counters.reaching_steps += u64::from(goal.is_some());
         let t2 = std::time::Instant::now();

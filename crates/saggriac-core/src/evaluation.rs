@@ -149,6 +149,21 @@ impl Evaluator {
         Evaluator { cfg, tests, scratch, model: LocalModel::new(n_joints, 2, local), warm: WarmStart::new(warm_recent), neighbours: Vec::new(), v, warm_start: warm_recent > 0, time_knn: 0.0, time_fit: 0.0 }
     }
 
+    /// The learner's body changed: copy it again and measure the test configurations anew.
+    pub fn body_changed(&mut self, main: &mut dyn Body) {
+        self.scratch = main.scratch();
+        let configs = self.tests.configs.clone();
+        self.tests.true_x = self.on_body(main, |_, b| {
+            configs
+                .iter()
+                .map(|c| {
+                    b.set_theta(c);
+                    b.position()
+                })
+                .collect()
+        });
+    }
+
     /// Run `f` on the scratch body if there is one, else on `main`, put back afterwards.
     fn on_body<T>(&mut self, main: &mut dyn Body, f: impl FnOnce(&mut Self, &mut dyn Body) -> T) -> T {
         match self.scratch.take() {

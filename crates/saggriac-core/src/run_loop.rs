@@ -125,9 +125,19 @@ impl Learner {
     /// number of joints; a user's selector replaces the high level of a SAGG condition.
     pub fn with_parts(cfg: RunConfig, seed: u64, eval_seed: u64, body: Option<Box<dyn Body>>, selector: Option<Box<dyn GoalSelector>>) -> Result<Self> {
         cfg.validate()?;
+        if body.is_some() && (cfg.arm.motor_noise > 0.0 || cfg.arm.sensor_noise > 0.0) {
+            return Err(invalid("Run", "motor_noise/sensor_noise", "0 when a user's environment is given (add noise in the environment itself)", format!("{}/{}", cfg.arm.motor_noise, cfg.arm.sensor_noise)));
+        }
+        if body.is_some() && cfg.body_change.is_some() {
+            return Err(invalid("Run", "body_change_step", "unset when a user's environment is given (change the body in the environment itself)", cfg.body_change.map(|b| b.step).unwrap_or(0)));
+        }
         let mut body: Box<dyn Body> = match body {
             Some(b) => b,
-            None => Box::new(Arm::new(cfg.arm.clone())?),
+            None => {
+                let mut arm = cfg.arm.clone();
+                arm.noise_seed = child_seed(seed, 3);
+                Box::new(Arm::new(arm)?)
+            }
         };
         let n = cfg.arm.link_lengths.len();
         if body.n_joints() != n {
@@ -248,6 +258,7 @@ impl Learner {
         }
         self.memory.add(&self.buf_theta, dtheta, &dx, &x0);
         self.steps += 1;
+        self.apply_body_change();
         match kind {
             ActionKind::Reaching => self.counters.reaching_steps += 1,
             ActionKind::Exploration => self.counters.exploration_steps += 1,
@@ -256,6 +267,15 @@ impl Learner {
         // Evaluate exactly at the scheduled step; it only reads the memory.
         self.evaluate_due();
         Some(dx)
+    }
+
+    /// At the configured step, change the body; the evaluation follows the new body.
+    pub(crate) fn apply_body_change(&mut self) {
+        if let Some(c) = self.cfg.body_change {
+            if self.steps == c.step && self.body.set_link_length(c.link, c.length) {
+                self.evaluator.body_changed(self.body.as_mut());
+            }
+        }
     }
 
     pub(crate) fn evaluate_due(&mut self) {

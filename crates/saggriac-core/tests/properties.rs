@@ -869,7 +869,7 @@ proptest! {
     /// the cumulative angle, so this is an independent computation.
     #[test]
     fn forward_kinematics_is_a_sum_of_rotations((lengths, theta) in arm_case()) {
-        let arm = Arm::new(ArmConfig { link_lengths: lengths.clone(), joint_limit: PI, max_joint_step: 0.1 }).unwrap();
+        let arm = Arm::new(ArmConfig { link_lengths: lengths.clone(), ..ArmConfig::uniform(1, 1.0, PI, 0.1) }).unwrap();
         let x = arm.forward(&theta);
         let mut rot = (1.0, 0.0);
         let mut z = (0.0, 0.0);

@@ -18,7 +18,8 @@ pub const KEYS: &[&str] = &[
     "v", "n_subgoals", "eps_max", "timeout_factor", "timeout_min", "q", "explore_step", "k_neighbours", "ridge", "pinv_rcond",
     "bandwidth", "min_c", "eps_c", "g_max", "zeta", "min_child", "p_interest", "p_global", "p_lowest", "reset_every",
     "n_test_goals", "n_test_configs", "eval_tolerance", "eval_patience", "eval_timeout_factor", "eval_timeout_min",
-    "eval_schedule", "knn_index", "warm_start_recent", "babble_step", "actuator_reset_every", "paradigm", "episodic_noise", "episodic_refine", "episodic_k",
+    "eval_schedule", "knn_index", "warm_start_recent", "babble_step", "actuator_reset_every", "paradigm", "episodic_noise", "episodic_refine", "episodic_k", "motor_noise", "sensor_noise", "body_change_step",
+    "body_change_link", "body_change_length",
 ];
 
 fn get<'py, T: FromPyObjectOwned<'py>>(d: &Bound<'py, PyDict>, key: &str, default: T, kind: &str) -> PyResult<T> {
@@ -53,9 +54,17 @@ pub fn run_config_from_dict(d: &Bound<'_, PyDict>) -> PyResult<RunConfig> {
         return Err(to_py(py, invalid("Config", "n_joints", "an int >= 1", 0)));
     }
     c.arm = match links {
-        Some(l) => ArmConfig { link_lengths: l, joint_limit: limit, max_joint_step: max_step },
+        Some(l) => ArmConfig { link_lengths: l, ..ArmConfig::uniform(1, 1.0, limit, max_step) },
         None => ArmConfig::uniform(n_joints, length, limit, max_step),
     };
+    c.arm.motor_noise = get(d, "motor_noise", 0.0, "a float")?;
+    c.arm.sensor_noise = get(d, "sensor_noise", 0.0, "a float")?;
+    let change_step: Option<u64> = get(d, "body_change_step", None, "an int >= 1")?;
+    if let Some(step) = change_step {
+        let link: usize = get(d, "body_change_link", usize::MAX, "an int >= 0")?;
+        let length: f64 = get(d, "body_change_length", f64::NAN, "a float > 0")?;
+        c.body_change = Some(saggriac_core::config::BodyChange { step, link, length });
+    }
     c.goal_low = get(d, "goal_low", c.goal_low, "a list of floats")?;
     c.goal_high = get(d, "goal_high", c.goal_high, "a list of floats")?;
     c.reaching.v = get(d, "v", c.reaching.v, "a float")?;
