@@ -206,3 +206,13 @@ def test_environment_must_match_the_configuration():
         saggriac.run(small(), seed=0, environment=PlanarArm(n_joints=10))
     with pytest.raises(ParameterError, match="joint_limit"):
         saggriac.run(small(), seed=0, environment=PlanarArm(joint_limit=1.0))
+
+
+def test_python_environment_example_runs():
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    script = Path(__file__).resolve().parents[1] / "examples" / "python_environment.py"
+    out = subprocess.run([sys.executable, str(script), "--steps", "1500"], capture_output=True, text=True, check=True).stdout
+    assert "same seed, same result: True" in out

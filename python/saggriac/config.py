@@ -85,7 +85,7 @@ class Config:
     actuator_reset_every: int = 0
     # Episodic paradigm (one whole configuration per goal; see docs/episodic.md).
     paradigm: str = "micro_actions"
-    episodic_noise: float = 0.05
+    episodic_noise: float = 0.1
     episodic_refine: bool = False
     episodic_k: int = 20
     # Implementation.

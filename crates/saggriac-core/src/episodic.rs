@@ -29,7 +29,7 @@ pub struct EpisodicConfig {
 
 impl Default for EpisodicConfig {
     fn default() -> Self {
-        EpisodicConfig { noise: 0.05, refine: false, k_refine: 20 }
+        EpisodicConfig { noise: 0.1, refine: false, k_refine: 20 }
     }
 }
 
