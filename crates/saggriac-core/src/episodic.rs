@@ -13,7 +13,7 @@ use crate::config::Condition;
 use crate::error::{Check, Result};
 use crate::kd_tree::KdTree;
 use crate::local_model::pinv_apply_wide;
-use crate::neighbours::{Neighbour, NeighbourIndex};
+use crate::neighbours::{dist_sq, Neighbour, NeighbourIndex};
 use crate::rng::{normal, uniform};
 use crate::run_loop::{AttemptRow, GoalRow, Learner};
 
@@ -42,20 +42,52 @@ impl EpisodicConfig {
     }
 }
 
-/// Every movement's (theta, x), indexed by x (for the inverse model) and by theta (for the
-/// forward model and the local fits).
+/// Every movement's (theta, x), indexed by x (for the inverse model) and, when the learner
+/// needs neighbours of arbitrary configurations (local fits, ACTUATOR-RIAC's predictions), by
+/// theta. The evaluation's fixed test configurations use an incremental scan instead.
 pub struct EpisodicMemory {
     n: usize,
     thetas: Vec<f64>,
     xs: Vec<f64>,
     by_x: KdTree,
-    by_theta: KdTree,
+    by_theta: Option<KdTree>,
     nb: Vec<Neighbour>,
 }
 
 impl EpisodicMemory {
-    pub fn new(n: usize) -> Self {
-        EpisodicMemory { n, thetas: Vec::new(), xs: Vec::new(), by_x: KdTree::new(TASK_DIM), by_theta: KdTree::new(n), nb: Vec::new() }
+    pub fn new(n: usize, index_theta: bool) -> Self {
+        EpisodicMemory { n, thetas: Vec::new(), xs: Vec::new(), by_x: KdTree::new(TASK_DIM), by_theta: index_theta.then(|| KdTree::new(n)), nb: Vec::new() }
+    }
+
+    fn knn_theta(&self, theta: &[f64], k: usize, out: &mut Vec<Neighbour>) {
+        match &self.by_theta {
+            Some(t) => t.knn(theta, k, out),
+            None => {
+                let mut upto = 0;
+                out.clear();
+                self.knn_theta_since(theta, k, out, &mut upto);
+            }
+        }
+    }
+
+    /// Exact k nearest stored configurations, kept up to date: `best` holds the answer for the
+    /// first `*upto` samples; the samples stored since are scanned and merged in (distance, id)
+    /// order, so the answer equals a full search.
+    pub fn knn_theta_since(&self, theta: &[f64], k: usize, best: &mut Vec<Neighbour>, upto: &mut usize) {
+        for id in *upto..self.len() {
+            let d = dist_sq(theta, self.theta(id));
+            // Later ids lose ties, so a newcomer must be strictly closer than the k-th.
+            if best.len() == k && k > 0 && d >= best[k - 1].dist_sq {
+                continue;
+            }
+            if k == 0 {
+                break;
+            }
+            let pos = best.partition_point(|b| b.dist_sq <= d);
+            best.insert(pos, Neighbour { id: id as u32, dist_sq: d });
+            best.truncate(k);
+        }
+        *upto = self.len();
     }
     pub fn len(&self) -> usize {
         self.xs.len() / TASK_DIM
@@ -78,7 +110,9 @@ impl EpisodicMemory {
         self.thetas.extend_from_slice(theta);
         self.xs.extend_from_slice(&x);
         self.by_x.add(&x);
-        self.by_theta.add(theta);
+        if let Some(t) = &mut self.by_theta {
+            t.add(theta);
+        }
         true
     }
 
@@ -95,7 +129,7 @@ impl EpisodicMemory {
         out.copy_from_slice(self.theta(i));
         if cfg.refine {
             let base = self.theta(i).to_vec();
-            self.by_theta.knn(&base, cfg.k_refine + 1, &mut nb);
+            self.knn_theta(&base, cfg.k_refine + 1, &mut nb);
             if let Some(j) = self.local_jacobian(&base, self.x(i), &nb) {
                 let x0 = self.x(i);
                 let dx = [goal[0] - x0[0], goal[1] - x0[1]];
@@ -117,14 +151,29 @@ impl EpisodicMemory {
     /// local linear model. None when the memory is empty.
     pub fn predict(&mut self, theta: &[f64], cfg: &EpisodicConfig) -> Option<[f64; 2]> {
         let mut nb = std::mem::take(&mut self.nb);
-        let k = if cfg.refine { cfg.k_refine } else { 1 };
-        self.by_theta.knn(theta, k, &mut nb);
-        let out = nb.first().map(|f| {
+        self.knn_theta(theta, Self::forward_k(cfg), &mut nb);
+        let out = self.predict_from(theta, &nb, cfg);
+        self.nb = nb;
+        out
+    }
+
+    /// Neighbours the forward model uses.
+    pub fn forward_k(cfg: &EpisodicConfig) -> usize {
+        if cfg.refine {
+            cfg.k_refine
+        } else {
+            1
+        }
+    }
+
+    /// The forward model's prediction at `theta` from its neighbours `nb` (sorted).
+    pub fn predict_from(&self, theta: &[f64], nb: &[Neighbour], cfg: &EpisodicConfig) -> Option<[f64; 2]> {
+        nb.first().map(|f| {
             let i = f.id as usize;
             let mut x = self.x(i);
             if cfg.refine {
                 let base = self.theta(i).to_vec();
-                if let Some(j) = self.local_jacobian(&base, x, &nb) {
+                if let Some(j) = self.local_jacobian(&base, x, nb) {
                     let d: Vec<f64> = theta.iter().zip(&base).map(|(a, b)| a - b).collect();
                     for (r, xr) in x.iter_mut().enumerate() {
                         *xr += (0..self.n).map(|a| j[(r, a)] * d[a]).sum::<f64>();
@@ -132,9 +181,7 @@ impl EpisodicMemory {
                 }
             }
             x
-        });
-        self.nb = nb;
-        out
+        })
     }
 
     /// Least squares J with x_i - x0 ~ J (theta_i - theta0) over the neighbours, ridge-damped
@@ -224,5 +271,45 @@ impl Learner {
         }
         self.timers.goal_selection += t2.elapsed().as_secs_f64();
         self.evaluate_due();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::neighbours::BruteForce;
+    use crate::rng::{rng_from_seed, uniform};
+
+    /// The incremental scan of the evaluation gives exactly a full search's neighbours, ties
+    /// (duplicate configurations) included, however the samples arrive between two calls.
+    #[test]
+    fn incremental_neighbours_match_brute_force() {
+        let n = 4;
+        let mut mem = EpisodicMemory::new(n, false);
+        let mut bf = BruteForce::new(n);
+        let mut rng = rng_from_seed(5);
+        let queries: Vec<Vec<f64>> = (0..6).map(|_| (0..n).map(|_| uniform(&mut rng, -1.0, 1.0)).collect()).collect();
+        let mut cache: Vec<(Vec<Neighbour>, usize)> = vec![(Vec::new(), 0); queries.len()];
+        let mut expected = Vec::new();
+        for round in 0..30 {
+            for _ in 0..(round * 7) % 23 {
+                // Coarse coordinates so that equal distances and duplicates occur.
+                let t: Vec<f64> = (0..n).map(|_| (uniform(&mut rng, -1.0, 1.0) * 4.0).round() / 4.0).collect();
+                mem.add(&t, [0.0, 0.0]);
+                bf.add(&t);
+            }
+            for k in [1, 5] {
+                for (q, (nb, upto)) in queries.iter().zip(cache.iter_mut()) {
+                    let (mut nb_k, mut upto_k) = if k == 1 { (nb.clone(), *upto) } else { (Vec::new(), 0) };
+                    mem.knn_theta_since(q, k, &mut nb_k, &mut upto_k);
+                    bf.knn(q, k, &mut expected);
+                    assert_eq!(nb_k, expected, "round {round}, k {k}");
+                    if k == 1 {
+                        *nb = nb_k;
+                        *upto = upto_k;
+                    }
+                }
+            }
+        }
     }
 }

@@ -132,6 +132,9 @@ fn mean(v: &[f64]) -> f64 {
 pub struct Evaluator {
     pub cfg: EvalConfig,
     pub tests: TestSet,
+    /// Episodic paradigm: each test configuration's neighbours so far, and how many samples
+    /// they cover (the memory only grows, so each evaluation scans only the new samples).
+    forward_cache: Vec<(Vec<Neighbour>, usize)>,
     /// The body the test reaches run on, when the learner's body can make a copy.
     scratch: Option<Box<dyn Body>>,
     model: LocalModel,
@@ -146,7 +149,7 @@ pub struct Evaluator {
 
 impl Evaluator {
     pub fn new(cfg: EvalConfig, tests: TestSet, scratch: Option<Box<dyn Body>>, n_joints: usize, local: LocalModelConfig, v: f64, warm_recent: usize) -> Self {
-        Evaluator { cfg, tests, scratch, model: LocalModel::new(n_joints, 2, local), warm: WarmStart::new(warm_recent), neighbours: Vec::new(), v, warm_start: warm_recent > 0, time_knn: 0.0, time_fit: 0.0 }
+        Evaluator { cfg, tests, forward_cache: Vec::new(), scratch, model: LocalModel::new(n_joints, 2, local), warm: WarmStart::new(warm_recent), neighbours: Vec::new(), v, warm_start: warm_recent > 0, time_knn: 0.0, time_fit: 0.0 }
     }
 
     /// The learner's body changed: copy it again and measure the test configurations anew.
@@ -227,6 +230,7 @@ impl Evaluator {
     /// gets the forward model's prediction.
     pub fn evaluate_episodic(&mut self, memory: &mut EpisodicMemory, body: &mut dyn Body, cfg: &EpisodicConfig, rcond: f64) -> EvalResult {
         let t0 = std::time::Instant::now();
+        self.forward_cache.resize(self.tests.configs.len(), (Vec::new(), 0));
         let reach_errors = self.on_body(body, |ev, arm| {
             let mut theta = vec![0.0; arm.n_joints()];
             ev.tests
@@ -247,8 +251,11 @@ impl Evaluator {
             .configs
             .iter()
             .zip(&self.tests.true_x)
-            .map(|(c, xt)| {
-                let xp = memory.predict(c, cfg).unwrap_or([0.0, 0.0]);
+            .enumerate()
+            .map(|(i, (c, xt))| {
+                let (nb, upto) = &mut self.forward_cache[i];
+                memory.knn_theta_since(c, EpisodicMemory::forward_k(cfg), nb, upto);
+                let xp = memory.predict_from(c, nb, cfg).unwrap_or([0.0, 0.0]);
                 ((xp[0] - xt[0]).powi(2) + (xp[1] - xt[1]).powi(2)).sqrt()
             })
             .collect();

@@ -176,10 +176,19 @@ impl RegionTree {
         self.regions[leaf].interest = interest(&window, zeta);
     }
 
-    fn interest_of(&self, ids: &[u32]) -> f64 {
-        let start = ids.len().saturating_sub(self.cfg.zeta);
-        let window: Vec<f64> = ids[start..].iter().map(|&e| self.values[e as usize]).collect();
-        interest(&window, self.cfg.zeta)
+    /// Interest of the entries whose mask value is `side` (the last zeta of them, in time order).
+    fn window_interest(&self, entries: &[u32], mask: &[bool], side: bool, window: &mut Vec<f64>) -> f64 {
+        window.clear();
+        for p in (0..entries.len()).rev() {
+            if mask[p] == side {
+                window.push(self.values[entries[p] as usize]);
+                if window.len() == self.cfg.zeta {
+                    break;
+                }
+            }
+        }
+        window.reverse();
+        interest(window, self.cfg.zeta)
     }
 
     /// Choose the cut (dimension, position) that maximises |interest(left) - interest(right)|
@@ -189,25 +198,29 @@ impl RegionTree {
         let entries = &self.regions[leaf].entries;
         let n = entries.len();
         let mut best: Option<(f64, usize, usize, f64)> = None; // (score, imbalance, dim, value)
-        let mut order: Vec<u32> = entries.clone();
-        let mut left: Vec<u32> = Vec::with_capacity(n);
-        let mut right: Vec<u32> = Vec::with_capacity(n);
+        // Positions in `entries`, which is in time order; a child's interest needs its last
+        // zeta measurements in time order, read off a membership mask from the end.
+        let mut order: Vec<usize> = (0..n).collect();
+        let mut in_left = vec![false; n];
+        let mut window = Vec::with_capacity(self.cfg.zeta);
+        let mc = self.cfg.min_child.max(1);
         for d in 0..self.dim {
-            let coord = |e: u32| self.points[e as usize * self.dim + d];
+            let coord = |p: usize| self.points[entries[p] as usize * self.dim + d];
             order.sort_by(|a, b| coord(*a).total_cmp(&coord(*b)).then(a.cmp(b)));
-            for i in self.cfg.min_child.max(1)..=(n - self.cfg.min_child.max(1)) {
+            in_left.iter_mut().for_each(|v| *v = false);
+            for &p in &order[..mc - 1] {
+                in_left[p] = true;
+            }
+            for i in mc..=(n - mc) {
+                in_left[order[i - 1]] = true;
                 let (a, b) = (coord(order[i - 1]), coord(order[i]));
                 if a == b {
                     continue;
                 }
                 let cut = midpoint(a, b);
-                left.clear();
-                left.extend_from_slice(&order[..i]);
-                left.sort_unstable();
-                right.clear();
-                right.extend_from_slice(&order[i..]);
-                right.sort_unstable();
-                let score = (self.interest_of(&left) - self.interest_of(&right)).abs();
+                let il = self.window_interest(entries, &in_left, true, &mut window);
+                let ir = self.window_interest(entries, &in_left, false, &mut window);
+                let score = (il - ir).abs();
                 let imbalance = (2 * i).abs_diff(n);
                 let better = match best {
                     None => true,

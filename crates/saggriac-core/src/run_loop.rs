@@ -197,7 +197,7 @@ impl Learner {
             buf_theta: vec![0.0; n],
             actuator_reset,
             babble_steps: 0,
-            episodic: (cfg.paradigm == Paradigm::Episodic).then(|| EpisodicMemory::new(n)),
+            episodic: (cfg.paradigm == Paradigm::Episodic).then(|| EpisodicMemory::new(n, cfg.episodic.refine || cfg.condition == Condition::ActuatorRiac)),
             cfg,
         })
     }
