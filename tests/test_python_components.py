@@ -206,6 +206,8 @@ def test_environment_must_match_the_configuration():
         saggriac.run(small(), seed=0, environment=PlanarArm(n_joints=10))
     with pytest.raises(ParameterError, match="joint_limit"):
         saggriac.run(small(), seed=0, environment=PlanarArm(joint_limit=1.0))
+    with pytest.raises(ParameterError, match="link_lengths"):
+        saggriac.run(small(link_lengths=(10.0,) * 5), seed=0, environment=PlanarArm())
 
 
 def test_python_environment_example_runs():

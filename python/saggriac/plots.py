@@ -22,7 +22,7 @@ LABELS = {
 METRIC_TITLES = {"reach_error": "reaching error (distance goal - end effector)", "pred_error": "prediction error (end-effector position)"}
 
 
-def plot_curves(frame: pd.DataFrame, path: str | Path, title: str = "") -> Path:
+def plot_curves(frame: pd.DataFrame, path: str | Path, title: str = "", step_unit: str = "micro-actions") -> Path:
     """Mean +- standard deviation of each metric against time steps, one line per condition."""
     fig = Figure(figsize=(11, 4.2), layout="constrained")
     axes = fig.subplots(1, 2)
@@ -36,7 +36,7 @@ def plot_curves(frame: pd.DataFrame, path: str | Path, title: str = "") -> Path:
             (line,) = ax.plot(steps, mean.to_numpy(), label=f"{LABELS.get(cond, cond)} (n={int(n.max())})")
             # Shade +- std, as the paper's error bars.
             ax.fill_between(steps, (mean - std).to_numpy(), (mean + std).to_numpy(), color=line.get_color(), alpha=0.15, linewidth=0)
-        ax.set_xlabel("time steps (micro-actions)")
+        ax.set_xlabel(f"time steps ({step_unit})")
         ax.set_ylabel(METRIC_TITLES[metric])
         ax.set_ylim(bottom=0)
         ax.grid(alpha=0.3)

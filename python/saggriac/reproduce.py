@@ -61,7 +61,7 @@ def make_report(out_dir: str | Path, title: str | None = None) -> dict[str, Path
     figs.mkdir(exist_ok=True)
     title = title or f"{len(study.seeds)} seed(s), {study.base.n_steps} time steps"
     written: dict[str, Path] = {}
-    written["curves"] = _atomic(figs / "curves.png", lambda p: plots.plot_curves(frame, p, title))
+    written["curves"] = _atomic(figs / "curves.png", lambda p: plots.plot_curves(frame, p, title, "movements" if study.base.paradigm == "episodic" else "micro-actions"))
     written["arm"] = _atomic(figs / "arm.png", lambda p: plots.plot_arm(study.base, p))
     for cond in ("sagg_riac", "sagg_random"):
         for task in study.tasks():

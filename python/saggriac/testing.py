@@ -63,7 +63,9 @@ def check_environment_interface(env: Any, config: Any) -> None:
     """The cheap checks ``saggriac.run`` makes before a run: the attributes exist and agree with
     the configuration (number of joints, joint limit)."""
     lo, hi = _joint_space(env)
-    if len(hi) != config.n_joints and config.link_lengths is None:
+    if config.link_lengths is not None and len(config.link_lengths) != len(hi):
+        raise ParameterError(f"The 'link_lengths' parameter of Config must have one length per joint of the environment's joint_space ({len(hi)} joints). Got {len(config.link_lengths)} lengths instead.", "link_lengths", repr(config.link_lengths))
+    if config.link_lengths is None and len(hi) != config.n_joints:
         raise ParameterError(f"The 'n_joints' parameter of Config must match the environment's joint_space ({len(hi)} joints). Got {config.n_joints} instead.", "n_joints", repr(config.n_joints))
     if not math.isclose(float(hi[0]), config.joint_limit, rel_tol=1e-12):
         raise ParameterError(f"The 'joint_limit' parameter of Config must match the environment's joint_space (limit {float(hi[0])!r}). Got {config.joint_limit!r} instead.", "joint_limit", repr(config.joint_limit))
