@@ -98,6 +98,10 @@ class Config:
             val = getattr(self, name)
             if isinstance(val, list):
                 object.__setattr__(self, name, tuple(val))
+            elif not (isinstance(val, tuple) or (val is None and name in ("link_lengths", "eval_schedule"))):
+                raise ParameterError(f"The '{name}' parameter of Config must be a list of numbers. Got {val!r} instead.", name, repr(val))
+        if self.eval_schedule is not None and len(self.eval_schedule) == 0:
+            raise ParameterError("The 'eval_schedule' parameter of Config must be a non-empty list of steps (or None for n_evals). Got () instead.", "eval_schedule", "()")
         if not isinstance(self.n_evals, int) or isinstance(self.n_evals, bool) or self.n_evals < 1:
             raise ParameterError(
                 f"The 'n_evals' parameter of Config must be an int >= 1. Got {self.n_evals!r} instead.",
