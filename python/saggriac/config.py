@@ -93,6 +93,10 @@ class Config:
     warm_start_recent: int = 8
 
     def __post_init__(self) -> None:
+        # None would silently mean "the core's default" there: only optional fields take it.
+        for f in dataclasses.fields(self):
+            if getattr(self, f.name) is None and f.default is not None:
+                raise ParameterError(f"The '{f.name}' parameter of Config must be given a value (default {f.default!r}). Got None instead.", f.name, "None")
         # Lists from TOML or JSON become tuples so configs stay hashable and comparable.
         for name in ("link_lengths", "goal_low", "goal_high", "eval_schedule"):
             val = getattr(self, name)
