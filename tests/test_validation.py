@@ -101,3 +101,38 @@ def test_cli_run_and_errors(tmp_path, capsys):
     err = capsys.readouterr().err
     assert rc == 2 and "The 'g_max' parameter of RegionTree must be an int >= 2. Got 0 instead." in err
     assert not (tmp_path / "d").exists()
+
+
+def test_full_disk_after_the_work_keeps_the_result(small_config, tmp_path, monkeypatch):
+    import errno
+
+    import pandas as pd
+
+    def no_space(self, *a, **k):
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    cfg = small_config.replace(n_steps=500)
+    with monkeypatch.context() as m:
+        m.setattr(pd.DataFrame, "to_parquet", no_space)
+        with pytest.raises(saggriac.StorageError, match="No space left on device.*\\.result") as info:
+            saggriac.run(cfg, seed=0, out_dir=tmp_path / "run")
+    # Nothing half-written stands, and the work is still there to save elsewhere.
+    assert sorted(p.name for p in tmp_path.iterdir()) == []
+    kept = info.value.result
+    assert kept.steps[-1] == 500
+    kept.save(tmp_path / "elsewhere")
+    loaded = saggriac.RunResult.load(tmp_path / "elsewhere")
+    pd.testing.assert_frame_equal(loaded.metrics, kept.metrics)
+
+
+def test_too_little_free_space_fails_before_work(small_config, tmp_path, monkeypatch):
+    import shutil
+    import time
+    from collections import namedtuple
+
+    usage = namedtuple("usage", "total used free")
+    monkeypatch.setattr(shutil, "disk_usage", lambda p: usage(10**9, 10**9 - 10**5, 10**5))
+    t0 = time.perf_counter()
+    with pytest.raises(saggriac.StorageError, match="0.1 MB free"):
+        saggriac.run(small_config.replace(n_steps=50_000), seed=0, out_dir=tmp_path / "run")
+    assert time.perf_counter() - t0 < 2.0  # refused before the 50,000 steps, not after

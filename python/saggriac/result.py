@@ -44,6 +44,14 @@ class RunResult:
     def final_pred_error(self) -> float:
         return float(self.pred_error[-1])
 
+    def save(self, path: str | Path, overwrite: bool = False) -> Path:
+        """Write this result as a run directory (atomically, as ``saggriac.run`` does)."""
+        from .storage import write_run
+
+        tables = {"metrics": self.metrics, "goals": self.goals, "attempts": self.attempts, "regions": self.regions}
+        self.path = write_run(Path(path), self.manifest, tables, overwrite)
+        return self.path
+
     @classmethod
     def load(cls, path: str | Path) -> RunResult:
         manifest, tables = read_run(Path(path))

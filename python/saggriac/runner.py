@@ -12,7 +12,7 @@ import pandas as pd
 
 from . import _core
 from .config import Config
-from .errors import ParameterError
+from .errors import ParameterError, StorageError
 from .result import RunResult
 from .seeding import check_seed, derive_seeds, environment_seed
 from .storage import check_output_dir, write_run
@@ -110,7 +110,13 @@ def run(
         manifest["environment"] = f"{type(environment).__module__}.{type(environment).__qualname__}"
     if goal_selector is not None:
         manifest["goal_selector"] = f"{type(goal_selector).__module__}.{type(goal_selector).__qualname__}"
-    path = None
+    result = RunResult(config=config, seed=seed, metrics=metrics, goals=goals, attempts=attempts, regions=regions, manifest=manifest, path=None)
     if out is not None:
-        path = write_run(out, manifest, {"metrics": metrics, "goals": goals, "attempts": attempts, "regions": regions}, overwrite)
-    return RunResult(config=config, seed=seed, metrics=metrics, goals=goals, attempts=attempts, regions=regions, manifest=manifest, path=path)
+        try:
+            result.path = write_run(out, manifest, {"metrics": metrics, "goals": goals, "attempts": attempts, "regions": regions}, overwrite)
+        except StorageError as e:
+            # The disk filled up or vanished after the work was done: keep the work.
+            e.result = result
+            e.args = (f"{e} The result is kept in this exception's .result; save it elsewhere with .result.save(path).",)
+            raise
+    return result

@@ -16,6 +16,8 @@ from .errors import StorageError
 
 MANIFEST = "run.json"
 TABLES = ("metrics", "goals", "attempts", "regions")
+#: Checked before a run starts: a 200,000-step run directory takes about 1 MB; keep a margin.
+MIN_FREE_BYTES = 20_000_000
 
 
 def _check_writable(parent: Path) -> None:
@@ -25,6 +27,9 @@ def _check_writable(parent: Path) -> None:
         raise StorageError(f"Cannot create the output folder {parent}: {e.strerror}.") from None
     if not os.access(parent, os.W_OK):
         raise StorageError(f"The output folder {parent} is not writable.")
+    free = shutil.disk_usage(parent).free
+    if free < MIN_FREE_BYTES:
+        raise StorageError(f"The disk of {parent} has {free / 1e6:.1f} MB free; a run needs up to {MIN_FREE_BYTES / 1e6:.0f} MB. Free some space or choose another folder.")
 
 
 def check_output_dir(out: Path, overwrite: bool = False) -> None:
