@@ -12,9 +12,9 @@ from .config import PRESETS, Config
 from .goal_selection import RandomSelector, SaggRiacSelector
 from .errors import ConformanceError, InputError, ParameterError, SaggriacError, StorageError
 from .result import RunResult
-from .runner import run
+from .runner import resume, run
 from .study import Study, load_study, run_study
 
 __version__ = _core.__version__
 
-__all__ = ["Config", "PRESETS", "run", "RunResult", "SaggRiacSelector", "RandomSelector", "Study", "run_study", "load_study", "SaggriacError", "ConformanceError", "ParameterError", "InputError", "StorageError", "__version__"]
+__all__ = ["Config", "PRESETS", "run", "resume", "RunResult", "SaggRiacSelector", "RandomSelector", "Study", "run_study", "load_study", "SaggriacError", "ConformanceError", "ParameterError", "InputError", "StorageError", "__version__"]

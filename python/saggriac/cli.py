@@ -35,8 +35,17 @@ def _overrides(pairs: list[str]) -> dict[str, Any]:
 
 
 def _cmd_run(args: argparse.Namespace) -> int:
-    from .runner import run
+    from .runner import resume, run
 
+    if args.resume is not None:
+        given = [flag for flag, v in (("--config", args.config), ("--steps", args.steps), ("--condition", args.condition), ("--set", args.set), ("--out", args.out), ("--checkpoint-every", args.checkpoint_every)) if v]
+        if given:
+            raise SaggriacError(f"--resume continues a run with the configuration it was started with; drop {', '.join(given)}.")
+        res = resume(args.resume, progress=not args.no_progress)
+        cfg, out, seed = res.config, Path(args.resume), res.seed
+        print(f"resumed at step {res.manifest['resumed_at_step']}")
+        _print_run(res, cfg, seed, out)
+        return 0
     overrides = _overrides(args.set)
     if args.steps is not None:
         overrides["n_steps"] = args.steps
@@ -47,13 +56,17 @@ def _cmd_run(args: argparse.Namespace) -> int:
     else:
         cfg = Config.from_preset(args.preset, **overrides)
     out = Path(args.out) if args.out else Path("runs") / f"{args.preset}-{cfg.condition}-seed{args.seed}"
-    res = run(cfg, seed=args.seed, out_dir=out, progress=not args.no_progress, overwrite=args.overwrite)
+    res = run(cfg, seed=args.seed, out_dir=out, progress=not args.no_progress, overwrite=args.overwrite, checkpoint_every=args.checkpoint_every)
+    _print_run(res, cfg, args.seed, out)
+    return 0
+
+
+def _print_run(res: Any, cfg: Config, seed: int, out: Path) -> None:
     m = res.metrics
-    print(f"condition {cfg.condition}, seed {args.seed}, {int(m['step'].iloc[-1])} {'movements' if cfg.paradigm == 'episodic' else 'micro-actions'} in {res.manifest['wall_seconds']:.1f} s")
+    print(f"condition {cfg.condition}, seed {seed}, {int(m['step'].iloc[-1])} {'movements' if cfg.paradigm == 'episodic' else 'micro-actions'} in {res.manifest['wall_seconds']:.1f} s")
     print(f"reaching error: start {m['reach_error'].iloc[0]:.3f}, middle {m['reach_error'].iloc[len(m) // 2]:.3f}, end {m['reach_error'].iloc[-1]:.3f}")
     print(f"prediction error: start {m['pred_error'].iloc[0]:.3f}, end {m['pred_error'].iloc[-1]:.3f}")
     print(f"results written to {out}")
-    return 0
 
 
 def _cmd_reproduce(args: argparse.Namespace) -> int:
@@ -107,6 +120,8 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("--out", help="run directory (default runs/PRESET-CONDITION-seedSEED)")
     r.add_argument("--overwrite", action="store_true", help="replace an existing run directory")
     r.add_argument("--no-progress", action="store_true", help="no progress bar")
+    r.add_argument("--checkpoint-every", type=int, metavar="N", help="save the whole run state at the first evaluation after every N steps, next to the run directory")
+    r.add_argument("--resume", metavar="DIR", help="continue the interrupted run that was to be written to DIR, from its checkpoint")
     r.set_defaults(func=_cmd_run)
 
     rp = sub.add_parser("reproduce", help="run one of the paper's experiments (4 conditions x seeds) with figures and statistics")

@@ -41,12 +41,17 @@ def run(
     *,
     environment: Any = None,
     goal_selector: Any = None,
+    checkpoint_every: int | None = None,
 ) -> RunResult:
     """Run one learner for ``config.n_steps`` time steps (micro-actions, or movements when episodic) and return its result.
 
     With ``out_dir`` the run directory is written atomically (manifest ``run.json`` with the
     resolved configuration, seeds, version and git commit; Parquet tables for metrics, goals,
     attempts and regions). ``progress`` shows a progress bar with the current reaching error.
+
+    ``checkpoint_every=N`` (with ``out_dir``) saves the learner's whole state at the first
+    evaluation at or after every N steps, atomically, next to ``out_dir``; ``resume(out_dir)``
+    continues an interrupted run from there to the same result, bit for bit.
     """
     if config is None:
         config = Config()
@@ -71,21 +76,83 @@ def run(
         extra["goal_selector"] = goal_selector
     learner = _core.Learner(config.core_dict(), learner_seed, eval_seed, env_seed=environment_seed(seed), **extra)
 
+    if checkpoint_every is not None:
+        _check_checkpointing(checkpoint_every, out, environment, goal_selector)
+    info = {"seed": seed, "learner_seed": learner_seed, "eval_seed": eval_seed, "overwrite": overwrite}
+    extras = {}
+    if environment is not None:
+        extras["environment"] = f"{type(environment).__module__}.{type(environment).__qualname__}"
+    if goal_selector is not None:
+        extras["goal_selector"] = f"{type(goal_selector).__module__}.{type(goal_selector).__qualname__}"
+    return _drive(learner, config, info, out, progress, checkpoint_every, extras)
+
+
+def _check_checkpointing(every: Any, out: Path | None, environment: Any, goal_selector: Any) -> None:
+    if isinstance(every, bool) or not isinstance(every, (int, np.integer)) or every < 1:
+        raise ParameterError(f"The 'checkpoint_every' parameter of run must be an int >= 1 (time steps). Got {every!r} instead.", "checkpoint_every", repr(every))
+    if out is None:
+        raise ParameterError("The 'checkpoint_every' parameter of run needs out_dir, where the checkpoint is kept. Got out_dir=None.", "checkpoint_every", repr(every))
+    if environment is not None or goal_selector is not None:
+        raise ParameterError("The 'checkpoint_every' parameter of run is not available with a user's environment or goal selector (saggriac cannot save their state).", "checkpoint_every", repr(every))
+
+
+def checkpoint_dir(out: str | Path) -> Path:
+    """Where the checkpoint of the run that will be written to ``out`` is kept."""
+    out = Path(out)
+    return out.with_name(f".{out.name}.checkpoint")
+
+
+def _write_checkpoint(out: Path, state: bytes, info: dict[str, Any], config: Config, steps: int, every: int) -> None:
+    """Atomically replace the checkpoint: state and description go to a temporary sibling,
+    flushed, then renamed over the previous one."""
+    import json
+    import os
+    import shutil
+    import tempfile
+
+    final = checkpoint_dir(out)
+    tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.", suffix=".ckpt.tmp", dir=out.parent))
+    try:
+        (tmp / "state.bin").write_bytes(state)
+        meta = {"config": config.to_dict(), "steps": steps, "checkpoint_every": every, **info, "version": _core.__version__, "git_commit": _core.GIT_COMMIT}
+        (tmp / "checkpoint.json").write_text(json.dumps(meta, indent=2, sort_keys=True))
+        for f in tmp.iterdir():
+            with open(f, "rb") as fh:
+                os.fsync(fh.fileno())
+        old = final.with_name(final.name + ".old")
+        if final.exists():
+            shutil.rmtree(old, ignore_errors=True)
+            final.rename(old)
+        tmp.rename(final)
+        shutil.rmtree(old, ignore_errors=True)
+    except OSError as e:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise StorageError(f"Could not write the checkpoint next to {out}: {e}") from None
+
+
+def _drive(learner: Any, config: Config, info: dict[str, Any], out: Path | None, progress: bool, every: int | None, extras: dict[str, str]) -> RunResult:
+    """Run ``learner`` to the end of its budget, checkpointing if asked, and save the result."""
+    seed = info["seed"]
     bar = None
     if progress:
         from tqdm.auto import tqdm
 
-        bar = tqdm(total=config.n_steps, unit="step", unit_scale=True, desc=f"{config.condition} seed {seed}")
+        bar = tqdm(total=config.n_steps, initial=learner.steps, unit="step", unit_scale=True, desc=f"{config.condition} seed {seed}")
+    next_checkpoint = [None if every is None else (learner.steps // every + 1) * every]
 
     def on_eval(row: dict[str, Any]) -> bool:
         if bar is not None:
             bar.update(row["step"] - bar.n)
             bar.set_postfix(reach=f"{row['reach_error']:.2f}", pred=f"{row['pred_error']:.2f}", goals=row["n_goals"])
-        return True
+        # Stop (between goal attempts) to write a checkpoint once one is due.
+        due = next_checkpoint[0]
+        return not (due is not None and due <= row["step"] < config.n_steps)
 
     t0 = time.perf_counter()
     try:
-        learner.run(on_eval)
+        while not learner.run(on_eval) and learner.steps < config.n_steps:
+            _write_checkpoint(out, learner.checkpoint(), info, config, learner.steps, every)
+            next_checkpoint[0] = (learner.steps // every + 1) * every
     finally:
         if bar is not None:
             bar.close()
@@ -98,25 +165,47 @@ def run(
     manifest = {
         "config": config.to_dict(),
         "seed": seed,
-        "learner_seed": learner_seed,
-        "eval_seed": eval_seed,
+        "learner_seed": info["learner_seed"],
+        "eval_seed": info["eval_seed"],
         "version": _core.__version__,
         "git_commit": _core.GIT_COMMIT,
         "python": platform.python_version(),
         "wall_seconds": wall,
         "profile": learner.profile(),
+        **extras,
     }
-    if environment is not None:
-        manifest["environment"] = f"{type(environment).__module__}.{type(environment).__qualname__}"
-    if goal_selector is not None:
-        manifest["goal_selector"] = f"{type(goal_selector).__module__}.{type(goal_selector).__qualname__}"
+    if info.get("resumed_at") is not None:
+        manifest["resumed_at_step"] = info["resumed_at"]
     result = RunResult(config=config, seed=seed, metrics=metrics, goals=goals, attempts=attempts, regions=regions, manifest=manifest, path=None)
     if out is not None:
         try:
-            result.path = write_run(out, manifest, {"metrics": metrics, "goals": goals, "attempts": attempts, "regions": regions}, overwrite)
+            result.path = write_run(out, manifest, {"metrics": metrics, "goals": goals, "attempts": attempts, "regions": regions}, info["overwrite"])
         except StorageError as e:
             # The disk filled up or vanished after the work was done: keep the work.
             e.result = result
             e.args = (f"{e} The result is kept in this exception's .result; save it elsewhere with .result.save(path).",)
             raise
+        import shutil
+
+        shutil.rmtree(checkpoint_dir(out), ignore_errors=True)
     return result
+
+
+def resume(out_dir: str | Path, progress: bool = False) -> RunResult:
+    """Continue the interrupted run whose checkpoint sits next to ``out_dir`` (written by
+    ``run(..., out_dir=..., checkpoint_every=N)``), to the same result the run would have given
+    without the interruption, and write it to ``out_dir``."""
+    import json
+
+    out = Path(out_dir)
+    ck = checkpoint_dir(out)
+    if not (ck / "state.bin").exists() or not (ck / "checkpoint.json").exists():
+        if (out / "run.json").exists():
+            raise StorageError(f"{out} already holds a finished run; there is nothing to resume.")
+        raise StorageError(f"No checkpoint for {out} (looked for {ck}). Start the run with checkpoint_every (--checkpoint-every) to be able to resume it.")
+    meta = json.loads((ck / "checkpoint.json").read_text())
+    config = Config(**meta["config"])
+    learner = _core.Learner.restore(config.core_dict(), (ck / "state.bin").read_bytes())
+    info = {k: meta[k] for k in ("seed", "learner_seed", "eval_seed", "overwrite")}
+    info["resumed_at"] = learner.steps
+    return _drive(learner, config, info, out, progress, meta["checkpoint_every"], {})

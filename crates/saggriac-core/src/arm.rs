@@ -45,6 +45,16 @@ impl ArmConfig {
     }
 }
 
+/// What a checkpoint keeps of an arm: joints, last reading, noise generator, link lengths (a
+/// link may have changed during the run).
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+pub struct ArmState {
+    pub theta: Vec<f64>,
+    pub x: [f64; 2],
+    pub rng: CoreRng,
+    pub link_lengths: Vec<f64>,
+}
+
 /// The arm: geometry plus its current joint state.
 #[derive(Debug, Clone)]
 pub struct Arm {
@@ -98,6 +108,21 @@ impl Arm {
         } else {
             x
         }
+    }
+
+    pub fn save(&self) -> ArmState {
+        ArmState { theta: self.theta.clone(), x: self.x, rng: self.rng.clone(), link_lengths: self.cfg.link_lengths.clone() }
+    }
+    /// Restore a saved state; false if it belongs to an arm with another number of joints.
+    pub fn load(&mut self, s: &ArmState) -> bool {
+        if s.theta.len() != self.theta.len() || s.link_lengths.len() != self.theta.len() {
+            return false;
+        }
+        self.theta.copy_from_slice(&s.theta);
+        self.x = s.x;
+        self.rng = s.rng.clone();
+        self.cfg.link_lengths.clone_from(&s.link_lengths);
+        true
     }
 
     /// Change one link's length (a body that changes during a run).

@@ -2,7 +2,7 @@
 //! binding wraps one). The run loop, the exploration phase and the evaluation only see this
 //! trait.
 
-use crate::arm::Arm;
+use crate::arm::{Arm, ArmState};
 
 pub trait Body: Send + Sync {
     fn n_joints(&self) -> usize;
@@ -23,6 +23,13 @@ pub trait Body: Send + Sync {
     }
     /// Change one link's length during a run (re-adaptation studies). False if the body cannot.
     fn set_link_length(&mut self, _link: usize, _length: f64) -> bool {
+        false
+    }
+    /// The body's state for a checkpoint (None: this body cannot be checkpointed).
+    fn save(&self) -> Option<ArmState> {
+        None
+    }
+    fn load(&mut self, _state: &ArmState) -> bool {
         false
     }
     /// True once the body has failed (a user's environment raised or returned bad values); the
@@ -57,5 +64,11 @@ impl Body for Arm {
     fn set_link_length(&mut self, link: usize, length: f64) -> bool {
         Arm::set_link_length(self, link, length);
         true
+    }
+    fn save(&self) -> Option<ArmState> {
+        Some(Arm::save(self))
+    }
+    fn load(&mut self, state: &ArmState) -> bool {
+        Arm::load(self, state)
     }
 }

@@ -95,6 +95,10 @@ impl EpisodicMemory {
     pub fn is_empty(&self) -> bool {
         self.xs.is_empty()
     }
+    /// Every movement as (thetas, xs), row by row (for checkpoints).
+    pub fn arrays(&self) -> (&[f64], &[f64]) {
+        (&self.thetas, &self.xs)
+    }
     pub fn theta(&self, i: usize) -> &[f64] {
         &self.thetas[i * self.n..(i + 1) * self.n]
     }

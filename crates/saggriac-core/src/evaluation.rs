@@ -136,7 +136,7 @@ pub struct Evaluator {
     /// they cover (the memory only grows, so each evaluation scans only the new samples).
     forward_cache: Vec<(Vec<Neighbour>, usize)>,
     /// The body the test reaches run on, when the learner's body can make a copy.
-    scratch: Option<Box<dyn Body>>,
+    pub(crate) scratch: Option<Box<dyn Body>>,
     model: LocalModel,
     warm: WarmStart,
     neighbours: Vec<Neighbour>,

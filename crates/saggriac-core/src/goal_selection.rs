@@ -7,7 +7,7 @@ use crate::region_tree::{check_bounds, RegionTree, RegionTreeConfig};
 use crate::rng::{index, rng_from_seed, uniform, unit, CoreRng};
 
 /// How a goal was chosen.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[repr(u8)]
 pub enum Mode {
     /// Uniform in the space before the first split.
@@ -44,6 +44,14 @@ pub trait GoalSelector: Send + Sync {
     fn tree(&self) -> Option<&RegionTree> {
         None
     }
+    /// The selector's state for a checkpoint (None: this selector cannot be checkpointed).
+    fn save(&self) -> Option<SelectorState> {
+        None
+    }
+    /// Restore a state saved by `save` on a selector built with the same parameters.
+    fn load(&mut self, _state: &SelectorState) -> bool {
+        false
+    }
     /// True once a user's selector has failed; the run loop stops.
     fn failed(&self) -> bool {
         false
@@ -79,6 +87,14 @@ impl ModeProbabilities {
 
 fn uniform_in(rng: &mut CoreRng, low: &[f64], high: &[f64]) -> Vec<f64> {
     low.iter().zip(high).map(|(l, h)| uniform(rng, *l, *h)).collect()
+}
+
+/// What a checkpoint keeps of a built-in selector: its generator, and for SAGG-RIAC every
+/// measurement in order (replaying them rebuilds the same tree, splits and interests included).
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+pub enum SelectorState {
+    SaggRiac { rng: CoreRng, points: Vec<f64>, values: Vec<f64> },
+    Random { rng: CoreRng },
 }
 
 /// SAGG-RIAC's high level.
@@ -169,6 +185,23 @@ impl GoalSelector for SaggRiac {
     fn tree(&self) -> Option<&RegionTree> {
         Some(&self.tree)
     }
+    fn save(&self) -> Option<SelectorState> {
+        let n = self.tree.n_measurements();
+        let points = (0..n).flat_map(|i| self.tree.point(i).to_vec()).collect();
+        let values = (0..n).map(|i| self.tree.value(i)).collect();
+        Some(SelectorState::SaggRiac { rng: self.rng.clone(), points, values })
+    }
+    fn load(&mut self, state: &SelectorState) -> bool {
+        let SelectorState::SaggRiac { rng, points, values } = state else { return false };
+        let Ok(mut tree) = RegionTree::new(self.tree.low(), self.tree.high(), *self.tree.config()) else { return false };
+        let d = tree.dim();
+        for (p, v) in points.chunks_exact(d).zip(values) {
+            tree.add(p, *v);
+        }
+        self.tree = tree;
+        self.rng = rng.clone();
+        true
+    }
 }
 
 /// Goals uniform in the box, no high level (SAGG-Random).
@@ -201,6 +234,14 @@ impl GoalSelector for RandomGoals {
     }
     fn update(&mut self, _point: &[f64], _competence: f64) -> Option<usize> {
         None
+    }
+    fn save(&self) -> Option<SelectorState> {
+        Some(SelectorState::Random { rng: self.rng.clone() })
+    }
+    fn load(&mut self, state: &SelectorState) -> bool {
+        let SelectorState::Random { rng } = state else { return false };
+        self.rng = rng.clone();
+        true
     }
 }
 

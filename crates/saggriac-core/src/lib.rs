@@ -9,6 +9,7 @@ pub mod actuator_babbling;
 pub mod arm;
 pub mod ask_tell;
 pub mod body;
+pub mod checkpoint;
 pub mod competence;
 pub mod config;
 pub mod episodic;

@@ -65,6 +65,13 @@ impl SensorimotorMemory {
     pub fn is_empty(&self) -> bool {
         self.len() == 0
     }
+    /// Every stored sample as (theta, dtheta, dx, x) arrays, row by row (for checkpoints).
+    pub fn arrays(&self) -> [&[f64]; 4] {
+        [&self.theta, &self.dtheta, &self.dx, &self.x]
+    }
+    pub(crate) fn set_rejected(&mut self, n: u64) {
+        self.rejected = n;
+    }
     /// Samples refused because a value was NaN or infinite.
     pub fn rejected(&self) -> u64 {
         self.rejected

@@ -4,6 +4,8 @@
 
 use std::time::Instant;
 
+use serde::{Deserialize, Serialize};
+
 use crate::actuator_babbling::actuator_reset_period;
 use crate::arm::Arm;
 use crate::body::Body;
@@ -25,7 +27,7 @@ pub enum ActionKind {
 }
 
 /// One evaluation point of the learning curve.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct MetricRow {
     pub step: u64,
     pub n_samples: u64,
@@ -36,7 +38,7 @@ pub struct MetricRow {
 }
 
 /// One self-generated goal.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct GoalRow {
     pub goal_index: u64,
     pub step_start: u64,
@@ -51,7 +53,7 @@ pub struct GoalRow {
 }
 
 /// One (sub)goal attempt: the measurements given to the high level.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct AttemptRow {
     pub goal_index: u64,
     pub subgoal: u32,
@@ -63,7 +65,7 @@ pub struct AttemptRow {
     pub region: Option<usize>,
 }
 
-#[derive(Debug, Clone, Default, PartialEq)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct Counters {
     pub reaching_steps: u64,
     pub exploration_steps: u64,
@@ -74,7 +76,7 @@ pub struct Counters {
 }
 
 /// Wall time spent in each part, in seconds.
-#[derive(Debug, Clone, Default, PartialEq)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct Timers {
     pub knn: f64,
     pub fit: f64,
@@ -95,9 +97,9 @@ pub struct Learner {
     pub(crate) warm: WarmStart,
     pub(crate) neighbours: Vec<Neighbour>,
     pub(crate) buf_dtheta: Vec<f64>,
-    evaluator: Evaluator,
+    pub(crate) evaluator: Evaluator,
     pub(crate) steps: u64,
-    next_eval: usize,
+    pub(crate) next_eval: usize,
     pub(crate) goals_done: u64,
     /// The episodic paradigm's memory (None for micro-actions).
     pub(crate) episodic: Option<EpisodicMemory>,
@@ -106,7 +108,9 @@ pub struct Learner {
     pub attempts: Vec<AttemptRow>,
     pub(crate) counters: Counters,
     pub(crate) timers: Timers,
-    reported: usize,
+    pub(crate) reported: usize,
+    /// The seeds the learner was built with (checked when a checkpoint is restored).
+    pub(crate) seeds: (u64, u64),
     buf_theta: Vec<f64>,
     /// ACTUATOR conditions: rest reset period (the paper's `max`) and micro-actions so far.
     pub(crate) actuator_reset: usize,
@@ -194,6 +198,7 @@ impl Learner {
             counters: Counters::default(),
             timers: Timers::default(),
             reported: 0,
+            seeds: (seed, eval_seed),
             buf_theta: vec![0.0; n],
             actuator_reset,
             babble_steps: 0,

@@ -244,3 +244,59 @@ fn same_seed_same_run_actuator_conditions() {
         assert_ne!(th(&a), th(&c), "seeds 5 and 7 babbled identically for {condition:?}");
     }
 }
+
+/// Stop at every evaluation, save a checkpoint, drop the learner, restore it from the bytes and
+/// go on: the result must be the uninterrupted run's, bit for bit, evaluations included.
+fn assert_checkpoints_are_invisible(cfg: RunConfig, seed: u64, eval_seed: u64) {
+    let reference = {
+        let mut l = Learner::new(cfg.clone(), seed, eval_seed).unwrap();
+        assert!(l.run(&mut |_| true));
+        l
+    };
+    let mut l = Learner::new(cfg.clone(), seed, eval_seed).unwrap();
+    let mut restores = 0;
+    while !l.run(&mut |_| false) {
+        let bytes = l.checkpoint().expect("built-in parts can be saved");
+        drop(l);
+        l = Learner::restore(cfg.clone(), &bytes).expect("a fresh checkpoint restores");
+        restores += 1;
+        assert!(restores < 1000);
+    }
+    assert!(restores > 2, "the run was checkpointed and restored several times");
+    let what = format!("{:?} {:?} after {restores} restores", cfg.condition, cfg.paradigm);
+    assert_eq!(metrics(&l), metrics(&reference), "{what}: metrics differ");
+    assert_same_training(&l, &reference, &what);
+    assert_eq!(l.selector().tree().map(|t| t.regions().len()), reference.selector().tree().map(|t| t.regions().len()), "{what}: trees differ");
+}
+
+#[test]
+fn checkpoint_and_restore_change_nothing() {
+    let schedule: Vec<u64> = (0..=N_STEPS).step_by(300).collect();
+    for condition in [Condition::SaggRiac, Condition::SaggRandom, Condition::ActuatorRandom, Condition::ActuatorRiac] {
+        let mut cfg = light_config(schedule.clone());
+        cfg.condition = condition;
+        assert_checkpoints_are_invisible(cfg, 21, 22);
+    }
+    // Noise and a body change mid-run, in both paradigms.
+    for paradigm in [saggriac_core::config::Paradigm::MicroActions, saggriac_core::config::Paradigm::Episodic] {
+        let mut cfg = light_config(schedule.clone());
+        cfg.paradigm = paradigm;
+        cfg.arm.motor_noise = 0.003;
+        cfg.arm.sensor_noise = 0.02;
+        cfg.body_change = Some(saggriac_core::config::BodyChange { step: 1234, link: 3, length: 7.0 });
+        assert_checkpoints_are_invisible(cfg, 5, 6);
+    }
+}
+
+#[test]
+fn a_checkpoint_only_restores_its_own_run() {
+    let mut l = Learner::new(light_config(vec![0, 1000, N_STEPS]), 1, 2).unwrap();
+    l.run(&mut |m| m.step < 1000);
+    let bytes = l.checkpoint().unwrap();
+    let mut other = light_config(vec![0, 1000, N_STEPS]);
+    other.tree.g_max = 40;
+    let e = Learner::restore(other, &bytes).err().expect("another configuration is refused").to_string();
+    assert!(e.contains("another configuration"), "{e}");
+    let e = Learner::restore(light_config(vec![0, 1000, N_STEPS]), &bytes[..bytes.len() / 2]).err().expect("a truncated checkpoint is refused").to_string();
+    assert!(e.contains("damaged"), "{e}");
+}

@@ -113,6 +113,20 @@ impl PyLearner {
         }
     }
 
+    /// The learner's whole state as bytes (between goal attempts, e.g. after run() was stopped).
+    fn checkpoint<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyBytes>> {
+        let bytes = wrap(py, self.inner.checkpoint())?;
+        Ok(pyo3::types::PyBytes::new(py, &bytes))
+    }
+
+    /// Learner.restore(config: dict, state: bytes): the learner a checkpoint was taken from.
+    #[staticmethod]
+    fn restore(py: Python<'_>, config: &Bound<'_, PyDict>, state: &[u8]) -> PyResult<Self> {
+        let cfg = run_config_from_dict(config)?;
+        let inner = wrap(py, py.detach(|| Learner::restore(cfg, state)))?;
+        Ok(PyLearner { inner, slot: Default::default() })
+    }
+
     #[getter]
     fn steps(&self) -> u64 {
         self.inner.steps()

@@ -1,0 +1,123 @@
+//! Checkpoints of a single run: everything the rest of the run depends on, so that a restored
+//! learner continues exactly as the original would have, bit for bit. Taken between goal
+//! attempts (where `run()` returns when stopped). Neighbour indexes are not stored: they are
+//! rebuilt by re-adding the samples, and since every search is exact, they answer the same.
+
+use serde::{Deserialize, Serialize};
+
+use crate::arm::ArmState;
+use crate::config::RunConfig;
+use crate::error::{Error, Result};
+use crate::goal_selection::SelectorState;
+use crate::rng::CoreRng;
+use crate::run_loop::{AttemptRow, Counters, GoalRow, Learner, MetricRow, Timers};
+
+/// Bumped whenever the layout below changes; older checkpoints are then refused.
+const FORMAT: u32 = 1;
+
+#[derive(Serialize, Deserialize)]
+struct State {
+    format: u32,
+    version: String,
+    /// The full configuration, printed: a checkpoint resumes only the run it came from.
+    config: String,
+    seeds: (u64, u64),
+    steps: u64,
+    next_eval: usize,
+    goals_done: u64,
+    reported: usize,
+    babble_steps: u64,
+    rng: CoreRng,
+    memory: [Vec<f64>; 4],
+    rejected: u64,
+    episodic: Option<(Vec<f64>, Vec<f64>)>,
+    selector: SelectorState,
+    body: ArmState,
+    scratch: Option<ArmState>,
+    true_x: Vec<[f64; 2]>,
+    counters: Counters,
+    timers: Timers,
+    metrics: Vec<MetricRow>,
+    goals: Vec<GoalRow>,
+    attempts: Vec<AttemptRow>,
+}
+
+fn refuse(why: impl Into<String>) -> Error {
+    Error::InvalidInput(why.into())
+}
+
+impl Learner {
+    /// Encode the learner's state. Only built-in bodies and goal selectors can be saved.
+    pub fn checkpoint(&self) -> Result<Vec<u8>> {
+        let selector = self.selector.save().ok_or_else(|| refuse("This run cannot be checkpointed: its goal selector is a user's object, whose state saggriac cannot save."))?;
+        let body = self.body.save().ok_or_else(|| refuse("This run cannot be checkpointed: its environment is a user's object, whose state saggriac cannot save."))?;
+        let [t, d, x, p] = self.memory.arrays();
+        let state = State {
+            format: FORMAT,
+            version: env!("CARGO_PKG_VERSION").to_string(),
+            config: format!("{:?}", self.cfg),
+            seeds: self.seeds,
+            steps: self.steps,
+            next_eval: self.next_eval,
+            goals_done: self.goals_done,
+            reported: self.reported,
+            babble_steps: self.babble_steps,
+            rng: self.rng.clone(),
+            memory: [t.to_vec(), d.to_vec(), x.to_vec(), p.to_vec()],
+            rejected: self.memory.rejected(),
+            episodic: self.episodic.as_ref().map(|m| (m.arrays().0.to_vec(), m.arrays().1.to_vec())),
+            selector,
+            body,
+            scratch: self.evaluator.scratch.as_ref().and_then(|s| s.save()),
+            true_x: self.evaluator.tests.true_x.clone(),
+            counters: self.counters.clone(),
+            timers: self.timers.clone(),
+            metrics: self.metrics.clone(),
+            goals: self.goals.clone(),
+            attempts: self.attempts.clone(),
+        };
+        postcard::to_stdvec(&state).map_err(|e| refuse(format!("Could not encode the checkpoint: {e}.")))
+    }
+
+    /// Rebuild a learner from a checkpoint of a run with configuration `cfg`.
+    pub fn restore(cfg: RunConfig, bytes: &[u8]) -> Result<Learner> {
+        let s: State = postcard::from_bytes(bytes).map_err(|e| refuse(format!("The checkpoint is damaged or not a saggriac checkpoint ({e}).")))?;
+        if s.format != FORMAT {
+            return Err(refuse(format!("The checkpoint has format {} but this saggriac ({}) reads format {FORMAT}; it was written by saggriac {}.", s.format, env!("CARGO_PKG_VERSION"), s.version)));
+        }
+        if s.config != format!("{cfg:?}") {
+            return Err(refuse("The checkpoint belongs to a run with another configuration; resume it with the configuration it was written with."));
+        }
+        let mut l = Learner::new(cfg, s.seeds.0, s.seeds.1)?;
+        let n = l.cfg.arm.link_lengths.len();
+        let [t, d, x, p] = &s.memory;
+        for i in 0..t.len() / n {
+            l.memory.add(&t[i * n..(i + 1) * n], &d[i * n..(i + 1) * n], &x[i * 2..(i + 1) * 2], &p[i * 2..(i + 1) * 2]);
+        }
+        l.memory.set_rejected(s.rejected);
+        if let (Some(mem), Some((thetas, xs))) = (l.episodic.as_mut(), &s.episodic) {
+            for i in 0..xs.len() / 2 {
+                mem.add(&thetas[i * n..(i + 1) * n], [xs[2 * i], xs[2 * i + 1]]);
+            }
+        }
+        if !l.selector.load(&s.selector) || !l.body.load(&s.body) {
+            return Err(refuse("The checkpoint does not match this run's goal selector or body."));
+        }
+        if let (Some(sc), Some(st)) = (l.evaluator.scratch.as_mut(), &s.scratch) {
+            sc.load(st);
+        }
+        l.evaluator.tests.true_x = s.true_x;
+        l.steps = s.steps;
+        l.next_eval = s.next_eval;
+        l.goals_done = s.goals_done;
+        l.reported = s.reported;
+        l.babble_steps = s.babble_steps;
+        l.rng = s.rng;
+        l.counters = s.counters;
+        l.timers = s.timers;
+        l.metrics = s.metrics;
+        l.goals = s.goals;
+        l.attempts = s.attempts;
+        Ok(l)
+    }
+}
