@@ -10,6 +10,7 @@ import numpy as np
 import pandas as pd
 from matplotlib.figure import Figure
 from matplotlib.patches import Arc, Rectangle
+from matplotlib.ticker import FuncFormatter
 
 from .config import Config
 
@@ -37,6 +38,8 @@ def plot_curves(frame: pd.DataFrame, path: str | Path, title: str = "", step_uni
             # Shade +- std, as the paper's error bars.
             ax.fill_between(steps, (mean - std).to_numpy(), (mean + std).to_numpy(), color=line.get_color(), alpha=0.15, linewidth=0)
         ax.set_xlabel(f"time steps ({step_unit})")
+        # 200000 and its neighbours overlap as plain numbers: 50k, 100k, ...
+        ax.xaxis.set_major_formatter(FuncFormatter(lambda v, _: f"{v / 1000:g}k" if v else "0"))
         ax.set_ylabel(METRIC_TITLES[metric])
         ax.set_ylim(bottom=0)
         ax.grid(alpha=0.3)
