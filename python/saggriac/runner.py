@@ -2,10 +2,12 @@
 
 from __future__ import annotations
 
+import json
 import platform
+import shutil
 import time
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import pandas as pd
@@ -15,7 +17,11 @@ from .config import Config
 from .errors import ParameterError, StorageError
 from .result import RunResult
 from .seeding import check_seed, derive_seeds, environment_seed
-from .storage import check_output_dir, write_run
+from .storage import check_output_dir, replace_dir, write_run
+
+if TYPE_CHECKING:
+    from .environments import Environment
+    from .goal_selection import GoalSelectorProtocol
 
 
 def _xy_columns(d: dict[str, np.ndarray]) -> pd.DataFrame:
@@ -39,8 +45,8 @@ def run(
     progress: bool = False,
     overwrite: bool = False,
     *,
-    environment: Any = None,
-    goal_selector: Any = None,
+    environment: Environment | None = None,
+    goal_selector: GoalSelectorProtocol | None = None,
     checkpoint_every: int | None = None,
 ) -> RunResult:
     """Run one learner for ``config.n_steps`` time steps (micro-actions, or movements when episodic) and return its result.
@@ -103,31 +109,14 @@ def checkpoint_dir(out: str | Path) -> Path:
 
 
 def _write_checkpoint(out: Path, state: bytes, info: dict[str, Any], config: Config, steps: int, every: int) -> None:
-    """Atomically replace the checkpoint: state and description go to a temporary sibling,
-    flushed, then renamed over the previous one."""
-    import json
-    import os
-    import shutil
-    import tempfile
+    """Replace the checkpoint atomically: the state and a readable description."""
+    meta = {"config": config.to_dict(), "steps": steps, "checkpoint_every": every, **info, "version": _core.__version__, "git_commit": _core.GIT_COMMIT}
 
-    final = checkpoint_dir(out)
-    tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.", suffix=".ckpt.tmp", dir=out.parent))
-    try:
+    def fill(tmp: Path) -> None:
         (tmp / "state.bin").write_bytes(state)
-        meta = {"config": config.to_dict(), "steps": steps, "checkpoint_every": every, **info, "version": _core.__version__, "git_commit": _core.GIT_COMMIT}
         (tmp / "checkpoint.json").write_text(json.dumps(meta, indent=2, sort_keys=True))
-        for f in tmp.iterdir():
-            with open(f, "rb") as fh:
-                os.fsync(fh.fileno())
-        old = final.with_name(final.name + ".old")
-        if final.exists():
-            shutil.rmtree(old, ignore_errors=True)
-            final.rename(old)
-        tmp.rename(final)
-        shutil.rmtree(old, ignore_errors=True)
-    except OSError as e:
-        shutil.rmtree(tmp, ignore_errors=True)
-        raise StorageError(f"Could not write the checkpoint next to {out}: {e}") from None
+
+    replace_dir(checkpoint_dir(out), fill, "the checkpoint")
 
 
 def _drive(learner: Any, config: Config, info: dict[str, Any], out: Path | None, progress: bool, every: int | None, extras: dict[str, str]) -> RunResult:
@@ -138,21 +127,20 @@ def _drive(learner: Any, config: Config, info: dict[str, Any], out: Path | None,
         from tqdm.auto import tqdm
 
         bar = tqdm(total=config.n_steps, initial=learner.steps, unit="step", unit_scale=True, desc=f"{config.condition} seed {seed}")
-    next_checkpoint = [None if every is None else (learner.steps // every + 1) * every]
+    next_checkpoint = None if every is None else (learner.steps // every + 1) * every
 
     def on_eval(row: dict[str, Any]) -> bool:
         if bar is not None:
             bar.update(row["step"] - bar.n)
             bar.set_postfix(reach=f"{row['reach_error']:.2f}", pred=f"{row['pred_error']:.2f}", goals=row["n_goals"])
         # Stop (between goal attempts) to write a checkpoint once one is due.
-        due = next_checkpoint[0]
-        return not (due is not None and due <= row["step"] < config.n_steps)
+        return not (next_checkpoint is not None and next_checkpoint <= row["step"] < config.n_steps)
 
     t0 = time.perf_counter()
     try:
         while not learner.run(on_eval) and learner.steps < config.n_steps:
             _write_checkpoint(out, learner.checkpoint(), info, config, learner.steps, every)
-            next_checkpoint[0] = (learner.steps // every + 1) * every
+            next_checkpoint = (learner.steps // every + 1) * every
     finally:
         if bar is not None:
             bar.close()
@@ -185,8 +173,6 @@ def _drive(learner: Any, config: Config, info: dict[str, Any], out: Path | None,
             e.result = result
             e.args = (f"{e} The result is kept in this exception's .result; save it elsewhere with .result.save(path).",)
             raise
-        import shutil
-
         shutil.rmtree(checkpoint_dir(out), ignore_errors=True)
     return result
 
@@ -195,8 +181,6 @@ def resume(out_dir: str | Path, progress: bool = False) -> RunResult:
     """Continue the interrupted run whose checkpoint sits next to ``out_dir`` (written by
     ``run(..., out_dir=..., checkpoint_every=N)``), to the same result the run would have given
     without the interruption, and write it to ``out_dir``."""
-    import json
-
     out = Path(out_dir)
     ck = checkpoint_dir(out)
     if not (ck / "state.bin").exists() or not (ck / "checkpoint.json").exists():

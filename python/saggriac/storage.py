@@ -8,7 +8,7 @@ import os
 import shutil
 import tempfile
 from pathlib import Path
-from typing import Any
+from typing import Any, Callable
 
 import pandas as pd
 
@@ -47,24 +47,17 @@ def _fsync(path: Path) -> None:
         os.close(fd)
 
 
-def write_run(out: Path, manifest: dict[str, Any], tables: dict[str, pd.DataFrame], overwrite: bool = False) -> Path:
-    """Write a run directory atomically; the manifest is written last, so a directory with a
-    manifest is always complete (every file and the rename are flushed to disk)."""
+def replace_dir(out: Path, fill: Callable[[Path], None], what: str) -> Path:
+    """Make ``out`` hold exactly what ``fill`` writes into a fresh directory, atomically: it is
+    filled as a temporary sibling, every file is flushed, then it is renamed into place (over a
+    previous ``out``, moved aside first). A failure leaves the previous ``out`` as it was."""
     old = out.with_name(f".{out.name}.old")
-    if not out.exists() and (old / MANIFEST).exists():
-        # A previous overwrite was killed between its two renames: put the finished run back.
-        old.rename(out)
-    check_output_dir(out, overwrite)
     tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.", suffix=".tmp", dir=out.parent))
     try:
         tmp.chmod(0o755)  # mkdtemp makes it private; results are meant to be shared
-        for name, df in tables.items():
-            df.to_parquet(tmp / f"{name}.parquet", index=False)
-            _fsync(tmp / f"{name}.parquet")
-        with open(tmp / MANIFEST, "w") as f:
-            json.dump(manifest, f, indent=2, sort_keys=True)
-            f.flush()
-            os.fsync(f.fileno())
+        fill(tmp)
+        for f in tmp.iterdir():
+            _fsync(f)
         if out.exists():
             shutil.rmtree(old, ignore_errors=True)
             out.rename(old)
@@ -75,8 +68,24 @@ def write_run(out: Path, manifest: dict[str, Any], tables: dict[str, pd.DataFram
         _fsync(out.parent)
     except OSError as e:
         shutil.rmtree(tmp, ignore_errors=True)
-        raise StorageError(f"Could not write the run to {out}: {e}") from None
+        raise StorageError(f"Could not write {what} to {out}: {e}") from None
     return out
+
+
+def write_run(out: Path, manifest: dict[str, Any], tables: dict[str, pd.DataFrame], overwrite: bool = False) -> Path:
+    """Write a run directory atomically; a directory with a manifest is always complete."""
+    old = out.with_name(f".{out.name}.old")
+    if not out.exists() and (old / MANIFEST).exists():
+        # A previous overwrite was killed between its two renames: put the finished run back.
+        old.rename(out)
+    check_output_dir(out, overwrite)
+
+    def fill(tmp: Path) -> None:
+        for name, df in tables.items():
+            df.to_parquet(tmp / f"{name}.parquet", index=False)
+        (tmp / MANIFEST).write_text(json.dumps(manifest, indent=2, sort_keys=True))
+
+    return replace_dir(out, fill, "the run")
 
 
 def read_run(path: Path) -> tuple[dict[str, Any], dict[str, pd.DataFrame]]:

@@ -305,7 +305,7 @@ impl RegionTree {
         let zeta = self.cfg.zeta;
         self.refresh_interest(li, zeta);
         self.refresh_interest(ri, zeta);
-        let pos = self.leaves.iter().position(|&x| x == leaf).expect("split a leaf");
+        let pos = self.leaf_pos[leaf];
         self.leaves.remove(pos);
         self.leaves.push(li);
         self.leaves.push(ri);
