@@ -111,7 +111,7 @@ def build_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="saggriac", description="SAGG-RIAC goal exploration (Baranes & Oudeyer, IROS 2010).")
     sub = p.add_subparsers(dest="command", required=True)
     r = sub.add_parser("run", help="run one learner and save its results")
-    r.add_argument("--preset", default="exp1", choices=sorted(PRESETS), help="the paper's experiments exp1 and exp2, or explauto's episodic task (default exp1)")
+    r.add_argument("--preset", default="exp1", choices=sorted(PRESETS), help="the paper's experiments exp1 and exp2, explauto's episodic task, or arm3d: exp1 with an arm in space (default exp1)")
     r.add_argument("--config", help="TOML file with parameters (and optionally preset = ...)")
     r.add_argument("--seed", type=int, default=0, help="root seed of the run (default 0)")
     r.add_argument("--condition", help="sagg_riac (default), sagg_random, actuator_random or actuator_riac")

@@ -33,6 +33,8 @@ class Config:
     condition: str = "sagg_riac"
     n_steps: int = 50_000
     # Arm (paper Fig. 2): n joints, equal links summing to arm_length, rest pose straight.
+    # body="spatial_arm" moves it in 3-D (joints alternately yaw and pitch; 3-D goal space).
+    body: str = "planar_arm"
     n_joints: int = 15
     arm_length: float = 50.0
     link_lengths: tuple[float, ...] | None = None
@@ -44,9 +46,9 @@ class Config:
     body_change_step: int | None = None
     body_change_link: int | None = None
     body_change_length: float | None = None
-    # Goal space S'.
-    goal_low: tuple[float, float] = (0.0, -50.0)
-    goal_high: tuple[float, float] = (50.0, 50.0)
+    # Goal space S' (one bound per task-space dimension: 2 for the planar arm, 3 in space).
+    goal_low: tuple[float, ...] = (0.0, -50.0)
+    goal_high: tuple[float, ...] = (50.0, 50.0)
     # Low level (paper III.D).
     v: float = 0.5
     n_subgoals: int = 5
@@ -202,6 +204,15 @@ PRESETS: dict[str, dict[str, Any]] = {
         joint_limit=math.pi,
         goal_low=(-50.0, -50.0),
         goal_high=(50.0, 50.0),
+    ),
+    # Beyond the paper: experiment 1 with the arm in space. The goal space is the box around
+    # the half ball in front of the base, x >= 0 (test goals: that half ball, radius 50).
+    "arm3d": dict(
+        body="spatial_arm",
+        n_steps=50_000,
+        goal_low=(0.0, -50.0, -50.0),
+        goal_high=(50.0, 50.0, 50.0),
+        q=20,
     ),
 }
 

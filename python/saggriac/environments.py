@@ -10,8 +10,9 @@ The run loop (in Rust) needs only this from an environment, Gymnasium-style:
 * ``step(dtheta) -> (theta, x)``: one micro-action; the loop reads the realised change from the
   returned ``theta``.
 
-``theta`` has one float per joint, ``x`` is the end-effector position (2 floats). Optional:
-``action_space`` and ``task_space`` boxes, for documentation and checks.
+``theta`` has one float per joint, ``x`` is the end-effector position: one float per dimension
+of the task space (1 to 3; the run's goal space ``goal_low``/``goal_high`` has the same
+dimension). Optional: ``action_space`` and ``task_space`` boxes, for documentation and checks.
 :func:`saggriac.testing.check_environment` tells whether an object conforms.
 """
 
@@ -58,14 +59,10 @@ class Environment(Protocol):
     def step(self, dtheta: np.ndarray) -> tuple[np.ndarray, np.ndarray]: ...
 
 
-class PlanarArm:
-    """The paper's planar arm in pure Python: the built-in arm's arithmetic, operation for
-    operation, so both give the same trajectory bit for bit. A starting point for your own
-    bodies, and the reference the tests compare the Rust arm with.
+class _SerialArm:
+    """What the two arms share: joints, limits, rest pose, micro-actions."""
 
-    A micro-action is scaled down (direction kept) so that no joint moves more than
-    ``max_joint_step``, then the angles are clipped to ``[-joint_limit, joint_limit]``.
-    """
+    task_dim = 2
 
     def __init__(self, n_joints: int = 15, arm_length: float = 50.0, link_lengths: Any = None, joint_limit: float = math.pi / 2, max_joint_step: float = 0.05) -> None:
         self.lengths = [float(v) for v in link_lengths] if link_lengths is not None else [arm_length / n_joints] * n_joints
@@ -75,16 +72,11 @@ class PlanarArm:
         self.joint_space = Box(-self.joint_limit, self.joint_limit, (n,))
         self.action_space = Box(-self.max_joint_step, self.max_joint_step, (n,))
         reach = sum(self.lengths)
-        self.task_space = Box(-reach, reach, (2,))
+        self.task_space = Box(-reach, reach, (self.task_dim,))
         self.theta = np.zeros(n)
 
     def forward(self, theta: Any) -> np.ndarray:
-        phi, x, y = 0.0, 0.0, 0.0
-        for length, t in zip(self.lengths, theta):
-            phi += float(t)
-            x += length * math.cos(phi)
-            y += length * math.sin(phi)
-        return np.array([x, y])
+        raise NotImplementedError
 
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None) -> tuple[np.ndarray, np.ndarray]:
         lim = self.joint_limit
@@ -101,3 +93,45 @@ class PlanarArm:
         lim = self.joint_limit
         self.theta = np.array([min(max(t + v * scale, -lim), lim) for t, v in zip(self.theta, d)])
         return self.theta.copy(), self.forward(self.theta)
+
+
+class PlanarArm(_SerialArm):
+    """The paper's planar arm in pure Python: the built-in arm's arithmetic, operation for
+    operation, so both give the same trajectory bit for bit. A starting point for your own
+    bodies, and the reference the tests compare the Rust arm with.
+
+    A micro-action is scaled down (direction kept) so that no joint moves more than
+    ``max_joint_step``, then the angles are clipped to ``[-joint_limit, joint_limit]``.
+    """
+
+    task_dim = 2
+
+    def forward(self, theta: Any) -> np.ndarray:
+        phi, x, y = 0.0, 0.0, 0.0
+        for length, t in zip(self.lengths, theta):
+            phi += float(t)
+            x += length * math.cos(phi)
+            y += length * math.sin(phi)
+        return np.array([x, y])
+
+
+class SpatialArm(_SerialArm):
+    """The arm in space (``body="spatial_arm"``) in pure Python, bit-identical to the built-in
+    one. Joint i turns the link frame about its own z axis (yaw) for even i and its own y axis
+    (pitch) for odd i; each link extends along the frame's x axis. Rest pose: straight along +x.
+    The task space is (x, y, z).
+    """
+
+    task_dim = 3
+
+    def forward(self, theta: Any) -> np.ndarray:
+        e0, e1, e2 = [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]
+        x = [0.0, 0.0, 0.0]
+        for i, (length, t) in enumerate(zip(self.lengths, theta)):
+            s, c = math.sin(float(t)), math.cos(float(t))
+            if i % 2 == 0:
+                e0, e1 = [c * a + s * b for a, b in zip(e0, e1)], [c * b - s * a for a, b in zip(e0, e1)]
+            else:
+                e0, e2 = [c * a - s * b for a, b in zip(e0, e2)], [s * a + c * b for a, b in zip(e0, e2)]
+            x = [xk + length * ek for xk, ek in zip(x, e0)]
+        return np.array(x)

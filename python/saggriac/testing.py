@@ -30,7 +30,11 @@ def _bounds(obj: Any, owner: str, attr_low: str, attr_high: str) -> tuple[np.nda
     return lo, hi
 
 
-def _pair(out: Any, n: int, call: str) -> tuple[np.ndarray, np.ndarray]:
+# The run loop's task spaces have 1 to MAX_TASK_DIM dimensions.
+MAX_TASK_DIM = 3
+
+
+def _pair(out: Any, n: int, m: int, call: str) -> tuple[np.ndarray, np.ndarray]:
     if not (isinstance(out, tuple) and len(out) == 2):
         raise ConformanceError(f"{call} must return a pair (theta, x); got {out!r}.")
     try:
@@ -40,8 +44,8 @@ def _pair(out: Any, n: int, call: str) -> tuple[np.ndarray, np.ndarray]:
         raise ConformanceError(f"{call} must return arrays of floats; got {out!r}.") from None
     if theta.shape != (n,):
         raise ConformanceError(f"theta returned by {call} must have shape ({n},), one angle per joint; got {theta.shape}.")
-    if x.shape != (2,):
-        raise ConformanceError(f"x returned by {call} must have shape (2,); got {x.shape}.")
+    if x.shape != (m,):
+        raise ConformanceError(f"x returned by {call} must have shape ({m},), one coordinate per task-space dimension; got {x.shape}.")
     if not (np.all(np.isfinite(theta)) and np.all(np.isfinite(x))):
         raise ConformanceError(f"{call} returned a non-finite value: theta={theta.tolist()}, x={x.tolist()}.")
     return theta, x
@@ -59,10 +63,23 @@ def _joint_space(env: Any) -> tuple[np.ndarray, np.ndarray]:
     return lo, hi
 
 
+def _task_dim(env: Any) -> int | None:
+    """The dimension of ``env.task_space``, if it has one."""
+    if not hasattr(env, "task_space"):
+        return None
+    lo, _ = _bounds(env.task_space, "environment.task_space", "low", "high")
+    if not 1 <= lo.size <= MAX_TASK_DIM:
+        raise ConformanceError(f"environment.task_space must have 1 to {MAX_TASK_DIM} dimensions (the run loop's limit); got {lo.size}.")
+    return int(lo.size)
+
+
 def check_environment_interface(env: Any, config: Any) -> None:
     """The cheap checks ``saggriac.run`` makes before a run: the attributes exist and agree with
-    the configuration (number of joints, joint limit)."""
+    the configuration (number of joints, joint limit, task-space dimension)."""
     lo, hi = _joint_space(env)
+    m = _task_dim(env)
+    if m is not None and m != len(config.goal_low):
+        raise ParameterError(f"The 'goal_low' parameter of Config must have one bound per dimension of the environment's task_space ({m}). Got {list(config.goal_low)} instead.", "goal_low", repr(config.goal_low))
     if config.link_lengths is not None and len(config.link_lengths) != len(hi):
         raise ParameterError(f"The 'link_lengths' parameter of Config must have one length per joint of the environment's joint_space ({len(hi)} joints). Got {len(config.link_lengths)} lengths instead.", "link_lengths", repr(config.link_lengths))
     if config.link_lengths is None and len(hi) != config.n_joints:
@@ -95,28 +112,38 @@ def check_environment(env: Any, n_steps: int = 50, seed: int = 0) -> None:
     lo, hi = _joint_space(env)
     n = len(hi)
     rng = np.random.default_rng(seed)
-    t0, x0 = _pair(env.reset(seed=seed), n, "environment.reset(seed=...)")
-    t1, x1 = _pair(env.reset(seed=seed), n, "environment.reset(seed=...)")
+    first = env.reset(seed=seed)
+    m = _task_dim(env)
+    if m is None:
+        # No task_space: the first position fixes the dimension.
+        try:
+            m = int(np.asarray(first[1], dtype=np.float64).size) if isinstance(first, tuple) and len(first) == 2 else 2
+        except (TypeError, ValueError):
+            m = 2
+        if not 1 <= m <= MAX_TASK_DIM:
+            raise ConformanceError(f"x returned by environment.reset(seed=...) must have 1 to {MAX_TASK_DIM} coordinates (the run loop's limit); got {m}.")
+    t0, x0 = _pair(first, n, m, "environment.reset(seed=...)")
+    t1, x1 = _pair(env.reset(seed=seed), n, m, "environment.reset(seed=...)")
     if not (np.array_equal(t0, t1) and np.array_equal(x0, x1)):
         raise ConformanceError("environment.reset(seed=s) must give the same (theta, x) each time for the same s.")
     for _ in range(5):
         target = rng.uniform(lo, hi)
-        ta, xa = _pair(env.reset(options={"theta": target}), n, "environment.reset(options={'theta': ...})")
-        tb, xb = _pair(env.reset(options={"theta": target}), n, "environment.reset(options={'theta': ...})")
+        ta, xa = _pair(env.reset(options={"theta": target}), n, m, "environment.reset(options={'theta': ...})")
+        tb, xb = _pair(env.reset(options={"theta": target}), n, m, "environment.reset(options={'theta': ...})")
         if not np.allclose(ta, target, rtol=0, atol=1e-9):
             raise ConformanceError(f"environment.reset(options={{'theta': t}}) must place the joints at t (within the joint space); asked {target.tolist()}, got {ta.tolist()}.")
         if not np.array_equal(xa, xb):
             raise ConformanceError("environment.reset(options={'theta': t}) must give the same x each time for the same t.")
-    theta, _ = _pair(env.reset(), n, "environment.reset()")
+    theta, _ = _pair(env.reset(), n, m, "environment.reset()")
     step = 0.01 * (hi - lo)
     if hasattr(env, "action_space"):
         alo, ahi = _bounds(env.action_space, "environment.action_space", "low", "high")
         step = np.minimum(step, np.minimum(-alo, ahi))
     for i in range(n_steps):
-        theta, x = _pair(env.step(rng.uniform(-step, step)), n, f"environment.step() (call {i + 1})")
+        theta, x = _pair(env.step(rng.uniform(-step, step)), n, m, f"environment.step() (call {i + 1})")
         if np.any(theta < lo - 1e-12) or np.any(theta > hi + 1e-12):
             raise ConformanceError(f"theta returned by environment.step() must stay within joint_space; got {theta.tolist()}.")
-    t2, x2 = _pair(env.step(np.zeros(n)), n, "environment.step(zeros)")
+    t2, x2 = _pair(env.step(np.zeros(n)), n, m, "environment.step(zeros)")
     if not np.allclose(t2, theta, rtol=0, atol=1e-12):
         raise ConformanceError("environment.step(zeros) must leave the joints where they are.")
 

@@ -35,7 +35,7 @@ fn main() {
             arm.reset();
         }
         ws.clear();
-        let dist = |x: [f64; 2]| ((g[0] - x[0]).powi(2) + (g[1] - x[1]).powi(2)).sqrt();
+        let dist = |x: saggriac_core::task_space::Point| saggriac_core::task_space::distance(g, &x);
         let d0 = dist(arm.position());
         let timeout = (2.0 * d0 / 0.5).ceil() as usize + 20;
         let (mut best, mut since) = (d0, 0);
@@ -49,7 +49,7 @@ fn main() {
             mem.knn_warm(&mut ws, &th, k, &mut nb);
             qs.push(th.clone());
             rk.push(nb.last().unwrap().dist_sq.sqrt());
-            if model.fit(mem, &nb).and_then(|_| model.inverse(&dx, &mut dtheta)).is_err() {
+            if model.fit(mem, &nb).and_then(|_| model.inverse(&dx[..2], &mut dtheta)).is_err() {
                 break;
             }
             arm.step(&mut dtheta);

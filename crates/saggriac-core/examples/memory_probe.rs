@@ -31,7 +31,12 @@ fn main() {
     let secs = t0.elapsed().as_secs_f64();
     let after = rss_bytes();
     let per = (after - before) as f64 / n_samples as f64;
-    println!("{n_samples} samples, {n} joints: resident memory +{:.1} MB, {per:.0} bytes per sample ({} in the sample arrays, the rest in the k-d tree and allocator slack); inserts {:.2} us each", (after - before) as f64 / 1e6, mem.sample_bytes(), secs / n_samples as f64 * 1e6);
+    println!(
+        "{n_samples} samples, {n} joints: resident memory +{:.1} MB, {per:.0} bytes per sample ({} in the sample arrays, the rest in the k-d tree and allocator slack); inserts {:.2} us each",
+        (after - before) as f64 / 1e6,
+        mem.sample_bytes(),
+        secs / n_samples as f64 * 1e6
+    );
     let mut out = Vec::new();
     mem.knn(&theta, 45, &mut out);
     assert_eq!(out.len(), 45);

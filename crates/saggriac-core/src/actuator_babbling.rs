@@ -8,10 +8,20 @@
 use crate::config::{Condition, RunConfig};
 use crate::rng::uniform;
 use crate::run_loop::{ActionKind, Learner};
+use crate::task_space::{distance, point, Point, MAX_TASK_DIM};
 
 /// Points on the boundary of the reachable part of the goal box (the box intersected with the
-/// disk of radius `reach`), `per_edge` per edge plus the arc.
-fn reachable_boundary(low: &[f64], high: &[f64], reach: f64, per_edge: usize) -> Vec<[f64; 2]> {
+/// ball of radius `reach`).
+fn reachable_boundary(low: &[f64], high: &[f64], reach: f64, per_edge: usize) -> Vec<Point> {
+    match low.len() {
+        1 => [low[0].max(-reach), high[0].min(reach)].iter().map(|&v| point(&[v])).collect(),
+        2 => boundary_2d(low, high, reach, per_edge).iter().map(|p| point(p)).collect(),
+        _ => boundary_3d(low, high, reach, per_edge / 10),
+    }
+}
+
+/// The 2-D case: `per_edge` points per edge of the box plus the circle.
+fn boundary_2d(low: &[f64], high: &[f64], reach: f64, per_edge: usize) -> Vec<[f64; 2]> {
     let mut pts = Vec::new();
     let corners = [[low[0], low[1]], [high[0], low[1]], [high[0], high[1]], [low[0], high[1]]];
     for e in 0..4 {
@@ -29,12 +39,43 @@ fn reachable_boundary(low: &[f64], high: &[f64], reach: f64, per_edge: usize) ->
     pts
 }
 
+/// The 3-D case: a `k` x `k` grid on each face of the box plus a Fibonacci lattice on the
+/// sphere, kept where inside both.
+fn boundary_3d(low: &[f64], high: &[f64], reach: f64, k: usize) -> Vec<Point> {
+    let mut pts = Vec::new();
+    for axis in 0..3 {
+        let (u, w) = ((axis + 1) % 3, (axis + 2) % 3);
+        for side in [low[axis], high[axis]] {
+            for i in 0..=k {
+                for j in 0..=k {
+                    let mut p = [0.0; MAX_TASK_DIM];
+                    p[axis] = side;
+                    p[u] = low[u] + (high[u] - low[u]) * i as f64 / k as f64;
+                    p[w] = low[w] + (high[w] - low[w]) * j as f64 / k as f64;
+                    pts.push(p);
+                }
+            }
+        }
+    }
+    let n = 100 * k;
+    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
+    for i in 0..n {
+        let z = 1.0 - 2.0 * (i as f64 + 0.5) / n as f64;
+        let rho = (1.0 - z * z).sqrt();
+        let (s, c) = (golden * i as f64).sin_cos();
+        pts.push([reach * rho * c, reach * rho * s, reach * z]);
+    }
+    let zero = [0.0; MAX_TASK_DIM];
+    pts.retain(|p| distance(p, &zero) <= reach * (1.0 + 1e-12) && (0..3).all(|a| p[a] >= low[a] - 1e-9 && p[a] <= high[a] + 1e-9));
+    pts
+}
+
 /// The paper's `max`: micro-actions needed to go from rest to the nearer of the two most distant
 /// reachable points of the goal space, then to the other, at speed v.
-pub fn actuator_reset_period(cfg: &RunConfig, rest: [f64; 2]) -> usize {
+pub fn actuator_reset_period(cfg: &RunConfig, rest: Point) -> usize {
     let reach: f64 = cfg.arm.link_lengths.iter().sum();
     let pts = reachable_boundary(&cfg.goal_low, &cfg.goal_high, reach, 200);
-    let d = |a: [f64; 2], b: [f64; 2]| ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)).sqrt();
+    let d = |a: Point, b: Point| distance(&a, &b);
     let mut best = (0.0, rest, rest);
     for (i, &a) in pts.iter().enumerate() {
         for &b in &pts[i + 1..] {
@@ -79,7 +120,7 @@ impl Learner {
         let predicted = if self.cfg.condition == Condition::ActuatorRiac { Some(self.predict_dx(&d)) } else { None };
         let dx = self.micro_action(&mut d, ActionKind::Babbling);
         if let (Some(p), Some(dx)) = (predicted, dx) {
-            let err = ((dx[0] - p[0]).powi(2) + (dx[1] - p[1]).powi(2)).sqrt();
+            let err = distance(&dx, &p);
             let mut point = theta0;
             point.extend_from_slice(&d);
             let t0 = std::time::Instant::now();
@@ -91,10 +132,10 @@ impl Learner {
 
     /// Forward prediction of dx for a command at the current theta: J dtheta with J fitted on the
     /// neighbours, or no motion when no model is available yet.
-    fn predict_dx(&mut self, dtheta: &[f64]) -> [f64; 2] {
+    fn predict_dx(&mut self, dtheta: &[f64]) -> Point {
         match self.fit_here() {
             Ok(()) => self.expected_dx(dtheta),
-            Err(_) => [0.0, 0.0],
+            Err(_) => [0.0; MAX_TASK_DIM],
         }
     }
 }
@@ -108,9 +149,26 @@ mod tests {
         // Both experiments: the farthest reachable pair is (0, 50), (0, -50); from rest (50, 0)
         // that is 50 sqrt(2) + 100 = 170.7 units, 342 steps at v = 0.5.
         let mut cfg = RunConfig::default();
-        assert_eq!(actuator_reset_period(&cfg, [50.0, 0.0]), 342);
+        assert_eq!(actuator_reset_period(&cfg, [50.0, 0.0, 0.0]), 342);
         cfg.goal_low = vec![0.0, -150.0];
         cfg.goal_high = vec![150.0, 150.0];
-        assert_eq!(actuator_reset_period(&cfg, [50.0, 0.0]), 342);
+        assert_eq!(actuator_reset_period(&cfg, [50.0, 0.0, 0.0]), 342);
+    }
+
+    #[test]
+    fn reset_period_in_3d() {
+        // Goal box [-50, 50]^3 around a ball of radius 50: the farthest pair is a diameter, and
+        // from rest (50, 0, 0) the nearer end of a diameter is at most 50 sqrt(2) away: the
+        // path is between 100 + 0 (the diameter through rest) and 170.7 units.
+        let mut cfg = RunConfig::default();
+        cfg.goal_low = vec![-50.0; 3];
+        cfg.goal_high = vec![50.0; 3];
+        let p = actuator_reset_period(&cfg, [50.0, 0.0, 0.0]);
+        assert!((200..=342).contains(&p), "{p}");
+        // A thin slab z in [-1, 1]: nearly the 2-D disk of radius 50.
+        cfg.goal_low = vec![0.0, -50.0, -1.0];
+        cfg.goal_high = vec![50.0, 50.0, 1.0];
+        let p = actuator_reset_period(&cfg, [50.0, 0.0, 0.0]);
+        assert!((335..=343).contains(&p), "{p}");
     }
 }

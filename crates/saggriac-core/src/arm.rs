@@ -1,12 +1,49 @@
-//! The simulated planar arm of the paper (Fig. 2): n revolute joints in series, base at the
-//! origin, joint angles relative to the previous link, rest pose straight along +x.
+//! The simulated arm: n revolute joints in series, base at the origin, joint angles relative to
+//! the previous link, rest pose straight along +x. The paper's arm (Fig. 2) is planar; the
+//! spatial variant moves in 3-D, its joints turning alternately about the local z axis (yaw) and
+//! the local y axis (pitch).
 
 use crate::error::{invalid, Check, Result};
 use crate::rng::{normal, rng_from_seed, CoreRng};
+use crate::task_space::{Point, MAX_TASK_DIM};
 
-/// Geometry and actuation limits of a planar serial arm.
+/// Which kinematics the arm has.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ArmKind {
+    /// The paper's arm: every joint turns about z, the task space is the plane (x, y).
+    Planar,
+    /// An arm in space: joint i turns about its link frame's z axis for even i and its y axis
+    /// for odd i; the task space is (x, y, z).
+    Spatial,
+}
+
+impl ArmKind {
+    pub fn parse(s: &str) -> Result<Self> {
+        match s {
+            "planar_arm" => Ok(ArmKind::Planar),
+            "spatial_arm" => Ok(ArmKind::Spatial),
+            _ => Err(invalid("Run", "body", "one of 'planar_arm', 'spatial_arm'", format!("'{s}'"))),
+        }
+    }
+    pub fn name(&self) -> &'static str {
+        match self {
+            ArmKind::Planar => "planar_arm",
+            ArmKind::Spatial => "spatial_arm",
+        }
+    }
+    /// Dimension of the arm's task space.
+    pub fn task_dim(&self) -> usize {
+        match self {
+            ArmKind::Planar => 2,
+            ArmKind::Spatial => 3,
+        }
+    }
+}
+
+/// Geometry and actuation limits of a serial arm.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ArmConfig {
+    pub kind: ArmKind,
     /// Length of each link; the number of joints is its length.
     pub link_lengths: Vec<f64>,
     /// Symmetric joint limit: every joint angle stays in [-joint_limit, joint_limit] (radians).
@@ -24,7 +61,7 @@ pub struct ArmConfig {
 impl ArmConfig {
     /// `n` equal links summing to `total_length`.
     pub fn uniform(n: usize, total_length: f64, joint_limit: f64, max_joint_step: f64) -> Self {
-        ArmConfig { link_lengths: vec![total_length / n as f64; n], joint_limit, max_joint_step, motor_noise: 0.0, sensor_noise: 0.0, noise_seed: 0 }
+        ArmConfig { kind: ArmKind::Planar, link_lengths: vec![total_length / n as f64; n], joint_limit, max_joint_step, motor_noise: 0.0, sensor_noise: 0.0, noise_seed: 0 }
     }
 
     pub fn validate(&self) -> Result<()> {
@@ -50,7 +87,7 @@ impl ArmConfig {
 #[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct ArmState {
     pub theta: Vec<f64>,
-    pub x: [f64; 2],
+    pub x: Point,
     pub rng: CoreRng,
     pub link_lengths: Vec<f64>,
 }
@@ -61,19 +98,16 @@ pub struct Arm {
     cfg: ArmConfig,
     theta: Vec<f64>,
     /// The last position reading (the true position when there is no sensor noise).
-    x: [f64; 2],
+    x: Point,
     rng: CoreRng,
 }
-
-/// Dimension of the task space of the planar arm.
-pub const TASK_DIM: usize = 2;
 
 impl Arm {
     pub fn new(cfg: ArmConfig) -> Result<Self> {
         cfg.validate()?;
         let n = cfg.link_lengths.len();
         let rng = rng_from_seed(cfg.noise_seed);
-        let mut arm = Arm { cfg, theta: vec![0.0; n], x: [0.0; 2], rng };
+        let mut arm = Arm { cfg, theta: vec![0.0; n], x: [0.0; MAX_TASK_DIM], rng };
         arm.reset();
         Ok(arm)
     }
@@ -90,8 +124,11 @@ impl Arm {
     pub fn theta(&self) -> &[f64] {
         &self.theta
     }
-    pub fn position(&self) -> [f64; 2] {
+    pub fn position(&self) -> Point {
         self.x
+    }
+    pub fn task_dim(&self) -> usize {
+        self.cfg.kind.task_dim()
     }
 
     /// Back to the rest pose (all joints at 0: straight along +x). Not a micro-action.
@@ -101,13 +138,14 @@ impl Arm {
     }
 
     /// A position reading: the true position plus sensor noise, if any.
-    fn read(&mut self, x: [f64; 2]) -> [f64; 2] {
+    fn read(&mut self, mut x: Point) -> Point {
         let s = self.cfg.sensor_noise;
         if s > 0.0 {
-            [x[0] + s * normal(&mut self.rng), x[1] + s * normal(&mut self.rng)]
-        } else {
-            x
+            for v in x.iter_mut().take(self.task_dim()) {
+                *v += s * normal(&mut self.rng);
+            }
         }
+        x
     }
 
     pub fn save(&self) -> ArmState {
@@ -140,24 +178,18 @@ impl Arm {
         self.x = self.read(self.forward(&self.theta));
     }
 
-    /// End-effector position for a configuration: x = sum_i l_i (cos phi_i, sin phi_i),
-    /// phi_i = theta_1 + ... + theta_i.
-    pub fn forward(&self, theta: &[f64]) -> [f64; 2] {
-        let mut phi = 0.0;
-        let mut x = [0.0, 0.0];
-        for (l, t) in self.cfg.link_lengths.iter().zip(theta) {
-            phi += t;
-            let (s, c) = phi.sin_cos();
-            x[0] += l * c;
-            x[1] += l * s;
+    /// End-effector position for a configuration.
+    pub fn forward(&self, theta: &[f64]) -> Point {
+        match self.cfg.kind {
+            ArmKind::Planar => planar_forward(&self.cfg.link_lengths, theta),
+            ArmKind::Spatial => spatial_forward(&self.cfg.link_lengths, theta),
         }
-        x
     }
 
     /// Execute one micro-action. The command is first scaled down (keeping its direction) so no
     /// joint moves more than `max_joint_step`, then the new angles are clipped to the joint
     /// limits. Writes the realised joint change into `dtheta` and returns the realised dx.
-    pub fn step(&mut self, dtheta: &mut [f64]) -> [f64; 2] {
+    pub fn step(&mut self, dtheta: &mut [f64]) -> Point {
         let max_abs = dtheta.iter().fold(0.0f64, |m, d| m.max(d.abs()));
         let scale = if max_abs > self.cfg.max_joint_step { self.cfg.max_joint_step / max_abs } else { 1.0 };
         let lim = self.cfg.joint_limit;
@@ -169,10 +201,50 @@ impl Arm {
             *t = target;
         }
         let x_new = self.read(self.forward(&self.theta));
-        let dx = [x_new[0] - self.x[0], x_new[1] - self.x[1]];
+        let dx = crate::task_space::sub(&x_new, &self.x);
         self.x = x_new;
         dx
     }
+}
+
+/// Planar arm: x = sum_i l_i (cos phi_i, sin phi_i), phi_i = theta_1 + ... + theta_i.
+fn planar_forward(links: &[f64], theta: &[f64]) -> Point {
+    let mut phi = 0.0;
+    let mut x = [0.0; MAX_TASK_DIM];
+    for (l, t) in links.iter().zip(theta) {
+        phi += t;
+        let (s, c) = phi.sin_cos();
+        x[0] += l * c;
+        x[1] += l * s;
+    }
+    x
+}
+
+/// Spatial arm: the link frame R starts as the identity; joint i turns it by theta_i about its
+/// own z axis (even i) or y axis (odd i), then link i adds l_i times R's first column (the link
+/// direction) to the position.
+fn spatial_forward(links: &[f64], theta: &[f64]) -> Point {
+    // Columns of R: the link direction, then the frame's y and z axes.
+    let (mut e0, mut e1, mut e2) = ([1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]);
+    let mut x = [0.0; MAX_TASK_DIM];
+    for (i, (l, t)) in links.iter().zip(theta).enumerate() {
+        let (s, c) = t.sin_cos();
+        if i % 2 == 0 {
+            // R Rz(t): e0' = c e0 + s e1, e1' = c e1 - s e0.
+            let (a, b) = (e0, e1);
+            e0 = std::array::from_fn(|k| c * a[k] + s * b[k]);
+            e1 = std::array::from_fn(|k| c * b[k] - s * a[k]);
+        } else {
+            // R Ry(t): e0' = c e0 - s e2, e2' = s e0 + c e2.
+            let (a, b) = (e0, e2);
+            e0 = std::array::from_fn(|k| c * a[k] - s * b[k]);
+            e2 = std::array::from_fn(|k| s * a[k] + c * b[k]);
+        }
+        for k in 0..3 {
+            x[k] += l * e0[k];
+        }
+    }
+    x
 }
 
 #[cfg(test)]
@@ -235,7 +307,49 @@ mod tests {
         let mut d = vec![0.1, 0.0, 0.0];
         let dx = a.step(&mut d);
         assert_eq!(d[0], 0.0);
-        assert_eq!(dx, [0.0, 0.0]);
+        assert_eq!(dx, [0.0, 0.0, 0.0]);
+    }
+
+    fn spatial(links: Vec<f64>) -> Arm {
+        Arm::new(ArmConfig { kind: ArmKind::Spatial, link_lengths: links, ..ArmConfig::uniform(1, 1.0, PI, 1.0) }).unwrap()
+    }
+
+    #[test]
+    fn spatial_rest_pose_and_single_joints() {
+        let a = spatial(vec![2.0, 3.0]);
+        assert_eq!(a.position(), [5.0, 0.0, 0.0]);
+        assert_eq!(a.task_dim(), 3);
+        // Yaw of the first joint turns the whole arm in the (x, y) plane.
+        let x = a.forward(&[0.4, 0.0]);
+        assert!((x[0] - 5.0 * 0.4f64.cos()).abs() < 1e-12 && (x[1] - 5.0 * 0.4f64.sin()).abs() < 1e-12 && x[2] == 0.0);
+        // Pitch of the second joint lifts the second link out of the plane (towards -z).
+        let x = a.forward(&[0.0, 0.7]);
+        assert!((x[0] - (2.0 + 3.0 * 0.7f64.cos())).abs() < 1e-12 && x[1].abs() < 1e-12 && (x[2] + 3.0 * 0.7f64.sin()).abs() < 1e-12);
+    }
+
+    /// The frame update against a product of rotation matrices built by nalgebra.
+    #[test]
+    fn spatial_forward_matches_rotation_matrices() {
+        use nalgebra::{Rotation3, Vector3};
+        let links: Vec<f64> = (0..9).map(|i| 1.0 + 0.3 * i as f64).collect();
+        let a = spatial(links.clone());
+        let mut rng = rng_from_seed(11);
+        for _ in 0..50 {
+            let theta: Vec<f64> = (0..links.len()).map(|_| crate::rng::uniform(&mut rng, -PI, PI)).collect();
+            let mut r = Rotation3::identity();
+            let mut p = Vector3::zeros();
+            for (i, (l, t)) in links.iter().zip(&theta).enumerate() {
+                let axis = if i % 2 == 0 { Vector3::z_axis() } else { Vector3::y_axis() };
+                r *= Rotation3::from_axis_angle(&axis, *t);
+                p += r * Vector3::new(*l, 0.0, 0.0);
+            }
+            let x = a.forward(&theta);
+            for k in 0..3 {
+                assert!((x[k] - p[k]).abs() < 1e-10, "{x:?} vs {p:?}");
+            }
+            // Rotations keep the distance to the base within the arm's length.
+            assert!(p.norm() <= links.iter().sum::<f64>() + 1e-9);
+        }
     }
 
     #[test]

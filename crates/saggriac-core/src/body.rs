@@ -1,21 +1,24 @@
-//! What the learner acts on: the built-in planar arm, or a user's environment (the Python
+//! What the learner acts on: the built-in arm (planar or spatial), or a user's environment (the Python
 //! binding wraps one). The run loop, the exploration phase and the evaluation only see this
 //! trait.
 
 use crate::arm::{Arm, ArmState};
+use crate::task_space::Point;
 
 pub trait Body: Send + Sync {
     fn n_joints(&self) -> usize;
     fn theta(&self) -> &[f64];
-    /// End-effector position in the task space.
-    fn position(&self) -> [f64; 2];
+    /// Dimension of the task space (1 to `MAX_TASK_DIM`).
+    fn task_dim(&self) -> usize;
+    /// End-effector position in the task space (coordinates past `task_dim` are 0).
+    fn position(&self) -> Point;
     /// Back to the rest pose. Not a time step.
     fn reset(&mut self);
     /// Put the body in a configuration at once: a whole movement in the episodic paradigm, a
     /// placement during evaluation.
     fn set_theta(&mut self, theta: &[f64]);
     /// One micro-action: writes the realised joint change into `dtheta`, returns the realised dx.
-    fn step(&mut self, dtheta: &mut [f64]) -> [f64; 2];
+    fn step(&mut self, dtheta: &mut [f64]) -> Point;
     /// An independent copy for the evaluation's test reaches, if the body can make one. Without
     /// it the evaluation runs on this body and puts it back where it was.
     fn scratch(&self) -> Option<Box<dyn Body>> {
@@ -46,7 +49,10 @@ impl Body for Arm {
     fn theta(&self) -> &[f64] {
         Arm::theta(self)
     }
-    fn position(&self) -> [f64; 2] {
+    fn task_dim(&self) -> usize {
+        Arm::task_dim(self)
+    }
+    fn position(&self) -> Point {
         Arm::position(self)
     }
     fn reset(&mut self) {
@@ -55,7 +61,7 @@ impl Body for Arm {
     fn set_theta(&mut self, theta: &[f64]) {
         Arm::set_theta(self, theta)
     }
-    fn step(&mut self, dtheta: &mut [f64]) -> [f64; 2] {
+    fn step(&mut self, dtheta: &mut [f64]) -> Point {
         Arm::step(self, dtheta)
     }
     fn scratch(&self) -> Option<Box<dyn Body>> {

@@ -11,9 +11,10 @@ use crate::error::{Error, Result};
 use crate::goal_selection::SelectorState;
 use crate::rng::CoreRng;
 use crate::run_loop::{AttemptRow, Counters, GoalRow, Learner, MetricRow, Timers};
+use crate::task_space::Point;
 
 /// Bumped whenever the layout below changes; older checkpoints are then refused.
-const FORMAT: u32 = 1;
+const FORMAT: u32 = 2;
 
 #[derive(Serialize, Deserialize)]
 struct State {
@@ -34,7 +35,7 @@ struct State {
     selector: SelectorState,
     body: ArmState,
     scratch: Option<ArmState>,
-    true_x: Vec<[f64; 2]>,
+    true_x: Vec<Point>,
     counters: Counters,
     timers: Timers,
     metrics: Vec<MetricRow>,
@@ -89,15 +90,15 @@ impl Learner {
             return Err(refuse("The checkpoint belongs to a run with another configuration; resume it with the configuration it was written with."));
         }
         let mut l = Learner::new(cfg, s.seeds.0, s.seeds.1)?;
-        let n = l.cfg.arm.link_lengths.len();
+        let (n, m) = (l.cfg.arm.link_lengths.len(), l.task_dim());
         let [t, d, x, p] = &s.memory;
         for i in 0..t.len() / n {
-            l.memory.add(&t[i * n..(i + 1) * n], &d[i * n..(i + 1) * n], &x[i * 2..(i + 1) * 2], &p[i * 2..(i + 1) * 2]);
+            l.memory.add(&t[i * n..(i + 1) * n], &d[i * n..(i + 1) * n], &x[i * m..(i + 1) * m], &p[i * m..(i + 1) * m]);
         }
         l.memory.set_rejected(s.rejected);
         if let (Some(mem), Some((thetas, xs))) = (l.episodic.as_mut(), &s.episodic) {
-            for i in 0..xs.len() / 2 {
-                mem.add(&thetas[i * n..(i + 1) * n], [xs[2 * i], xs[2 * i + 1]]);
+            for i in 0..xs.len() / m {
+                mem.add(&thetas[i * n..(i + 1) * n], &xs[i * m..(i + 1) * m]);
             }
         }
         if !l.selector.load(&s.selector) || !l.body.load(&s.body) {

@@ -11,6 +11,7 @@ use crate::local_model::LocalModelConfig;
 use crate::memory::IndexKind;
 use crate::reaching_controller::ReachingConfig;
 use crate::region_tree::{check_bounds, RegionTreeConfig};
+use crate::task_space::MAX_TASK_DIM;
 
 /// The experimental conditions of the paper.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -145,8 +146,13 @@ impl RunConfig {
             return Err(invalid("Run", "n_steps", "an int >= 1", 0));
         }
         self.arm.validate()?;
-        if self.goal_low.len() != 2 {
-            return Err(invalid("Run", "goal_low", "a list of 2 floats for the planar arm", format!("{:?}", self.goal_low)));
+        if !(1..=MAX_TASK_DIM).contains(&self.goal_low.len()) {
+            return Err(invalid(
+                "Run",
+                "goal_low",
+                format!("a list of 1 to {MAX_TASK_DIM} floats (the run loop's task spaces have at most {MAX_TASK_DIM} dimensions)"),
+                format!("{:?}", self.goal_low),
+            ));
         }
         check_bounds("Run", &self.goal_low, &self.goal_high)?;
         self.reaching.validate()?;

@@ -7,7 +7,6 @@
 
 use nalgebra::DMatrix;
 
-use crate::arm::TASK_DIM;
 use crate::competence::competence;
 use crate::config::Condition;
 use crate::error::{Check, Result};
@@ -16,6 +15,7 @@ use crate::local_model::pinv_apply_wide;
 use crate::neighbours::{dist_sq, Neighbour, NeighbourIndex};
 use crate::rng::{normal, uniform};
 use crate::run_loop::{AttemptRow, GoalRow, Learner};
+use crate::task_space::{distance, point, sub, Point};
 
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct EpisodicConfig {
@@ -47,6 +47,7 @@ impl EpisodicConfig {
 /// theta. The evaluation's fixed test configurations use an incremental scan instead.
 pub struct EpisodicMemory {
     n: usize,
+    m: usize,
     thetas: Vec<f64>,
     xs: Vec<f64>,
     by_x: KdTree,
@@ -55,8 +56,9 @@ pub struct EpisodicMemory {
 }
 
 impl EpisodicMemory {
-    pub fn new(n: usize, index_theta: bool) -> Self {
-        EpisodicMemory { n, thetas: Vec::new(), xs: Vec::new(), by_x: KdTree::new(TASK_DIM), by_theta: index_theta.then(|| KdTree::new(n)), nb: Vec::new() }
+    /// Memory of movements of `n` joints reaching a `m`-D task space.
+    pub fn new(n: usize, m: usize, index_theta: bool) -> Self {
+        EpisodicMemory { n, m, thetas: Vec::new(), xs: Vec::new(), by_x: KdTree::new(m), by_theta: index_theta.then(|| KdTree::new(n)), nb: Vec::new() }
     }
 
     fn knn_theta(&self, theta: &[f64], k: usize, out: &mut Vec<Neighbour>) {
@@ -90,7 +92,7 @@ impl EpisodicMemory {
         *upto = self.len();
     }
     pub fn len(&self) -> usize {
-        self.xs.len() / TASK_DIM
+        self.xs.len() / self.m
     }
     pub fn is_empty(&self) -> bool {
         self.xs.is_empty()
@@ -102,18 +104,22 @@ impl EpisodicMemory {
     pub fn theta(&self, i: usize) -> &[f64] {
         &self.thetas[i * self.n..(i + 1) * self.n]
     }
-    pub fn x(&self, i: usize) -> [f64; 2] {
-        [self.xs[2 * i], self.xs[2 * i + 1]]
+    pub fn task_dim(&self) -> usize {
+        self.m
+    }
+    pub fn x(&self, i: usize) -> Point {
+        point(&self.xs[self.m * i..self.m * (i + 1)])
     }
 
     /// Store one movement; a non-finite value is refused (returns false) and never indexed.
-    pub fn add(&mut self, theta: &[f64], x: [f64; 2]) -> bool {
+    pub fn add(&mut self, theta: &[f64], x: &[f64]) -> bool {
+        debug_assert!(theta.len() == self.n && x.len() == self.m);
         if !(theta.iter().all(|v| v.is_finite()) && x.iter().all(|v| v.is_finite())) {
             return false;
         }
         self.thetas.extend_from_slice(theta);
-        self.xs.extend_from_slice(&x);
-        self.by_x.add(&x);
+        self.xs.extend_from_slice(x);
+        self.by_x.add(x);
         if let Some(t) = &mut self.by_theta {
             t.add(theta);
         }
@@ -122,9 +128,9 @@ impl EpisodicMemory {
 
     /// Inverse model without noise: the configuration that reached closest to `goal`, optionally
     /// moved by J+ (goal - x_nn). Returns false when the memory is empty.
-    pub fn inverse(&mut self, goal: &[f64; 2], cfg: &EpisodicConfig, rcond: f64, out: &mut [f64]) -> bool {
+    pub fn inverse(&mut self, goal: &Point, cfg: &EpisodicConfig, rcond: f64, out: &mut [f64]) -> bool {
         let mut nb = std::mem::take(&mut self.nb);
-        self.by_x.knn(goal, 1, &mut nb);
+        self.by_x.knn(&goal[..self.m], 1, &mut nb);
         let Some(first) = nb.first().copied() else {
             self.nb = nb;
             return false;
@@ -136,9 +142,9 @@ impl EpisodicMemory {
             self.knn_theta(&base, cfg.k_refine + 1, &mut nb);
             if let Some(j) = self.local_jacobian(&base, self.x(i), &nb) {
                 let x0 = self.x(i);
-                let dx = [goal[0] - x0[0], goal[1] - x0[1]];
+                let dx = sub(goal, &x0);
                 let mut d = vec![0.0; self.n];
-                if pinv_apply_wide(&j, &dx, rcond, &mut d).is_ok() {
+                if pinv_apply_wide(&j, &dx[..self.m], rcond, &mut d).is_ok() {
                     // A first-order step is only trusted as far as the neighbourhood extends.
                     let reach = nb.iter().map(|b| b.dist_sq).fold(0.0, f64::max).sqrt();
                     let norm = d.iter().map(|v| v * v).sum::<f64>().sqrt();
@@ -153,7 +159,7 @@ impl EpisodicMemory {
 
     /// Forward model: the nearest stored configuration's position, optionally corrected by the
     /// local linear model. None when the memory is empty.
-    pub fn predict(&mut self, theta: &[f64], cfg: &EpisodicConfig) -> Option<[f64; 2]> {
+    pub fn predict(&mut self, theta: &[f64], cfg: &EpisodicConfig) -> Option<Point> {
         let mut nb = std::mem::take(&mut self.nb);
         self.knn_theta(theta, Self::forward_k(cfg), &mut nb);
         let out = self.predict_from(theta, &nb, cfg);
@@ -171,7 +177,7 @@ impl EpisodicMemory {
     }
 
     /// The forward model's prediction at `theta` from its neighbours `nb` (sorted).
-    pub fn predict_from(&self, theta: &[f64], nb: &[Neighbour], cfg: &EpisodicConfig) -> Option<[f64; 2]> {
+    pub fn predict_from(&self, theta: &[f64], nb: &[Neighbour], cfg: &EpisodicConfig) -> Option<Point> {
         nb.first().map(|f| {
             let i = f.id as usize;
             let mut x = self.x(i);
@@ -179,7 +185,7 @@ impl EpisodicMemory {
                 let base = self.theta(i).to_vec();
                 if let Some(j) = self.local_jacobian(&base, x, nb) {
                     let d: Vec<f64> = theta.iter().zip(&base).map(|(a, b)| a - b).collect();
-                    for (r, xr) in x.iter_mut().enumerate() {
+                    for (r, xr) in x.iter_mut().take(self.m).enumerate() {
                         *xr += (0..self.n).map(|a| j[(r, a)] * d[a]).sum::<f64>();
                     }
                 }
@@ -191,14 +197,14 @@ impl EpisodicMemory {
     /// Least squares J with x_i - x0 ~ J (theta_i - theta0) over the neighbours, ridge-damped
     /// so that fewer neighbours than joints still give the minimum-norm answer. None if the
     /// neighbours carry no information (all at theta0).
-    fn local_jacobian(&self, theta0: &[f64], x0: [f64; 2], nb: &[Neighbour]) -> Option<DMatrix<f64>> {
+    fn local_jacobian(&self, theta0: &[f64], x0: Point, nb: &[Neighbour]) -> Option<DMatrix<f64>> {
         let n = self.n;
         let rows: Vec<usize> = nb.iter().map(|b| b.id as usize).filter(|&i| self.theta(i) != theta0).collect();
         if rows.is_empty() {
             return None;
         }
         let dth = DMatrix::from_fn(rows.len(), n, |r, a| self.theta(rows[r])[a] - theta0[a]);
-        let dx = DMatrix::from_fn(rows.len(), TASK_DIM, |r, c| self.x(rows[r])[c] - x0[c]);
+        let dx = DMatrix::from_fn(rows.len(), self.m, |r, c| self.x(rows[r])[c] - x0[c]);
         let mut gram = dth.transpose() * &dth;
         let trace = gram.trace();
         if !(trace.is_finite() && trace > 0.0) {
@@ -226,7 +232,7 @@ impl Learner {
         };
         self.timers.goal_selection += t0.elapsed().as_secs_f64();
         let goal = match (&choice, self.cfg.condition.uses_goals()) {
-            (Some(c), true) => Some([c.goal[0], c.goal[1]]),
+            (Some(c), true) => Some(point(&c.goal[..self.task_dim()])),
             _ => None,
         };
         let mem = self.episodic.as_mut().expect("episodic memory exists in the episodic paradigm");
@@ -250,7 +256,7 @@ impl Learner {
         let predicted = if self.cfg.condition == Condition::ActuatorRiac { mem.predict(&theta, &self.cfg.episodic) } else { None };
         self.body.set_theta(&theta);
         let x = self.body.position();
-        mem.add(self.body.theta(), x);
+        mem.add(self.body.theta(), &x[..mem.task_dim()]);
         let step_start = self.steps;
         self.steps += 1;
         self.apply_body_change();
@@ -260,13 +266,13 @@ impl Learner {
         match (goal, &choice) {
             (Some(g), Some(c)) => {
                 let comp = competence(&g, &x, &rest, &self.cfg.competence);
-                let region = self.selector.update(&g, comp);
+                let region = self.selector.update(&g[..self.task_dim()], comp);
                 self.attempts.push(AttemptRow { goal_index: self.goals_done, subgoal: 1, step_end: self.steps, target: g, end: x, competence: comp, reached: comp == 0.0, region });
                 self.goals.push(GoalRow { goal_index: self.goals_done, step_start, step_end: self.steps, goal: g, start: rest, end: x, mode: c.mode, region: c.region, competence: comp });
                 self.goals_done += 1;
             }
             (None, Some(_)) => {
-                let err = predicted.map(|p| ((p[0] - x[0]).powi(2) + (p[1] - x[1]).powi(2)).sqrt());
+                let err = predicted.map(|p| distance(&p, &x));
                 if let Some(e) = err {
                     self.selector.update(self.body.theta(), -e);
                 }
@@ -289,7 +295,7 @@ mod tests {
     #[test]
     fn incremental_neighbours_match_brute_force() {
         let n = 4;
-        let mut mem = EpisodicMemory::new(n, false);
+        let mut mem = EpisodicMemory::new(n, 2, false);
         let mut bf = BruteForce::new(n);
         let mut rng = rng_from_seed(5);
         let queries: Vec<Vec<f64>> = (0..6).map(|_| (0..n).map(|_| uniform(&mut rng, -1.0, 1.0)).collect()).collect();
@@ -299,7 +305,7 @@ mod tests {
             for _ in 0..(round * 7) % 23 {
                 // Coarse coordinates so that equal distances and duplicates occur.
                 let t: Vec<f64> = (0..n).map(|_| (uniform(&mut rng, -1.0, 1.0) * 4.0).round() / 4.0).collect();
-                mem.add(&t, [0.0, 0.0]);
+                mem.add(&t, &[0.0, 0.0]);
                 bf.add(&t);
             }
             for k in [1, 5] {

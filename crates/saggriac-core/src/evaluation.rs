@@ -5,13 +5,14 @@
 
 use crate::arm::{Arm, ArmConfig};
 use crate::body::Body;
+use crate::episodic::{EpisodicConfig, EpisodicMemory};
 use crate::error::{invalid, Check, Result};
 use crate::local_model::{LocalModel, LocalModelConfig};
-use crate::episodic::{EpisodicConfig, EpisodicMemory};
 use crate::memory::SensorimotorMemory;
 use crate::neighbours::{Neighbour, WarmStart};
 use crate::reaching_controller::desired_step;
 use crate::rng::{rng_from_seed, uniform};
+use crate::task_space::{distance, point, Point, MAX_TASK_DIM};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct EvalConfig {
@@ -58,14 +59,15 @@ impl EvalConfig {
 /// The fixed test sets of one experiment seed, independent of the learner.
 #[derive(Debug, Clone)]
 pub struct TestSet {
-    pub goals: Vec<[f64; 2]>,
+    pub goals: Vec<Point>,
     pub configs: Vec<Vec<f64>>,
-    pub true_x: Vec<[f64; 2]>,
+    pub true_x: Vec<Point>,
 }
 
 impl TestSet {
-    /// Goals uniform in the reachable part of the goal box (the box intersected with the disk of
-    /// radius = arm length), by rejection; configurations uniform in the joint limits.
+    /// Goals uniform in the reachable part of the goal box (the box intersected with the ball of
+    /// radius = arm length: a disk for the planar arm), by rejection; configurations uniform in
+    /// the joint limits.
     pub fn new(arm: &ArmConfig, goal_low: &[f64], goal_high: &[f64], n_goals: usize, n_configs: usize, seed: u64) -> Result<Self> {
         let mut a = Arm::new(arm.clone())?;
         Self::with_body(arm, &mut a, goal_low, goal_high, n_goals, n_configs, seed)
@@ -75,19 +77,20 @@ impl TestSet {
     /// (placed there at once; this is not a time step). `arm` gives the reach and joint limits.
     pub fn with_body(arm: &ArmConfig, body: &mut dyn Body, goal_low: &[f64], goal_high: &[f64], n_goals: usize, n_configs: usize, seed: u64) -> Result<Self> {
         let r: f64 = arm.link_lengths.iter().sum();
+        let m = goal_low.len();
         let mut rng = rng_from_seed(seed);
         let mut goals = Vec::with_capacity(n_goals);
-        // Clip the sampling box to the disk's bounding box so rejection stays cheap.
-        let lo = [goal_low[0].max(-r), goal_low[1].max(-r)];
-        let hi = [goal_high[0].min(r), goal_high[1].min(r)];
-        if !(lo[0] < hi[0] && lo[1] < hi[1]) {
-            return Err(invalid("Evaluation", "goal_low/goal_high", format!("a box that meets the reachable disk of radius {r}"), format!("{goal_low:?}..{goal_high:?}")));
+        // Clip the sampling box to the ball's bounding box so rejection stays cheap.
+        let lo: Vec<f64> = goal_low.iter().map(|v| v.max(-r)).collect();
+        let hi: Vec<f64> = goal_high.iter().map(|v| v.min(r)).collect();
+        if !(0..m).all(|i| lo[i] < hi[i]) {
+            return Err(invalid("Evaluation", "goal_low/goal_high", format!("a box that meets the reachable ball of radius {r}"), format!("{goal_low:?}..{goal_high:?}")));
         }
         let mut tries = 0usize;
         while goals.len() < n_goals {
-            let g = [uniform(&mut rng, lo[0], hi[0]), uniform(&mut rng, lo[1], hi[1])];
+            let g = point(&(0..m).map(|i| uniform(&mut rng, lo[i], hi[i])).collect::<Vec<f64>>());
             tries += 1;
-            if g[0] * g[0] + g[1] * g[1] <= r * r {
+            if g.iter().fold(0.0, |s, v| s + v * v) <= r * r {
                 goals.push(g);
             } else if tries > 1000 * n_goals {
                 return Err(invalid("Evaluation", "goal_low/goal_high", "a box with a reachable part of non-negligible area", format!("{goal_low:?}..{goal_high:?}")));
@@ -148,8 +151,20 @@ pub struct Evaluator {
 }
 
 impl Evaluator {
-    pub fn new(cfg: EvalConfig, tests: TestSet, scratch: Option<Box<dyn Body>>, n_joints: usize, local: LocalModelConfig, v: f64, warm_recent: usize) -> Self {
-        Evaluator { cfg, tests, forward_cache: Vec::new(), scratch, model: LocalModel::new(n_joints, 2, local), warm: WarmStart::new(warm_recent), neighbours: Vec::new(), v, warm_start: warm_recent > 0, time_knn: 0.0, time_fit: 0.0 }
+    pub fn new(cfg: EvalConfig, tests: TestSet, scratch: Option<Box<dyn Body>>, n_joints: usize, task_dim: usize, local: LocalModelConfig, v: f64, warm_recent: usize) -> Self {
+        Evaluator {
+            cfg,
+            tests,
+            forward_cache: Vec::new(),
+            scratch,
+            model: LocalModel::new(n_joints, task_dim, local),
+            warm: WarmStart::new(warm_recent),
+            neighbours: Vec::new(),
+            v,
+            warm_start: warm_recent > 0,
+            time_knn: 0.0,
+            time_fit: 0.0,
+        }
     }
 
     /// The learner's body changed: copy it again and measure the test configurations anew.
@@ -205,22 +220,23 @@ impl Evaluator {
             (reach_errors, test_steps)
         });
         let k = self.model.cfg.k_neighbours;
+        let m = memory.task_dim();
         let mut pred_errors = Vec::with_capacity(self.tests.configs.len());
-        let mut xp = [0.0; 2];
+        let mut xp = [0.0; MAX_TASK_DIM];
         for (c, xt) in self.tests.configs.iter().zip(&self.tests.true_x) {
             let t0 = std::time::Instant::now();
             memory.knn(c, k, &mut self.neighbours);
             self.time_knn += t0.elapsed().as_secs_f64();
             let ok = memory.len() >= k && self.model.fit(memory, &self.neighbours).is_ok();
             if ok {
-                self.model.predict_x(memory, &self.neighbours, c, &mut xp);
+                self.model.predict_x(memory, &self.neighbours, c, &mut xp[..m]);
             } else if let Some(nb) = self.neighbours.first() {
                 // No fit possible: the nearest sample's position is the prediction.
-                xp.copy_from_slice(memory.x(nb.id as usize));
+                xp[..m].copy_from_slice(memory.x(nb.id as usize));
             } else {
-                xp = [0.0, 0.0];
+                xp = [0.0; MAX_TASK_DIM];
             }
-            pred_errors.push(((xp[0] - xt[0]).powi(2) + (xp[1] - xt[1]).powi(2)).sqrt());
+            pred_errors.push(distance(&xp, xt));
         }
         EvalResult { reach_errors, pred_errors, test_steps }
     }
@@ -241,8 +257,7 @@ impl Evaluator {
                         theta.iter_mut().for_each(|t| *t = 0.0);
                     }
                     arm.set_theta(&theta);
-                    let x = arm.position();
-                    ((g[0] - x[0]).powi(2) + (g[1] - x[1]).powi(2)).sqrt()
+                    distance(g, &arm.position())
                 })
                 .collect::<Vec<f64>>()
         });
@@ -255,8 +270,8 @@ impl Evaluator {
             .map(|(i, (c, xt))| {
                 let (nb, upto) = &mut self.forward_cache[i];
                 memory.knn_theta_since(c, EpisodicMemory::forward_k(cfg), nb, upto);
-                let xp = memory.predict_from(c, nb, cfg).unwrap_or([0.0, 0.0]);
-                ((xp[0] - xt[0]).powi(2) + (xp[1] - xt[1]).powi(2)).sqrt()
+                let xp = memory.predict_from(c, nb, cfg).unwrap_or([0.0; MAX_TASK_DIM]);
+                distance(&xp, xt)
             })
             .collect();
         self.time_knn += t0.elapsed().as_secs_f64();
@@ -265,8 +280,8 @@ impl Evaluator {
     }
 
     /// Closed-loop reach with the learnt inverse model only: no exploration, no storing.
-    fn test_reach(&mut self, memory: &SensorimotorMemory, arm: &mut dyn Body, goal: [f64; 2]) -> (f64, u64) {
-        let dist = |x: [f64; 2]| ((goal[0] - x[0]).powi(2) + (goal[1] - x[1]).powi(2)).sqrt();
+    fn test_reach(&mut self, memory: &SensorimotorMemory, arm: &mut dyn Body, goal: Point) -> (f64, u64) {
+        let dist = |x: Point| distance(&goal, &x);
         let d0 = dist(arm.position());
         let timeout = (self.cfg.timeout_factor * d0 / self.v).ceil() as usize + self.cfg.timeout_min;
         let k = self.model.cfg.k_neighbours;
@@ -291,7 +306,7 @@ impl Evaluator {
                 memory.knn(&theta, k, &mut self.neighbours);
             }
             let t1 = std::time::Instant::now();
-            let fitted = self.model.fit(memory, &self.neighbours).and_then(|_| self.model.inverse(&dx, &mut dtheta));
+            let fitted = self.model.fit(memory, &self.neighbours).and_then(|_| self.model.inverse(&dx[..memory.task_dim()], &mut dtheta));
             let t2 = std::time::Instant::now();
             self.time_knn += (t1 - t0).as_secs_f64();
             self.time_fit += (t2 - t1).as_secs_f64();

@@ -26,6 +26,7 @@ pub mod reaching_controller;
 pub mod region_tree;
 pub mod rng;
 pub mod run_loop;
+pub mod task_space;
 
 pub use config::{Condition, RunConfig};
 pub use error::{Error, Result};

@@ -6,6 +6,7 @@ use crate::competence::{clip, cost};
 use crate::error::{Check, Result};
 use crate::local_model::FitFailure;
 use crate::run_loop::{ActionKind, Learner};
+use crate::task_space::{distance, Point, MAX_TASK_DIM};
 
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ReachingConfig {
@@ -50,8 +51,8 @@ impl ReachingConfig {
 /// Result of one (sub)goal attempt.
 #[derive(Debug, Clone, PartialEq)]
 pub struct AttemptOutcome {
-    pub start: [f64; 2],
-    pub end: [f64; 2],
+    pub start: Point,
+    pub end: Point,
     pub competence: f64,
     pub reached: bool,
     /// The run's step budget ran out during the attempt: its competence is not a measurement.
@@ -60,23 +61,27 @@ pub struct AttemptOutcome {
 
 /// Desired displacement: length min(v, |target - x|) towards the target (the paper's
 /// x_c - x_g is a sign typo, see SPEC.md).
-pub fn desired_step(x: &[f64; 2], target: &[f64; 2], v: f64) -> [f64; 2] {
-    let (ex, ey) = (target[0] - x[0], target[1] - x[1]);
-    let d = (ex * ex + ey * ey).sqrt();
+pub fn desired_step(x: &Point, target: &Point, v: f64) -> Point {
+    let e = crate::task_space::sub(target, x);
+    let mut d = 0.0;
+    for c in e {
+        d += c * c;
+    }
+    let d = f64::sqrt(d);
     if d == 0.0 {
-        return [0.0, 0.0];
+        return [0.0; MAX_TASK_DIM];
     }
     let s = v.min(d) / d;
-    [ex * s, ey * s]
+    e.map(|v| v * s)
 }
 
 impl Learner {
     /// One attempt to reach `target` from where the arm is.
-    pub(crate) fn reach(&mut self, target: [f64; 2]) -> AttemptOutcome {
+    pub(crate) fn reach(&mut self, target: Point) -> AttemptOutcome {
         let rc = self.cfg.reaching;
         let comp = self.cfg.competence;
         let start = self.body.position();
-        let d0 = ((target[0] - start[0]).powi(2) + (target[1] - start[1]).powi(2)).sqrt();
+        let d0 = distance(&target, &start);
         let timeout = rc.timeout(d0) as u64;
         let step0 = self.steps();
         let mut interrupted = false;
@@ -108,7 +113,7 @@ impl Learner {
                             // executed: the same as the desired dx unless the joint-step bound or
                             // a joint limit cut the command, which is no fault of the model.
                             let expected = self.expected_dx(&self.buf_dtheta);
-                            let err = ((dx[0] - expected[0]).powi(2) + (dx[1] - expected[1]).powi(2)).sqrt();
+                            let err = distance(&dx, &expected);
                             if err > rc.eps_max {
                                 self.counters.explorations += 1;
                                 self.explore();
@@ -131,10 +136,10 @@ impl Learner {
     }
 
     /// J dtheta with the last fitted J.
-    pub(crate) fn expected_dx(&self, dtheta: &[f64]) -> [f64; 2] {
+    pub(crate) fn expected_dx(&self, dtheta: &[f64]) -> Point {
         let j = self.model.jacobian();
-        let mut e = [0.0; 2];
-        for (r, v) in e.iter_mut().enumerate() {
+        let mut e = [0.0; MAX_TASK_DIM];
+        for (r, v) in e.iter_mut().take(j.nrows()).enumerate() {
             *v = (0..dtheta.len()).map(|a| j[(r, a)] * dtheta[a]).sum();
         }
         e
@@ -161,10 +166,10 @@ impl Learner {
     }
 
     /// dtheta = J+ dx with J fitted on the nearest stored configurations of the current theta.
-    pub(crate) fn inverse_model(&mut self, dx: &[f64; 2], dtheta: &mut [f64]) -> std::result::Result<(), FitFailure> {
+    pub(crate) fn inverse_model(&mut self, dx: &Point, dtheta: &mut [f64]) -> std::result::Result<(), FitFailure> {
         self.fit_here()?;
         let t0 = std::time::Instant::now();
-        let r = self.model.inverse(dx, dtheta);
+        let r = self.model.inverse(&dx[..self.task_dim()], dtheta);
         self.timers.fit += t0.elapsed().as_secs_f64();
         r
     }
@@ -176,11 +181,13 @@ mod tests {
 
     #[test]
     fn desired_step_points_at_the_target_and_stops_there() {
-        let s = desired_step(&[0.0, 0.0], &[3.0, 4.0], 0.5);
-        assert!((s[0] - 0.3).abs() < 1e-15 && (s[1] - 0.4).abs() < 1e-15);
-        let s = desired_step(&[0.0, 0.0], &[0.03, 0.04], 0.5);
+        let s = desired_step(&[0.0, 0.0, 0.0], &[3.0, 4.0, 0.0], 0.5);
+        assert!((s[0] - 0.3).abs() < 1e-15 && (s[1] - 0.4).abs() < 1e-15 && s[2] == 0.0);
+        let s = desired_step(&[0.0, 0.0, 0.0], &[0.03, 0.04, 0.0], 0.5);
         assert!((s[0] - 0.03).abs() < 1e-15 && (s[1] - 0.04).abs() < 1e-15);
-        assert_eq!(desired_step(&[1.0, 1.0], &[1.0, 1.0], 0.5), [0.0, 0.0]);
+        assert_eq!(desired_step(&[1.0, 1.0, 0.0], &[1.0, 1.0, 0.0], 0.5), [0.0, 0.0, 0.0]);
+        let s = desired_step(&[1.0, 0.0, 0.0], &[2.0, 2.0, 2.0], 0.3);
+        assert!((s[0] - 0.1).abs() < 1e-15 && (s[1] - 0.2).abs() < 1e-15 && (s[2] - 0.2).abs() < 1e-15);
     }
 
     #[test]

@@ -197,7 +197,8 @@ impl RegionTree {
     pub fn best_cut(&self, leaf: usize) -> Option<(usize, f64, f64)> {
         let entries = &self.regions[leaf].entries;
         let n = entries.len();
-        let mut best: Option<(f64, usize, usize, f64)> = None; // (score, imbalance, dim, value)
+        // (score, imbalance, dim, value)
+        let mut best: Option<(f64, usize, usize, f64)> = None;
         // Positions in `entries`, which is in time order; a child's interest needs its last
         // zeta measurements in time order, read off a membership mask from the end.
         let mut order: Vec<usize> = (0..n).collect();

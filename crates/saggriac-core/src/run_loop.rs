@@ -18,6 +18,7 @@ use crate::local_model::LocalModel;
 use crate::memory::SensorimotorMemory;
 use crate::neighbours::{Neighbour, WarmStart};
 use crate::rng::{child_seed, rng_from_seed, CoreRng};
+use crate::task_space::{lerp, point, Point};
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ActionKind {
@@ -43,9 +44,9 @@ pub struct GoalRow {
     pub goal_index: u64,
     pub step_start: u64,
     pub step_end: u64,
-    pub goal: [f64; 2],
-    pub start: [f64; 2],
-    pub end: [f64; 2],
+    pub goal: Point,
+    pub start: Point,
+    pub end: Point,
     pub mode: Mode,
     pub region: Option<usize>,
     /// Competence of the last attempt (the goal itself), NaN if interrupted by the step budget.
@@ -58,8 +59,8 @@ pub struct AttemptRow {
     pub goal_index: u64,
     pub subgoal: u32,
     pub step_end: u64,
-    pub target: [f64; 2],
-    pub end: [f64; 2],
+    pub target: Point,
+    pub end: Point,
     pub competence: f64,
     pub reached: bool,
     pub region: Option<usize>,
@@ -89,7 +90,7 @@ pub struct Learner {
     pub(crate) cfg: RunConfig,
     pub(crate) body: Box<dyn Body>,
     /// End-effector position at rest (the start of every episodic movement).
-    pub(crate) rest_x: [f64; 2],
+    pub(crate) rest_x: Point,
     pub(crate) memory: SensorimotorMemory,
     pub(crate) model: LocalModel,
     pub(crate) selector: Box<dyn GoalSelector>,
@@ -130,11 +131,17 @@ impl Learner {
     pub fn with_parts(cfg: RunConfig, seed: u64, eval_seed: u64, body: Option<Box<dyn Body>>, selector: Option<Box<dyn GoalSelector>>) -> Result<Self> {
         cfg.validate()?;
         if body.is_some() && (cfg.arm.motor_noise > 0.0 || cfg.arm.sensor_noise > 0.0) {
-            return Err(invalid("Run", "motor_noise/sensor_noise", "0 when a user's environment is given (add noise in the environment itself)", format!("{}/{}", cfg.arm.motor_noise, cfg.arm.sensor_noise)));
+            return Err(invalid(
+                "Run",
+                "motor_noise/sensor_noise",
+                "0 when a user's environment is given (add noise in the environment itself)",
+                format!("{}/{}", cfg.arm.motor_noise, cfg.arm.sensor_noise),
+            ));
         }
         if body.is_some() && cfg.body_change.is_some() {
             return Err(invalid("Run", "body_change_step", "unset when a user's environment is given (change the body in the environment itself)", cfg.body_change.map(|b| b.step).unwrap_or(0)));
         }
+        let user_body = body.is_some();
         let mut body: Box<dyn Body> = match body {
             Some(b) => b,
             None => {
@@ -146,6 +153,11 @@ impl Learner {
         let n = cfg.arm.link_lengths.len();
         if body.n_joints() != n {
             return Err(invalid("Run", "n_joints", format!("the number of joints of the environment ({})", body.n_joints()), n));
+        }
+        let m = cfg.goal_low.len();
+        if body.task_dim() != m {
+            let what = if user_body { "the environment's".to_string() } else { format!("the {}'s", cfg.arm.kind.name().replace('_', " ")) };
+            return Err(invalid("Run", "goal_low", format!("a list of {} floats ({what} task space is {}-D)", body.task_dim(), body.task_dim()), format!("{:?}", cfg.goal_low)));
         }
         body.reset();
         let rest_x = body.position();
@@ -177,10 +189,10 @@ impl Learner {
         };
         let tests = TestSet::with_body(&cfg.arm, body.as_mut(), &cfg.goal_low, &cfg.goal_high, cfg.eval.n_test_goals, cfg.eval.n_test_configs, eval_seed)?;
         body.reset();
-        let evaluator = Evaluator::new(cfg.eval.clone(), tests, body.scratch(), n, cfg.local.clone(), cfg.reaching.v, cfg.warm_start_recent);
+        let evaluator = Evaluator::new(cfg.eval.clone(), tests, body.scratch(), n, m, cfg.local.clone(), cfg.reaching.v, cfg.warm_start_recent);
         Ok(Learner {
-            memory: SensorimotorMemory::new(n, 2, cfg.index),
-            model: LocalModel::new(n, 2, cfg.local.clone()),
+            memory: SensorimotorMemory::new(n, m, cfg.index),
+            model: LocalModel::new(n, m, cfg.local.clone()),
             selector,
             rng: rng_from_seed(child_seed(seed, 2)),
             warm: WarmStart::new(cfg.warm_start_recent),
@@ -202,7 +214,7 @@ impl Learner {
             buf_theta: vec![0.0; n],
             actuator_reset,
             babble_steps: 0,
-            episodic: (cfg.paradigm == Paradigm::Episodic).then(|| EpisodicMemory::new(n, cfg.episodic.refine || cfg.condition == Condition::ActuatorRiac)),
+            episodic: (cfg.paradigm == Paradigm::Episodic).then(|| EpisodicMemory::new(n, m, cfg.episodic.refine || cfg.condition == Condition::ActuatorRiac)),
             cfg,
         })
     }
@@ -212,6 +224,10 @@ impl Learner {
     }
     pub fn steps(&self) -> u64 {
         self.steps
+    }
+    /// Dimension of the task space.
+    pub fn task_dim(&self) -> usize {
+        self.memory.task_dim()
     }
     pub fn memory(&self) -> &SensorimotorMemory {
         &self.memory
@@ -251,7 +267,7 @@ impl Learner {
 
     /// Execute one micro-action on the arm and store it. Returns the realised dx, or None
     /// (without moving) when the step budget is spent.
-    pub(crate) fn micro_action(&mut self, dtheta: &mut [f64], kind: ActionKind) -> Option<[f64; 2]> {
+    pub(crate) fn micro_action(&mut self, dtheta: &mut [f64], kind: ActionKind) -> Option<Point> {
         if self.budget_spent() || self.failed() {
             return None;
         }
@@ -261,7 +277,8 @@ impl Learner {
         if self.body.failed() {
             return None;
         }
-        self.memory.add(&self.buf_theta, dtheta, &dx, &x0);
+        let m = self.task_dim();
+        self.memory.add(&self.buf_theta, dtheta, &dx[..m], &x0[..m]);
         self.steps += 1;
         self.apply_body_change();
         match kind {
@@ -331,7 +348,8 @@ impl Learner {
         let t0 = Instant::now();
         let choice = self.selector.sample();
         self.timers.goal_selection += t0.elapsed().as_secs_f64();
-        let g = [choice.goal[0], choice.goal[1]];
+        let m = self.task_dim();
+        let g = point(&choice.goal[..m]);
         let start = self.body.position();
         let step_start = self.steps;
         let l = self.cfg.reaching.n_subgoals;
@@ -339,13 +357,13 @@ impl Learner {
         for i in 1..=l {
             // x_i = x_start + (i / l)(x_g - x_start); the last subgoal is the goal itself.
             let f = i as f64 / l as f64;
-            let target = if i == l { g } else { [start[0] + f * (g[0] - start[0]), start[1] + f * (g[1] - start[1])] };
+            let target = if i == l { g } else { lerp(&start, &g, f) };
             let out = self.reach(target);
             if out.interrupted {
                 break;
             }
             let t1 = Instant::now();
-            let region = self.selector.update(&target, out.competence);
+            let region = self.selector.update(&target[..m], out.competence);
             self.timers.goal_selection += t1.elapsed().as_secs_f64();
             self.attempts.push(AttemptRow { goal_index: self.goals_done, subgoal: i as u32, step_end: self.steps, target, end: out.end, competence: out.competence, reached: out.reached, region });
             if i == l {

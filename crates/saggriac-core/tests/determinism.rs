@@ -10,6 +10,7 @@
 
 use saggriac_core::memory::IndexKind;
 use saggriac_core::run_loop::{AttemptRow, Counters, GoalRow, MetricRow};
+use saggriac_core::task_space::{Point, MAX_TASK_DIM};
 use saggriac_core::{Condition, Learner, RunConfig};
 
 use std::sync::OnceLock;
@@ -55,8 +56,8 @@ fn run(cfg: RunConfig, seed: u64, eval_seed: u64) -> Learner {
     l
 }
 
-fn bits2(v: &[f64; 2]) -> [u64; 2] {
-    [v[0].to_bits(), v[1].to_bits()]
+fn bits(v: &Point) -> [u64; MAX_TASK_DIM] {
+    v.map(f64::to_bits)
 }
 
 type MetricKey = (u64, u64, u64, u64, u64, u64);
@@ -64,14 +65,14 @@ fn metric_key(m: &MetricRow) -> MetricKey {
     (m.step, m.n_samples, m.reach_error.to_bits(), m.pred_error.to_bits(), m.n_goals, m.n_regions)
 }
 
-type GoalKey = (u64, u64, u64, [u64; 2], [u64; 2], [u64; 2], u8, Option<usize>, u64);
+type GoalKey = (u64, u64, u64, [u64; MAX_TASK_DIM], [u64; MAX_TASK_DIM], [u64; MAX_TASK_DIM], u8, Option<usize>, u64);
 fn goal_key(g: &GoalRow) -> GoalKey {
-    (g.goal_index, g.step_start, g.step_end, bits2(&g.goal), bits2(&g.start), bits2(&g.end), g.mode as u8, g.region, g.competence.to_bits())
+    (g.goal_index, g.step_start, g.step_end, bits(&g.goal), bits(&g.start), bits(&g.end), g.mode as u8, g.region, g.competence.to_bits())
 }
 
-type AttemptKey = (u64, u32, u64, [u64; 2], [u64; 2], u64, bool, Option<usize>);
+type AttemptKey = (u64, u32, u64, [u64; MAX_TASK_DIM], [u64; MAX_TASK_DIM], u64, bool, Option<usize>);
 fn attempt_key(a: &AttemptRow) -> AttemptKey {
-    (a.goal_index, a.subgoal, a.step_end, bits2(&a.target), bits2(&a.end), a.competence.to_bits(), a.reached, a.region)
+    (a.goal_index, a.subgoal, a.step_end, bits(&a.target), bits(&a.end), a.competence.to_bits(), a.reached, a.region)
 }
 
 fn metrics(l: &Learner) -> Vec<MetricKey> {
@@ -152,8 +153,8 @@ fn same_seed_same_run_sagg_random() {
 fn different_seed_different_goals() {
     let a = light_reference();
     let b = run(light_config(vec![N_STEPS]), LIGHT_SEED + 1, LIGHT_EVAL_SEED);
-    let ga: Vec<[u64; 2]> = a.goals.iter().map(|g| bits2(&g.goal)).collect();
-    let gb: Vec<[u64; 2]> = b.goals.iter().map(|g| bits2(&g.goal)).collect();
+    let ga: Vec<[u64; MAX_TASK_DIM]> = a.goals.iter().map(|g| bits(&g.goal)).collect();
+    let gb: Vec<[u64; MAX_TASK_DIM]> = b.goals.iter().map(|g| bits(&g.goal)).collect();
     assert_ne!(ga, gb, "seeds {} and {} chose the same goals", LIGHT_SEED, LIGHT_SEED + 1);
     // Not just one stray goal: the very first goal already differs.
     assert_ne!(ga[0], gb[0], "seeds {} and {} chose the same first goal", LIGHT_SEED, LIGHT_SEED + 1);

@@ -3,10 +3,10 @@
 
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use saggriac_core::arm::ArmConfig;
+use saggriac_core::arm::{ArmConfig, ArmKind};
+use saggriac_core::config::Paradigm;
 use saggriac_core::error::invalid;
 use saggriac_core::memory::IndexKind;
-use saggriac_core::config::Paradigm;
 use saggriac_core::{Condition, RunConfig};
 
 use crate::errors::to_py;
@@ -14,7 +14,7 @@ use crate::errors::to_py;
 /// The keys `run_config_from_dict` understands (kept in the order of the parameters page).
 #[rustfmt::skip]
 pub const KEYS: &[&str] = &[
-    "condition", "n_steps", "n_joints", "arm_length", "link_lengths", "joint_limit", "max_joint_step", "goal_low", "goal_high",
+    "condition", "n_steps", "body", "n_joints", "arm_length", "link_lengths", "joint_limit", "max_joint_step", "goal_low", "goal_high",
     "v", "n_subgoals", "eps_max", "timeout_factor", "timeout_min", "q", "explore_step", "k_neighbours", "ridge", "pinv_rcond",
     "bandwidth", "min_c", "eps_c", "g_max", "zeta", "min_child", "p_interest", "p_global", "p_lowest", "reset_every",
     "n_test_goals", "n_test_configs", "eval_tolerance", "eval_patience", "eval_timeout_factor", "eval_timeout_min",
@@ -57,6 +57,8 @@ pub fn run_config_from_dict(d: &Bound<'_, PyDict>) -> PyResult<RunConfig> {
         Some(l) => ArmConfig { link_lengths: l, ..ArmConfig::uniform(1, 1.0, limit, max_step) },
         None => ArmConfig::uniform(n_joints, length, limit, max_step),
     };
+    let body: String = get(d, "body", ArmKind::Planar.name().to_string(), "a str")?;
+    c.arm.kind = ArmKind::parse(&body).map_err(|e| to_py(py, e))?;
     c.arm.motor_noise = get(d, "motor_noise", 0.0, "a float")?;
     c.arm.sensor_noise = get(d, "sensor_noise", 0.0, "a float")?;
     let change_step: Option<u64> = get(d, "body_change_step", None, "an int >= 1")?;

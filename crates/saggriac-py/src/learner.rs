@@ -5,6 +5,7 @@ use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use saggriac_core::run_loop::MetricRow;
+use saggriac_core::task_space::Point;
 use saggriac_core::Learner;
 
 use crate::config::run_config_from_dict;
@@ -22,10 +23,11 @@ fn col<'py, T: numpy::Element>(py: Python<'py>, v: Vec<T>) -> Bound<'py, PyArray
     v.into_pyarray(py)
 }
 
-fn xy<'py>(py: Python<'py>, v: Vec<[f64; 2]>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+/// Task-space points as an (n, m) array: the first m coordinates of each.
+fn xy<'py>(py: Python<'py>, v: Vec<Point>, m: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {
     let n = v.len();
-    let flat: Vec<f64> = v.into_iter().flatten().collect();
-    flat.into_pyarray(py).reshape([n, 2])
+    let flat: Vec<f64> = v.into_iter().flat_map(|p| p.into_iter().take(m)).collect();
+    flat.into_pyarray(py).reshape([n, m])
 }
 
 fn metric_dict<'py>(py: Python<'py>, m: &MetricRow) -> PyResult<Bound<'py, PyDict>> {
@@ -60,9 +62,9 @@ impl PyLearner {
     fn new(py: Python<'_>, config: &Bound<'_, PyDict>, seed: u64, eval_seed: u64, environment: Option<Py<PyAny>>, goal_selector: Option<Py<PyAny>>, env_seed: u64) -> PyResult<Self> {
         let cfg = run_config_from_dict(config)?;
         let slot: Slot = Default::default();
-        let n = cfg.arm.link_lengths.len();
+        let (n, m) = (cfg.arm.link_lengths.len(), cfg.goal_low.len());
         let body = match environment {
-            Some(env) => Some(Box::new(PyBody::new(py, env, n, env_seed, slot.clone())?) as Box<dyn saggriac_core::body::Body>),
+            Some(env) => Some(Box::new(PyBody::new(py, env, n, m, env_seed, slot.clone())?) as Box<dyn saggriac_core::body::Body>),
             None => None,
         };
         let selector = match goal_selector {
@@ -153,13 +155,14 @@ impl PyLearner {
     /// Self-generated goals: one row per goal.
     fn goals<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let g = &self.inner.goals;
+        let m = self.inner.task_dim();
         let d = PyDict::new(py);
         d.set_item("goal_index", col(py, g.iter().map(|r| r.goal_index).collect()))?;
         d.set_item("step_start", col(py, g.iter().map(|r| r.step_start).collect()))?;
         d.set_item("step_end", col(py, g.iter().map(|r| r.step_end).collect()))?;
-        d.set_item("goal", xy(py, g.iter().map(|r| r.goal).collect())?)?;
-        d.set_item("start", xy(py, g.iter().map(|r| r.start).collect())?)?;
-        d.set_item("end", xy(py, g.iter().map(|r| r.end).collect())?)?;
+        d.set_item("goal", xy(py, g.iter().map(|r| r.goal).collect(), m)?)?;
+        d.set_item("start", xy(py, g.iter().map(|r| r.start).collect(), m)?)?;
+        d.set_item("end", xy(py, g.iter().map(|r| r.end).collect(), m)?)?;
         d.set_item("mode", col(py, g.iter().map(|r| r.mode as u8).collect()))?;
         d.set_item("region", col(py, g.iter().map(|r| r.region.map(|x| x as i64).unwrap_or(-1)).collect()))?;
         d.set_item("competence", col(py, g.iter().map(|r| r.competence).collect()))?;
@@ -169,12 +172,13 @@ impl PyLearner {
     /// Every (sub)goal attempt and the competence the high level received for it.
     fn attempts<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let a = &self.inner.attempts;
+        let m = self.inner.task_dim();
         let d = PyDict::new(py);
         d.set_item("goal_index", col(py, a.iter().map(|r| r.goal_index).collect()))?;
         d.set_item("subgoal", col(py, a.iter().map(|r| r.subgoal).collect()))?;
         d.set_item("step_end", col(py, a.iter().map(|r| r.step_end).collect()))?;
-        d.set_item("target", xy(py, a.iter().map(|r| r.target).collect())?)?;
-        d.set_item("end", xy(py, a.iter().map(|r| r.end).collect())?)?;
+        d.set_item("target", xy(py, a.iter().map(|r| r.target).collect(), m)?)?;
+        d.set_item("end", xy(py, a.iter().map(|r| r.end).collect(), m)?)?;
         d.set_item("competence", col(py, a.iter().map(|r| r.competence).collect()))?;
         d.set_item("reached", col(py, a.iter().map(|r| r.reached).collect()))?;
         d.set_item("region", col(py, a.iter().map(|r| r.region.map(|x| x as i64).unwrap_or(-1)).collect()))?;
@@ -204,11 +208,11 @@ impl PyLearner {
         Ok(d)
     }
 
-    /// Test goals (n x 2) and test configurations (n x joints) of the evaluation.
+    /// Test goals (n x task dimension) and test configurations (n x joints) of the evaluation.
     fn test_set<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let t = self.inner.test_set();
         let d = PyDict::new(py);
-        d.set_item("goals", xy(py, t.goals.clone())?)?;
+        d.set_item("goals", xy(py, t.goals.clone(), self.inner.task_dim())?)?;
         let n = t.configs.len();
         let j = self.inner.body().n_joints();
         d.set_item("configs", t.configs.concat().into_pyarray(py).reshape([n, j])?)?;

@@ -11,6 +11,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 use saggriac_core::body::Body;
 use saggriac_core::goal_selection::{GoalChoice, GoalSelector, Mode};
+use saggriac_core::task_space::{point, sub, Point, MAX_TASK_DIM};
 
 pub enum Failure {
     /// The Python code raised: re-raised as is, traceback included.
@@ -67,16 +68,18 @@ fn repr(v: &Bound<'_, PyAny>) -> String {
 pub struct PyBody {
     env: Py<PyAny>,
     n: usize,
+    m: usize,
     theta: Vec<f64>,
-    x: [f64; 2],
+    x: Point,
     slot: Slot,
     failed: bool,
 }
 
 impl PyBody {
     /// Wrap `env` and reset it once with `seed` (later resets pass no seed, as in Gymnasium).
-    pub fn new(py: Python<'_>, env: Py<PyAny>, n: usize, seed: u64, slot: Slot) -> PyResult<Self> {
-        let mut b = PyBody { env, n, theta: vec![0.0; n], x: [0.0; 2], slot, failed: false };
+    /// `n` joints, an `m`-D task space (the goal space's dimension).
+    pub fn new(py: Python<'_>, env: Py<PyAny>, n: usize, m: usize, seed: u64, slot: Slot) -> PyResult<Self> {
+        let mut b = PyBody { env, n, m, theta: vec![0.0; n], x: [0.0; MAX_TASK_DIM], slot, failed: false };
         let kw = PyDict::new(py);
         kw.set_item("seed", seed)?;
         b.call(py, "reset", PyTuple::empty(py), Some(&kw));
@@ -95,7 +98,7 @@ impl PyBody {
         match parsed {
             Ok((t, x)) => {
                 self.theta = t;
-                self.x = [x[0], x[1]];
+                self.x = point(&x);
             }
             Err(f) => {
                 self.failed = true;
@@ -107,7 +110,7 @@ impl PyBody {
     fn parse(&self, v: &Bound<'_, PyAny>, method: &str) -> Result<(Vec<f64>, Vec<f64>), String> {
         let pair: (Bound<'_, PyAny>, Bound<'_, PyAny>) = v.extract().map_err(|_| format!("environment.{method}() must return a pair (theta, x); got {}.", repr(v)))?;
         let t = vector(&pair.0, self.n, &format!("theta returned by environment.{method}()"))?;
-        let x = vector(&pair.1, 2, &format!("x returned by environment.{method}()"))?;
+        let x = vector(&pair.1, self.m, &format!("x returned by environment.{method}()")).map_err(|e| format!("{e} (the goal space goal_low/goal_high is {}-D)", self.m))?;
         Ok((t, x))
     }
 }
@@ -119,7 +122,10 @@ impl Body for PyBody {
     fn theta(&self) -> &[f64] {
         &self.theta
     }
-    fn position(&self) -> [f64; 2] {
+    fn task_dim(&self) -> usize {
+        self.m
+    }
+    fn position(&self) -> Point {
         self.x
     }
     fn reset(&mut self) {
@@ -134,7 +140,7 @@ impl Body for PyBody {
             }
         });
     }
-    fn step(&mut self, dtheta: &mut [f64]) -> [f64; 2] {
+    fn step(&mut self, dtheta: &mut [f64]) -> Point {
         let (t0, x0) = (self.theta.clone(), self.x);
         Python::attach(|py| match PyTuple::new(py, [dtheta.to_vec().into_pyarray(py)]) {
             Ok(args) => self.call(py, "step", args, None),
@@ -145,12 +151,12 @@ impl Body for PyBody {
         });
         if self.failed {
             dtheta.iter_mut().for_each(|d| *d = 0.0);
-            return [0.0, 0.0];
+            return [0.0; MAX_TASK_DIM];
         }
         for ((d, t), s) in dtheta.iter_mut().zip(&self.theta).zip(&t0) {
             *d = t - s;
         }
-        [self.x[0] - x0[0], self.x[1] - x0[1]]
+        sub(&self.x, &x0)
     }
     fn failed(&self) -> bool {
         self.failed
@@ -206,7 +212,10 @@ impl GoalSelector for PySelector {
         match got {
             Ok(g) => {
                 if let Some(i) = (0..d).find(|&i| !(g[i] >= self.low[i] && g[i] <= self.high[i])) {
-                    self.fail(Failure::Invalid(format!("the goal returned by goal_selector.sample() must lie in [low, high]; coordinate {i} is {} but the bounds are [{}, {}].", g[i], self.low[i], self.high[i])));
+                    self.fail(Failure::Invalid(format!(
+                        "the goal returned by goal_selector.sample() must lie in [low, high]; coordinate {i} is {} but the bounds are [{}, {}].",
+                        g[i], self.low[i], self.high[i]
+                    )));
                     return GoalChoice { goal: centre, mode: Mode::External, region: None };
                 }
                 GoalChoice { goal: g, mode: Mode::External, region: None }
