@@ -1,5 +1,7 @@
 """Figures in the manner of the paper: learning curves (Fig. 4 and 5), goal histograms with the
-region tree over time (Fig. 3; the boundary of the reachable disk in cyan) and the arm with the quantities of the competence (Fig. 2).
+region tree over time (Fig. 3; the boundary of the reachable disk in cyan; a 3-D goal space is
+shown in its (x, y) and (x, z) projections) and the arm with the quantities of the competence
+(Fig. 2; in 3-D for the spatial arm).
 Matplotlib's object API only (no pyplot state), so figures can be made in worker processes."""
 
 from __future__ import annotations
@@ -61,36 +63,47 @@ def _leaves_at(regions: pd.DataFrame, n_measurements: int) -> pd.DataFrame:
 
 def plot_goal_histograms(run_dir: str | Path, path: str | Path, n_windows: int = 4, bins: int = 40) -> Path:
     """Histograms of the self-generated goals over windows of goal indices, with the regions
-    existing at the end of each window (white) and the boundary of the reachable disk (cyan)."""
+    existing at the end of each window (white) and the boundary of the reachable disk (cyan).
+    A 3-D goal space gets two rows of panels: its (x, y) and (x, z) projections."""
     from .result import RunResult
 
     res = RunResult.load(run_dir)
     cfg = res.config
     goals, attempts, regions = res.goals, res.attempts, res.regions.reset_index(drop=True)
-    fig = Figure(figsize=(4.0 * min(n_windows, 4), 4.0 * ((n_windows + 3) // 4)), layout="constrained")
-    axes = np.atleast_1d(fig.subplots((n_windows + 3) // 4, min(n_windows, 4))).ravel()
+    # Planes shown, as pairs of coordinate names; a projection of the ball is its disk.
+    planes = [("x", "y")] if len(cfg.goal_low) == 2 else [("x", "y"), ("x", "z")]
+    cols = min(n_windows, 4)
+    rows_per_plane = (n_windows + 3) // 4
+    fig = Figure(figsize=(4.0 * cols, 4.0 * rows_per_plane * len(planes)), layout="constrained")
+    grid = np.atleast_2d(fig.subplots(rows_per_plane * len(planes), cols, squeeze=False))
     n_goals = len(goals)
     edges = np.unique(np.linspace(0, n_goals, n_windows + 1).round().astype(int))
-    lo, hi = cfg.goal_low, cfg.goal_high
     reach = cfg.arm_length if cfg.link_lengths is None else float(sum(cfg.link_lengths))
-    for k, ax in enumerate(axes):
-        if k + 1 >= len(edges):
-            ax.set_axis_off()
-            continue
-        # The last window shows all goals, as in the paper's last panel.
-        start, end = (0, edges[-1]) if k == len(edges) - 2 and k > 0 else (edges[k], edges[k + 1])
-        sel = goals[(goals["goal_index"] >= start) & (goals["goal_index"] < end)]
-        h, xe, ye = np.histogram2d(sel["goal_x"], sel["goal_y"], bins=bins, range=[[lo[0], hi[0]], [lo[1], hi[1]]])
-        ax.imshow(h.T, origin="lower", extent=(lo[0], hi[0], lo[1], hi[1]), cmap="inferno", aspect="auto", interpolation="nearest")
-        if len(regions) and "created_at" in regions:
-            n_meas = int((attempts["goal_index"] < end).sum()) if len(attempts) else 0
-            for _, r in _leaves_at(regions, n_meas).iterrows():
-                ax.add_patch(Rectangle((r["low_x"], r["low_y"]), r["high_x"] - r["low_x"], r["high_y"] - r["low_y"], fill=False, edgecolor="white", linewidth=0.6))
-        # The whole reachable circle; the axis limits clip it to the goal space.
-        ax.add_patch(Arc((0, 0), 2 * reach, 2 * reach, theta1=0, theta2=360, edgecolor="cyan", linewidth=1.5))
-        ax.set_xlim(lo[0], hi[0])
-        ax.set_ylim(lo[1], hi[1])
-        ax.set_title(f"goals {start}-{end}")
+    axis_index = {"x": 0, "y": 1, "z": 2}
+    for p, (u, w) in enumerate(planes):
+        iu, iw = axis_index[u], axis_index[w]
+        lo, hi = (cfg.goal_low[iu], cfg.goal_low[iw]), (cfg.goal_high[iu], cfg.goal_high[iw])
+        axes = grid[p * rows_per_plane : (p + 1) * rows_per_plane].ravel()
+        for k, ax in enumerate(axes):
+            if k + 1 >= len(edges):
+                ax.set_axis_off()
+                continue
+            # The last window shows all goals, as in the paper's last panel.
+            start, end = (0, edges[-1]) if k == len(edges) - 2 and k > 0 else (edges[k], edges[k + 1])
+            sel = goals[(goals["goal_index"] >= start) & (goals["goal_index"] < end)]
+            h, _, _ = np.histogram2d(sel[f"goal_{u}"], sel[f"goal_{w}"], bins=bins, range=[[lo[0], hi[0]], [lo[1], hi[1]]])
+            ax.imshow(h.T, origin="lower", extent=(lo[0], hi[0], lo[1], hi[1]), cmap="inferno", aspect="auto", interpolation="nearest")
+            if len(regions) and "created_at" in regions:
+                n_meas = int((attempts["goal_index"] < end).sum()) if len(attempts) else 0
+                for _, r in _leaves_at(regions, n_meas).iterrows():
+                    ax.add_patch(Rectangle((r[f"low_{u}"], r[f"low_{w}"]), r[f"high_{u}"] - r[f"low_{u}"], r[f"high_{w}"] - r[f"low_{w}"], fill=False, edgecolor="white", linewidth=0.6))
+            # The whole reachable circle; the axis limits clip it to the goal space.
+            ax.add_patch(Arc((0, 0), 2 * reach, 2 * reach, theta1=0, theta2=360, edgecolor="cyan", linewidth=1.5))
+            ax.set_xlim(lo[0], hi[0])
+            ax.set_ylim(lo[1], hi[1])
+            ax.set_xlabel(u)
+            ax.set_ylabel(w)
+            ax.set_title(f"goals {start}-{end}" + (f", ({u}, {w}) projection" if len(planes) > 1 else ""))
     fig.suptitle(f"{LABELS.get(cfg.condition, cfg.condition)}, seed {res.seed}: self-generated goals and regions")
     path = Path(path)
     fig.savefig(path, dpi=110)
@@ -104,11 +117,21 @@ def arm_points(theta: np.ndarray, lengths: np.ndarray) -> np.ndarray:
     return np.vstack([[0.0, 0.0], pts])
 
 
+def spatial_arm_points(theta: np.ndarray, lengths: np.ndarray) -> np.ndarray:
+    """Joint positions of the spatial arm, base first (n + 1 points in 3-D)."""
+    from .environments import SpatialArm
+
+    # Joint i sits at the tip of the arm made of the first i links.
+    return np.vstack([np.zeros(3)] + [SpatialArm(link_lengths=lengths[:i]).forward(theta[:i]) for i in range(1, len(theta) + 1)])
+
+
 def plot_arm(config: Config, path: str | Path) -> Path:
     """The arm at rest and in a bent pose, with x_start, a goal x_g and a final position x_f: the
     quantities of the competence C = -D(x_g, x_f) / D(x_start, x_g) (eq. 7)."""
-    n = config.n_joints
-    lengths = np.asarray(config.link_lengths if config.link_lengths else [config.arm_length / n] * n, dtype=float)
+    lengths = np.asarray(config.link_lengths if config.link_lengths else [config.arm_length / config.n_joints] * config.n_joints, dtype=float)
+    if config.body == "spatial_arm":
+        return _plot_spatial_arm(lengths, path)
+    n = len(lengths)
     fig = Figure(figsize=(6.5, 5.5), layout="constrained")
     ax = fig.subplots()
     rest = arm_points(np.zeros(n), lengths)
@@ -131,6 +154,42 @@ def plot_arm(config: Config, path: str | Path) -> Path:
     ax.set_ylim(-lengths.sum() * 0.6, lengths.sum() + 5)
     ax.legend(loc="lower left", fontsize=8)
     ax.set_title(f"{n}-joint planar arm, total length {lengths.sum():g}")
+    path = Path(path)
+    fig.savefig(path, dpi=110)
+    return path
+
+
+def _plot_spatial_arm(lengths: np.ndarray, path: str | Path) -> Path:
+    """The spatial arm at rest and in a bent pose (yaw joints at 0.15 rad curl it sideways, pitch
+    joints at -0.12 rad upwards), with x_start, x_g, x_f as in the planar figure."""
+    n = len(lengths)
+    fig = Figure(figsize=(7.0, 6.0), layout="constrained")
+    ax = fig.add_subplot(projection="3d")
+    rest = spatial_arm_points(np.zeros(n), lengths)
+    bent = spatial_arm_points(np.where(np.arange(n) % 2 == 0, 0.15, -0.12), lengths)
+    ax.plot(rest[:, 0], rest[:, 1], rest[:, 2], "-o", color="0.3", markersize=3, label="rest pose (theta_rest, x_rest)")
+    ax.plot(bent[:, 0], bent[:, 1], bent[:, 2], "-o", color="tab:blue", markersize=3, label="a configuration after a reaching attempt")
+    x_start, x_f = rest[-1], bent[-1]
+    x_g = x_f + np.array([6.0, -8.0, -6.0])
+    ax.scatter(*x_start, color="k", marker="s")
+    ax.text(*x_start, "  x_start")
+    ax.scatter(*x_g, color="r", marker="*", s=120)
+    ax.text(*x_g, "  x_g")
+    ax.scatter(*x_f, color="b")
+    ax.text(*x_f, "  x_f")
+    ax.plot(*zip(x_start, x_g), "k--", linewidth=0.8, label="D(x_start, x_g)")
+    ax.plot(*zip(x_f, x_g), "r--", linewidth=1.2, label="D(x_g, x_f)")
+    # The reachable sphere's equator and a meridian, for scale.
+    t = np.linspace(0, 2 * np.pi, 200)
+    r = lengths.sum()
+    ax.plot(r * np.cos(t), r * np.sin(t), 0 * t, color="0.7", linewidth=0.8)
+    ax.plot(r * np.cos(t), 0 * t, r * np.sin(t), color="0.7", linewidth=0.8)
+    ax.set_xlabel("x")
+    ax.set_ylabel("y")
+    ax.set_zlabel("z")
+    ax.set_box_aspect((1, 1, 1))
+    ax.legend(loc="upper left", fontsize=8)
+    ax.set_title(f"{n}-joint spatial arm (joints alternately yaw and pitch), total length {r:g}")
     path = Path(path)
     fig.savefig(path, dpi=110)
     return path

@@ -329,3 +329,31 @@ impl Evaluator {
         (dist(arm.position()), steps)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::arm::ArmKind;
+
+    /// Test goals lie in the goal box and within the arm's reach, and fill that set: in 3-D,
+    /// for the half ball x >= 0, their mean x is 3r/8 (the half ball's centroid).
+    #[test]
+    fn test_goals_fill_the_reachable_part_of_the_box() {
+        let mut arm = ArmConfig::uniform(15, 50.0, std::f64::consts::FRAC_PI_2, 0.05);
+        arm.kind = ArmKind::Spatial;
+        let (lo, hi) = ([0.0, -50.0, -50.0], [50.0, 50.0, 50.0]);
+        let t = TestSet::new(&arm, &lo, &hi, 4000, 3, 9).unwrap();
+        let zero = [0.0; MAX_TASK_DIM];
+        for g in &t.goals {
+            assert!(distance(g, &zero) <= 50.0 && (0..3).all(|i| g[i] >= lo[i] && g[i] <= hi[i]), "{g:?}");
+        }
+        let mean_x = t.goals.iter().map(|g| g[0]).sum::<f64>() / 4000.0;
+        assert!((mean_x - 3.0 * 50.0 / 8.0).abs() < 0.6, "{mean_x}");
+        // A box out of reach is refused with the rule.
+        let e = TestSet::new(&arm, &[60.0, 0.0, 0.0], &[70.0, 1.0, 1.0], 1, 1, 9).unwrap_err().to_string();
+        assert!(e.contains("meets the reachable ball of radius 50"), "{e}");
+        // The test configurations' positions are the arm's.
+        let a = Arm::new(arm).unwrap();
+        assert_eq!(t.true_x[0], a.forward(&t.configs[0]));
+    }
+}

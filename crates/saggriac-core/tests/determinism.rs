@@ -289,6 +289,66 @@ fn checkpoint_and_restore_change_nothing() {
     }
 }
 
+/// The light configuration with the arm in space and a 3-D goal space.
+fn spatial(mut cfg: RunConfig) -> RunConfig {
+    cfg.arm.kind = saggriac_core::arm::ArmKind::Spatial;
+    cfg.goal_low = vec![0.0, -50.0, -50.0];
+    cfg.goal_high = vec![50.0, 50.0, 50.0];
+    cfg
+}
+
+#[test]
+fn spatial_arm_runs_are_reproducible_and_checkpoints_invisible() {
+    let schedule: Vec<u64> = (0..=N_STEPS).step_by(500).collect();
+    for condition in [Condition::SaggRiac, Condition::ActuatorRiac] {
+        let mut cfg = spatial(light_config(schedule.clone()));
+        cfg.condition = condition;
+        let (a, b) = (run(cfg.clone(), 3, 4), run(cfg.clone(), 3, 4));
+        assert_eq!(metrics(&a), metrics(&b));
+        assert_eq!(goals(&a), goals(&b));
+        assert_eq!(attempts(&a), attempts(&b));
+        if condition == Condition::SaggRiac {
+            assert_sane(&a);
+        }
+        assert_checkpoints_are_invisible(cfg, 3, 4);
+    }
+    let mut cfg = spatial(light_config(schedule));
+    cfg.paradigm = saggriac_core::config::Paradigm::Episodic;
+    cfg.arm.sensor_noise = 0.02;
+    assert_checkpoints_are_invisible(cfg, 7, 8);
+}
+
+#[test]
+fn spatial_goals_use_all_three_coordinates() {
+    let l = light_reference_spatial();
+    assert!(!l.goals.is_empty());
+    for g in &l.goals {
+        assert!(g.goal[0] >= 0.0 && g.goal[0] <= 50.0 && g.goal[1].abs() <= 50.0 && g.goal[2].abs() <= 50.0, "{:?}", g.goal);
+    }
+    // The arm leaves the plane z = 0.
+    assert!(l.goals.iter().any(|g| g.end[2].abs() > 1.0));
+    assert_eq!(l.task_dim(), 3);
+    assert_eq!(l.memory().task_dim(), 3);
+}
+
+fn light_reference_spatial() -> Learner {
+    run(spatial(light_config(vec![N_STEPS])), LIGHT_SEED, LIGHT_EVAL_SEED)
+}
+
+#[test]
+fn the_goal_space_must_match_the_body() {
+    let mut cfg = light_config(vec![N_STEPS]);
+    cfg.goal_low = vec![0.0, -50.0, -50.0];
+    cfg.goal_high = vec![50.0, 50.0, 50.0];
+    let e = Learner::new(cfg, 1, 2).err().expect("a 3-D goal space for the planar arm is refused").to_string();
+    assert_eq!(e, "The 'goal_low' parameter of Run must be a list of 2 floats (the planar arm's task space is 2-D). Got [0.0, -50.0, -50.0] instead.");
+    let mut cfg = spatial(light_config(vec![N_STEPS]));
+    cfg.goal_low = vec![0.0; 4];
+    cfg.goal_high = vec![1.0; 4];
+    let e = Learner::new(cfg, 1, 2).err().expect("4-D is refused").to_string();
+    assert!(e.contains("'goal_low'") && e.contains("1 to 3 floats"), "{e}");
+}
+
 #[test]
 fn a_checkpoint_only_restores_its_own_run() {
     let mut l = Learner::new(light_config(vec![0, 1000, N_STEPS]), 1, 2).unwrap();
