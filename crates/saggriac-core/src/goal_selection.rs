@@ -116,7 +116,7 @@ impl SaggRiac {
     fn interest_leaf(&mut self) -> usize {
         let leaves = self.tree.leaves();
         let interest = self.tree.leaf_interests();
-        let min = interest.iter().copied().fold(f64::INFINITY, f64::min);
+        let min = self.tree.min_leaf_interest();
         let total: f64 = interest.iter().map(|i| (i - min).abs()).sum();
         if !(total > 0.0 && total.is_finite()) {
             return leaves[index(&mut self.rng, leaves.len())];

@@ -78,6 +78,10 @@ pub struct RegionTree {
     leaf_mean: Vec<f64>,
     /// Position of each region in `leaves` (usize::MAX for inner regions).
     leaf_pos: Vec<usize>,
+    /// The smallest leaf interest and how many leaves have it, kept up to date so that a draw
+    /// needs no scan for it. A minimum does not depend on the order it is taken in, so this is
+    /// exactly the value a scan would find.
+    min_interest: (f64, usize),
     points: Vec<f64>,
     values: Vec<f64>,
 }
@@ -88,7 +92,18 @@ impl RegionTree {
         check_bounds("RegionTree", low, high)?;
         let root =
             Region { low: low.to_vec(), high: high.to_vec(), parent: None, children: None, split_dim: 0, split_value: f64::NAN, entries: Vec::new(), interest: 0.0, sum: 0.0, created_at: 0, depth: 0 };
-        Ok(RegionTree { cfg, dim: low.len(), regions: vec![root], leaves: vec![0], leaf_interest: vec![0.0], leaf_mean: vec![f64::NAN], leaf_pos: vec![0], points: Vec::new(), values: Vec::new() })
+        Ok(RegionTree {
+            cfg,
+            dim: low.len(),
+            regions: vec![root],
+            leaves: vec![0],
+            leaf_interest: vec![0.0],
+            leaf_mean: vec![f64::NAN],
+            leaf_pos: vec![0],
+            min_interest: (0.0, 1),
+            points: Vec::new(),
+            values: Vec::new(),
+        })
     }
 
     pub fn config(&self) -> &RegionTreeConfig {
@@ -110,6 +125,10 @@ impl RegionTree {
     /// Interest of each leaf, in the order of `leaves()`.
     pub fn leaf_interests(&self) -> &[f64] {
         &self.leaf_interest
+    }
+    /// The smallest value of `leaf_interests()` (a scan's `fold(inf, f64::min)`).
+    pub fn min_leaf_interest(&self) -> f64 {
+        self.min_interest.0
     }
     /// Mean value of each leaf (NaN when it holds none), in the order of `leaves()`.
     pub fn leaf_means(&self) -> &[f64] {
@@ -165,8 +184,33 @@ impl RegionTree {
 
     fn sync_leaf(&mut self, leaf: usize) {
         let pos = self.leaf_pos[leaf];
+        let old = self.leaf_interest[pos];
         self.leaf_interest[pos] = self.regions[leaf].interest;
         self.leaf_mean[pos] = self.regions[leaf].mean().unwrap_or(f64::NAN);
+        self.track_min(Some(old), Some(self.leaf_interest[pos]));
+    }
+
+    /// Update the minimum after a leaf interest `old` left and `new` arrived; scan again only
+    /// when the last leaf at the minimum rose (or a NaN is involved).
+    fn track_min(&mut self, old: Option<f64>, new: Option<f64>) {
+        let (mut min, mut count) = self.min_interest;
+        let nan = old.is_some_and(f64::is_nan) || new.is_some_and(f64::is_nan);
+        if old == Some(min) {
+            count -= 1;
+        }
+        if let Some(v) = new {
+            if v < min {
+                (min, count) = (v, 1);
+            } else if v == min {
+                count += 1;
+            }
+        }
+        self.min_interest = if nan || count == 0 {
+            let m = self.leaf_interest.iter().copied().fold(f64::INFINITY, f64::min);
+            (m, self.leaf_interest.iter().filter(|&&v| v == m).count())
+        } else {
+            (min, count)
+        };
     }
 
     fn refresh_interest(&mut self, leaf: usize, zeta: usize) {
@@ -315,9 +359,12 @@ impl RegionTree {
         for (i, &l) in self.leaves.iter().enumerate() {
             self.leaf_pos[l] = i;
         }
-        self.leaf_interest.remove(pos);
+        let removed = self.leaf_interest.remove(pos);
+        self.track_min(Some(removed), None);
         self.leaf_mean.remove(pos);
         self.leaf_interest.extend([0.0, 0.0]);
+        self.track_min(None, Some(0.0));
+        self.track_min(None, Some(0.0));
         self.leaf_mean.extend([f64::NAN, f64::NAN]);
         self.sync_leaf(li);
         self.sync_leaf(ri);
@@ -354,6 +401,34 @@ mod tests {
     use super::*;
     use crate::rng::{rng_from_seed, uniform};
 
+    /// The tracked minimum equals a scan after every measurement, with ties (many leaves at
+    /// the same interest: constant competences give interest exactly 0) and splits.
+    #[test]
+    fn min_interest_matches_a_scan_after_every_add() {
+        for (seed, levels) in [(1u64, 0.0), (2, 4.0), (3, 1.0)] {
+            let cfg = RegionTreeConfig { g_max: 8, zeta: 6, min_child: 2 };
+            let mut t = RegionTree::new(&[0.0, 0.0], &[1.0, 1.0], cfg).unwrap();
+            let mut r = rng_from_seed(seed);
+            for i in 0..3000 {
+                let p = [uniform(&mut r, 0.0, 1.0), uniform(&mut r, 0.0, 1.0)];
+                // levels > 0: competences on a coarse grid, so equal interests are common.
+                let c = -uniform(&mut r, 0.0, 1.0);
+                let c = if levels > 0.0 {
+                    (c * levels).round() / levels
+                } else if p[0] < 0.5 {
+                    -1.0
+                } else {
+                    c
+                };
+                t.add(&p, c);
+                let scan = t.leaf_interests().iter().copied().fold(f64::INFINITY, f64::min);
+                assert_eq!(t.min_leaf_interest().to_bits(), scan.to_bits(), "seed {seed}, add {i}");
+                assert_eq!(t.min_interest.1, t.leaf_interests().iter().filter(|&&v| v == scan).count());
+            }
+            assert!(t.leaves().len() > 100);
+        }
+    }
+
     fn grow(n: usize, seed: u64) -> RegionTree {
         let mut t = RegionTree::new(&[0.0, -50.0], &[50.0, 50.0], RegionTreeConfig::default()).unwrap();
         let mut r = rng_from_seed(seed);
@@ -387,6 +462,8 @@ mod tests {
         // The contiguous copies goal selection scans agree with the regions, bit for bit.
         for (i, &l) in t.leaves().iter().enumerate() {
             assert_eq!(t.leaf_interests()[i].to_bits(), t.region(l).interest.to_bits());
+            let scan = t.leaf_interests().iter().copied().fold(f64::INFINITY, f64::min);
+            assert_eq!(t.min_leaf_interest(), scan);
             assert_eq!(t.leaf_means()[i].to_bits(), t.region(l).mean().unwrap_or(f64::NAN).to_bits());
         }
         // Leaf volumes sum to the root volume, and a linear scan agrees with the descent.
