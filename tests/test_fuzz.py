@@ -119,11 +119,12 @@ def test_goal_selector_survives_any_sequence(lohw, seed, ops, g_max):
     st.integers(1, 6),
     st.floats(0.05, math.pi),
     st.integers(0, 2**63 - 1),
+    st.sampled_from(["exp1", "arm3d"]),
 )
-def test_tiny_runs_finish_with_finite_curves(condition, paradigm, n_steps, n_joints, limit, seed):
+def test_tiny_runs_finish_with_finite_curves(condition, paradigm, n_steps, n_joints, limit, seed, preset):
     count("run")
     try:
-        cfg = saggriac.Config.from_preset("exp1", condition=condition, paradigm=paradigm, n_steps=n_steps, n_joints=n_joints, joint_limit=limit, n_evals=2, n_test_goals=5, n_test_configs=5, k_neighbours=3, g_max=6, zeta=2, min_child=1, episodic_k=2)
+        cfg = saggriac.Config.from_preset(preset, condition=condition, paradigm=paradigm, n_steps=n_steps, n_joints=n_joints, joint_limit=limit, n_evals=2, n_test_goals=5, n_test_configs=5, k_neighbours=3, g_max=6, zeta=2, min_child=1, episodic_k=2)
     except ParameterError:
         return
     res = saggriac.run(cfg, seed=seed)
