@@ -115,10 +115,11 @@ def check_environment(env: Any, n_steps: int = 50, seed: int = 0) -> None:
     first = env.reset(seed=seed)
     m = _task_dim(env)
     if m is None:
-        # No task_space: the first position fixes the dimension.
+        # No task_space: the first position fixes the dimension (a malformed answer is named
+        # by _pair below).
         try:
-            m = int(np.asarray(first[1], dtype=np.float64).size) if isinstance(first, tuple) and len(first) == 2 else 2
-        except (TypeError, ValueError):
+            m = int(np.asarray(first[1], dtype=np.float64).size)
+        except (TypeError, ValueError, IndexError, KeyError):
             m = 2
         if not 1 <= m <= MAX_TASK_DIM:
             raise ConformanceError(f"x returned by environment.reset(seed=...) must have 1 to {MAX_TASK_DIM} coordinates (the run loop's limit); got {m}.")

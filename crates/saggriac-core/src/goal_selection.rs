@@ -34,8 +34,10 @@ pub struct GoalChoice {
 
 /// A goal selector, usable inside the run loop or on its own.
 pub trait GoalSelector: Send + Sync {
-    fn dim(&self) -> usize;
     fn low(&self) -> &[f64];
+    fn dim(&self) -> usize {
+        self.low().len()
+    }
     fn high(&self) -> &[f64];
     fn sample(&mut self) -> GoalChoice;
     /// Report the competence obtained for a goal (or subgoal) at `point`; returns the region
@@ -147,9 +149,6 @@ impl SaggRiac {
 }
 
 impl GoalSelector for SaggRiac {
-    fn dim(&self) -> usize {
-        self.tree.dim()
-    }
     fn low(&self) -> &[f64] {
         self.tree.low()
     }
@@ -220,9 +219,6 @@ impl RandomGoals {
 }
 
 impl GoalSelector for RandomGoals {
-    fn dim(&self) -> usize {
-        self.low.len()
-    }
     fn low(&self) -> &[f64] {
         &self.low
     }

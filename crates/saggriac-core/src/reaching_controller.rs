@@ -63,11 +63,7 @@ pub struct AttemptOutcome {
 /// x_c - x_g is a sign typo, see SPEC.md).
 pub fn desired_step(x: &Point, target: &Point, v: f64) -> Point {
     let e = crate::task_space::sub(target, x);
-    let mut d = 0.0;
-    for c in e {
-        d += c * c;
-    }
-    let d = f64::sqrt(d);
+    let d = distance(target, x);
     if d == 0.0 {
         return [0.0; MAX_TASK_DIM];
     }

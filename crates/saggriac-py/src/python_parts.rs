@@ -190,9 +190,6 @@ impl PySelector {
 }
 
 impl GoalSelector for PySelector {
-    fn dim(&self) -> usize {
-        self.low.len()
-    }
     fn low(&self) -> &[f64] {
         &self.low
     }
