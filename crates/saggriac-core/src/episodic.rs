@@ -10,7 +10,7 @@ use nalgebra::DMatrix;
 use crate::competence::competence;
 use crate::config::Condition;
 use crate::error::{Check, Result};
-use crate::kd_tree::KdTree;
+use crate::kd_tree::{distances, KdTree};
 use crate::local_model::pinv_apply_wide;
 use crate::neighbours::{dist_sq, Neighbour, NeighbourIndex};
 use crate::rng::{normal, uniform};
@@ -90,6 +90,32 @@ impl EpisodicMemory {
             best.truncate(k);
         }
         *upto = self.len();
+    }
+
+    /// `knn_theta_since` for many fixed queries at once, with the same answers: `queries` holds
+    /// them dimension-major (coordinate d of query i at d * nq + i) and `caches[i]` is query i's
+    /// (best, upto). Each new sample is compared with every query in one SIMD pass, which reads
+    /// the samples once instead of once per query.
+    pub fn knn_theta_since_many(&self, queries: &[f64], k: usize, caches: &mut [(Vec<Neighbour>, usize)], acc: &mut Vec<f64>) {
+        let nq = caches.len();
+        debug_assert_eq!(queries.len(), nq * self.n);
+        acc.resize(nq, 0.0);
+        let start = caches.iter().map(|c| c.1).min().unwrap_or(self.len());
+        if k > 0 {
+            for id in start..self.len() {
+                distances(self.theta(id), queries, nq, nq, acc);
+                for ((best, upto), &d) in caches.iter_mut().zip(acc.iter()) {
+                    // Later ids lose ties, so a newcomer must be strictly closer than the k-th.
+                    if id < *upto || (best.len() == k && d >= best[k - 1].dist_sq) {
+                        continue;
+                    }
+                    let pos = best.partition_point(|b| b.dist_sq <= d);
+                    best.insert(pos, Neighbour { id: id as u32, dist_sq: d });
+                    best.truncate(k);
+                }
+            }
+        }
+        caches.iter_mut().for_each(|c| c.1 = self.len());
     }
     pub fn len(&self) -> usize {
         self.xs.len() / self.m
@@ -300,6 +326,11 @@ mod tests {
         let mut rng = rng_from_seed(5);
         let queries: Vec<Vec<f64>> = (0..6).map(|_| (0..n).map(|_| uniform(&mut rng, -1.0, 1.0)).collect()).collect();
         let mut cache: Vec<(Vec<Neighbour>, usize)> = vec![(Vec::new(), 0); queries.len()];
+        // The batched scan, with its own caches; query 0's starts late to mix the starting points.
+        let nq = queries.len();
+        let qt: Vec<f64> = (0..n * nq).map(|j| queries[j % nq][j / nq]).collect();
+        let mut many: Vec<Vec<(Vec<Neighbour>, usize)>> = vec![vec![(Vec::new(), 0); nq]; 2];
+        let mut acc = Vec::new();
         let mut expected = Vec::new();
         for round in 0..30 {
             for _ in 0..(round * 7) % 23 {
@@ -309,11 +340,18 @@ mod tests {
                 bf.add(&t);
             }
             for k in [1, 5] {
+                let caches = &mut many[if k == 1 { 0 } else { 1 }];
+                if round == 3 {
+                    caches[0] = (Vec::new(), 0);
+                }
+                mem.knn_theta_since_many(&qt, k, caches, &mut acc);
                 for (q, (nb, upto)) in queries.iter().zip(cache.iter_mut()) {
                     let (mut nb_k, mut upto_k) = if k == 1 { (nb.clone(), *upto) } else { (Vec::new(), 0) };
                     mem.knn_theta_since(q, k, &mut nb_k, &mut upto_k);
                     bf.knn(q, k, &mut expected);
                     assert_eq!(nb_k, expected, "round {round}, k {k}");
+                    let i = queries.iter().position(|p| p == q).unwrap();
+                    assert_eq!(many[if k == 1 { 0 } else { 1 }][i], (expected.clone(), mem.len()), "batched, round {round}, k {k}");
                     if k == 1 {
                         *nb = nb_k;
                         *upto = upto_k;

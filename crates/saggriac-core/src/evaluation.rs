@@ -138,6 +138,7 @@ pub struct Evaluator {
     /// Episodic paradigm: each test configuration's neighbours so far, and how many samples
     /// they cover (the memory only grows, so each evaluation scans only the new samples).
     forward_cache: Vec<(Vec<Neighbour>, usize)>,
+    scan_acc: Vec<f64>,
     /// The body the test reaches run on, when the learner's body can make a copy.
     pub(crate) scratch: Option<Box<dyn Body>>,
     model: LocalModel,
@@ -156,6 +157,7 @@ impl Evaluator {
             cfg,
             tests,
             forward_cache: Vec::new(),
+            scan_acc: Vec::new(),
             scratch,
             model: LocalModel::new(n_joints, task_dim, local),
             warm: WarmStart::new(warm_recent),
@@ -261,15 +263,16 @@ impl Evaluator {
                 })
                 .collect::<Vec<f64>>()
         });
-        let pred_errors = self
-            .tests
-            .configs
+        let configs = &self.tests.configs;
+        let nq = configs.len();
+        let n = configs.first().map_or(0, Vec::len);
+        let queries: Vec<f64> = (0..n * nq).map(|j| configs[j % nq][j / nq]).collect();
+        memory.knn_theta_since_many(&queries, EpisodicMemory::forward_k(cfg), &mut self.forward_cache, &mut self.scan_acc);
+        let pred_errors = configs
             .iter()
             .zip(&self.tests.true_x)
-            .enumerate()
-            .map(|(i, (c, xt))| {
-                let (nb, upto) = &mut self.forward_cache[i];
-                memory.knn_theta_since(c, EpisodicMemory::forward_k(cfg), nb, upto);
+            .zip(&self.forward_cache)
+            .map(|((c, xt), (nb, _))| {
                 let xp = memory.predict_from(c, nb, cfg).unwrap_or([0.0; MAX_TASK_DIM]);
                 distance(&xp, xt)
             })

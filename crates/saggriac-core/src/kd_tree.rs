@@ -71,7 +71,7 @@ unsafe fn block_dist_sq_avx2(q: &[f64], coords: &[f64], cap: usize, len: usize, 
     block_dist_sq(q, coords, cap, len, acc)
 }
 
-fn distances(q: &[f64], coords: &[f64], cap: usize, len: usize, acc: &mut [f64]) {
+pub(crate) fn distances(q: &[f64], coords: &[f64], cap: usize, len: usize, acc: &mut [f64]) {
     #[cfg(target_arch = "x86_64")]
     {
         if std::arch::is_x86_feature_detected!("avx2") {
