@@ -116,10 +116,10 @@ impl SaggRiac {
     /// Draw a leaf with probability |interest - min interest| / sum (eq. 3); uniform when all
     /// interests are equal.
     fn interest_leaf(&mut self) -> usize {
+        let total = self.tree.interest_weight_total();
         let leaves = self.tree.leaves();
         let interest = self.tree.leaf_interests();
         let min = self.tree.min_leaf_interest();
-        let total: f64 = interest.iter().map(|i| (i - min).abs()).sum();
         if !(total > 0.0 && total.is_finite()) {
             return leaves[index(&mut self.rng, leaves.len())];
         }

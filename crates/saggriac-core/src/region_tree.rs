@@ -82,6 +82,12 @@ pub struct RegionTree {
     /// needs no scan for it. A minimum does not depend on the order it is taken in, so this is
     /// exactly the value a scan would find.
     min_interest: (f64, usize),
+    /// Running sums of the draw weights |interest - min| in leaf order: weight_sums[j] adds the
+    /// first j weights left to right, as a plain sum does, so the total has the same bits. Only
+    /// the sums after the first changed leaf are redone (sums_valid: how many leaves are
+    /// unchanged since they were computed).
+    weight_sums: Vec<f64>,
+    sums_valid: usize,
     points: Vec<f64>,
     values: Vec<f64>,
 }
@@ -101,6 +107,8 @@ impl RegionTree {
             leaf_mean: vec![f64::NAN],
             leaf_pos: vec![0],
             min_interest: (0.0, 1),
+            weight_sums: vec![0.0],
+            sums_valid: 0,
             points: Vec::new(),
             values: Vec::new(),
         })
@@ -129,6 +137,21 @@ impl RegionTree {
     /// The smallest value of `leaf_interests()` (a scan's `fold(inf, f64::min)`).
     pub fn min_leaf_interest(&self) -> f64 {
         self.min_interest.0
+    }
+
+    /// Sum over leaves, in order, of |interest - min leaf interest| (the normaliser of eq. 3).
+    pub fn interest_weight_total(&mut self) -> f64 {
+        let n = self.leaves.len();
+        let min = self.min_interest.0;
+        self.weight_sums.resize(n + 1, 0.0);
+        let from = self.sums_valid;
+        let mut acc = self.weight_sums[from];
+        for (s, i) in self.weight_sums[from + 1..].iter_mut().zip(&self.leaf_interest[from..]) {
+            acc += (i - min).abs();
+            *s = acc;
+        }
+        self.sums_valid = n;
+        self.weight_sums[n]
     }
     /// Mean value of each leaf (NaN when it holds none), in the order of `leaves()`.
     pub fn leaf_means(&self) -> &[f64] {
@@ -186,6 +209,9 @@ impl RegionTree {
         let pos = self.leaf_pos[leaf];
         let old = self.leaf_interest[pos];
         self.leaf_interest[pos] = self.regions[leaf].interest;
+        if old.to_bits() != self.leaf_interest[pos].to_bits() {
+            self.sums_valid = self.sums_valid.min(pos);
+        }
         self.leaf_mean[pos] = self.regions[leaf].mean().unwrap_or(f64::NAN);
         self.track_min(Some(old), Some(self.leaf_interest[pos]));
     }
@@ -205,12 +231,17 @@ impl RegionTree {
                 count += 1;
             }
         }
+        let before = self.min_interest.0;
         self.min_interest = if nan || count == 0 {
             let m = self.leaf_interest.iter().copied().fold(f64::INFINITY, f64::min);
             (m, self.leaf_interest.iter().filter(|&&v| v == m).count())
         } else {
             (min, count)
         };
+        if before.to_bits() != self.min_interest.0.to_bits() {
+            // Every weight moved with the minimum.
+            self.sums_valid = 0;
+        }
     }
 
     fn refresh_interest(&mut self, leaf: usize, zeta: usize) {
@@ -220,19 +251,29 @@ impl RegionTree {
         self.regions[leaf].interest = interest(&window, zeta);
     }
 
-    /// Interest of the entries whose mask value is `side` (the last zeta of them, in time order).
-    fn window_interest(&self, entries: &[u32], mask: &[bool], side: bool, window: &mut Vec<f64>) -> f64 {
+    /// Interest of the last zeta (in time order) of a leaf's measurements whose bit in `left`
+    /// equals `side`; `vals` are their values in time order. Bits are read from the top, so the
+    /// scan stops after zeta members without visiting the others.
+    fn window_interest(&self, vals: &[f64], left: &[u64], side: bool, window: &mut Vec<f64>) -> f64 {
+        let zeta = self.cfg.zeta;
         window.clear();
-        for p in (0..entries.len()).rev() {
-            if mask[p] == side {
-                window.push(self.values[entries[p] as usize]);
-                if window.len() == self.cfg.zeta {
-                    break;
+        'words: for w in (0..left.len()).rev() {
+            let mut word = if side { left[w] } else { !left[w] };
+            let tail = vals.len() - 64 * w;
+            if tail < 64 {
+                word &= (1u64 << tail) - 1;
+            }
+            while word != 0 && zeta > 0 {
+                let b = 63 - word.leading_zeros() as usize;
+                window.push(vals[64 * w + b]);
+                if window.len() == zeta {
+                    break 'words;
                 }
+                word &= !(1u64 << b);
             }
         }
         window.reverse();
-        interest(window, self.cfg.zeta)
+        interest(window, zeta)
     }
 
     /// Choose the cut (dimension, position) that maximises |interest(left) - interest(right)|
@@ -246,25 +287,28 @@ impl RegionTree {
         // Positions in `entries`, which is in time order; a child's interest needs its last
         // zeta measurements in time order, read off a membership mask from the end.
         let mut order: Vec<usize> = (0..n).collect();
-        let mut in_left = vec![false; n];
+        // Membership of the left child as a bitset over positions.
+        let mut left = vec![0u64; n.div_ceil(64)];
+        let vals: Vec<f64> = entries.iter().map(|&e| self.values[e as usize]).collect();
         let mut window = Vec::with_capacity(self.cfg.zeta);
         let mc = self.cfg.min_child.max(1);
+        let to_left = |left: &mut [u64], p: usize| left[p / 64] |= 1u64 << (p % 64);
         for d in 0..self.dim {
             let coord = |p: usize| self.points[entries[p] as usize * self.dim + d];
             order.sort_by(|a, b| coord(*a).total_cmp(&coord(*b)).then(a.cmp(b)));
-            in_left.iter_mut().for_each(|v| *v = false);
+            left.iter_mut().for_each(|w| *w = 0);
             for &p in &order[..mc - 1] {
-                in_left[p] = true;
+                to_left(&mut left, p);
             }
             for i in mc..=(n - mc) {
-                in_left[order[i - 1]] = true;
+                to_left(&mut left, order[i - 1]);
                 let (a, b) = (coord(order[i - 1]), coord(order[i]));
                 if a == b {
                     continue;
                 }
                 let cut = midpoint(a, b);
-                let il = self.window_interest(entries, &in_left, true, &mut window);
-                let ir = self.window_interest(entries, &in_left, false, &mut window);
+                let il = self.window_interest(&vals, &left, true, &mut window);
+                let ir = self.window_interest(&vals, &left, false, &mut window);
                 let score = (il - ir).abs();
                 let imbalance = (2 * i).abs_diff(n);
                 let better = match best {
@@ -351,6 +395,7 @@ impl RegionTree {
         self.refresh_interest(li, zeta);
         self.refresh_interest(ri, zeta);
         let pos = self.leaf_pos[leaf];
+        self.sums_valid = self.sums_valid.min(pos);
         self.leaves.remove(pos);
         self.leaves.push(li);
         self.leaves.push(ri);
@@ -401,10 +446,10 @@ mod tests {
     use super::*;
     use crate::rng::{rng_from_seed, uniform};
 
-    /// The tracked minimum equals a scan after every measurement, with ties (many leaves at
+    /// The tracked minimum and the draw's total weight equal a scan after every measurement, with ties (many leaves at
     /// the same interest: constant competences give interest exactly 0) and splits.
     #[test]
-    fn min_interest_matches_a_scan_after_every_add() {
+    fn min_interest_and_weight_total_match_a_scan_after_every_add() {
         for (seed, levels) in [(1u64, 0.0), (2, 4.0), (3, 1.0)] {
             let cfg = RegionTreeConfig { g_max: 8, zeta: 6, min_child: 2 };
             let mut t = RegionTree::new(&[0.0, 0.0], &[1.0, 1.0], cfg).unwrap();
@@ -424,8 +469,68 @@ mod tests {
                 let scan = t.leaf_interests().iter().copied().fold(f64::INFINITY, f64::min);
                 assert_eq!(t.min_leaf_interest().to_bits(), scan.to_bits(), "seed {seed}, add {i}");
                 assert_eq!(t.min_interest.1, t.leaf_interests().iter().filter(|&&v| v == scan).count());
+                // The draw's normaliser, asked after one to three changes, has a plain sum's bits.
+                if i % 3 != 1 {
+                    let plain: f64 = t.leaf_interests().iter().map(|v| (v - scan).abs()).sum();
+                    assert_eq!(t.interest_weight_total().to_bits(), plain.to_bits(), "seed {seed}, add {i}");
+                }
             }
             assert!(t.leaves().len() > 100);
+        }
+    }
+
+    /// The cut search equals a direct reading of its definition: every midpoint between
+    /// distinct coordinates, children's interests from their own time-ordered measurements.
+    /// Leaves of up to 200 measurements cover bitsets of several words.
+    #[test]
+    fn best_cut_matches_its_definition() {
+        let reference = |t: &RegionTree, leaf: usize| -> Option<(usize, f64, f64)> {
+            let cfg = t.config();
+            let entries = &t.region(leaf).entries;
+            let n = entries.len();
+            let mut best: Option<(f64, usize, usize, f64)> = None;
+            for d in 0..t.dim() {
+                let mut cs: Vec<f64> = entries.iter().map(|&e| t.point(e as usize)[d]).collect();
+                cs.sort_by(f64::total_cmp);
+                cs.dedup();
+                for w in cs.windows(2) {
+                    let cut = midpoint(w[0], w[1]);
+                    let side = |left: bool| -> Vec<f64> { entries.iter().filter(|&&e| (t.point(e as usize)[d] < cut) == left).map(|&e| t.value(e as usize)).collect() };
+                    let (l, r) = (side(true), side(false));
+                    if l.len() < cfg.min_child.max(1) || r.len() < cfg.min_child.max(1) {
+                        continue;
+                    }
+                    let score = (interest(&l, cfg.zeta) - interest(&r, cfg.zeta)).abs();
+                    let imbalance = (2 * l.len()).abs_diff(n);
+                    if best.is_none_or(|(s, imb, _, _)| score > s || (score == s && imbalance < imb)) {
+                        best = Some((score, imbalance, d, cut));
+                    }
+                }
+            }
+            best.map(|(s, _, d, v)| (d, v, s))
+        };
+        let mut r = rng_from_seed(9);
+        for (case, &(n, zeta, min_child, grid)) in
+            [(10, 4, 1, 0.0), (63, 20, 5, 8.0), (64, 20, 5, 0.0), (65, 64, 3, 4.0), (130, 100, 5, 16.0), (200, 20, 1, 3.0), (200, 300, 5, 0.0)].iter().enumerate()
+        {
+            let cfg = RegionTreeConfig { g_max: 200, zeta, min_child };
+            let mut t = RegionTree::new(&[0.0, 0.0, 0.0], &[1.0, 1.0, 1.0], cfg).unwrap();
+            for _ in 0..n {
+                // grid > 0: coarse coordinates and competences, so ties are common.
+                let mut q = || {
+                    let v = uniform(&mut r, 0.0, 1.0);
+                    if grid > 0.0 {
+                        (v * grid).floor() / grid
+                    } else {
+                        v
+                    }
+                };
+                let p = [q(), q(), q()];
+                t.add(&p, -q());
+            }
+            let (got, want) = (t.best_cut(0), reference(&t, 0));
+            assert!(want.is_some(), "case {case}");
+            assert_eq!(got.map(|(d, v, s)| (d, v.to_bits(), s.to_bits())), want.map(|(d, v, s)| (d, v.to_bits(), s.to_bits())), "case {case}");
         }
     }
 
