@@ -171,8 +171,7 @@ impl GoalSelector for SaggRiac {
         let goal = match leaf {
             Some(l) => {
                 let r = self.tree.region(l);
-                let (lo, hi) = (r.low.clone(), r.high.clone());
-                uniform_in(&mut self.rng, &lo, &hi)
+                uniform_in(&mut self.rng, &r.low, &r.high)
             }
             None => uniform_in(&mut self.rng, self.tree.low(), self.tree.high()),
         };

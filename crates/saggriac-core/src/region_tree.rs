@@ -88,6 +88,8 @@ pub struct RegionTree {
     /// unchanged since they were computed).
     weight_sums: Vec<f64>,
     sums_valid: usize,
+    /// Scratch space for a leaf's last zeta values.
+    window: Vec<f64>,
     points: Vec<f64>,
     values: Vec<f64>,
 }
@@ -109,6 +111,7 @@ impl RegionTree {
             min_interest: (0.0, 1),
             weight_sums: vec![0.0],
             sums_valid: 0,
+            window: Vec::new(),
             points: Vec::new(),
             values: Vec::new(),
         })
@@ -188,11 +191,11 @@ impl RegionTree {
     /// sit at one point, where no cut can separate them).
     pub fn add(&mut self, p: &[f64], value: f64) -> (usize, bool) {
         let root = &self.regions[0];
-        let clamped: Vec<f64> = p.iter().zip(root.low.iter().zip(&root.high)).map(|(v, (lo, hi))| v.clamp(*lo, *hi)).collect();
+        let start = self.points.len();
+        self.points.extend(p.iter().zip(root.low.iter().zip(&root.high)).map(|(v, (lo, hi))| v.clamp(*lo, *hi)));
         let id = self.values.len() as u32;
-        self.points.extend_from_slice(&clamped);
         self.values.push(value);
-        let leaf = self.leaf_of(&clamped);
+        let leaf = self.leaf_of(&self.points[start..]);
         let zeta = self.cfg.zeta;
         {
             let reg = &mut self.regions[leaf];
@@ -247,8 +250,9 @@ impl RegionTree {
     fn refresh_interest(&mut self, leaf: usize, zeta: usize) {
         let reg = &self.regions[leaf];
         let start = reg.entries.len().saturating_sub(zeta);
-        let window: Vec<f64> = reg.entries[start..].iter().map(|&e| self.values[e as usize]).collect();
-        self.regions[leaf].interest = interest(&window, zeta);
+        self.window.clear();
+        self.window.extend(reg.entries[start..].iter().map(|&e| self.values[e as usize]));
+        self.regions[leaf].interest = interest(&self.window, zeta);
     }
 
     /// Interest of the last zeta (in time order) of a leaf's measurements whose bit in `left`
@@ -272,8 +276,16 @@ impl RegionTree {
                 word &= !(1u64 << b);
             }
         }
-        window.reverse();
-        interest(window, zeta)
+        // `interest` of the window, read from its newest-first order: each half is summed
+        // oldest first, as `interest` sums it.
+        let w = window.len();
+        let half = w / 2;
+        if half == 0 {
+            return 0.0;
+        }
+        let older: f64 = window[w - half..].iter().rev().sum();
+        let newer: f64 = window[..half].iter().rev().sum();
+        (older - newer).abs() / w as f64
     }
 
     /// Choose the cut (dimension, position) that maximises |interest(left) - interest(right)|
@@ -287,6 +299,7 @@ impl RegionTree {
         // Positions in `entries`, which is in time order; a child's interest needs its last
         // zeta measurements in time order, read off a membership mask from the end.
         let mut order: Vec<usize> = (0..n).collect();
+        let mut cd = vec![0.0; n];
         // Membership of the left child as a bitset over positions.
         let mut left = vec![0u64; n.div_ceil(64)];
         let vals: Vec<f64> = entries.iter().map(|&e| self.values[e as usize]).collect();
@@ -294,8 +307,10 @@ impl RegionTree {
         let mc = self.cfg.min_child.max(1);
         let to_left = |left: &mut [u64], p: usize| left[p / 64] |= 1u64 << (p % 64);
         for d in 0..self.dim {
-            let coord = |p: usize| self.points[entries[p] as usize * self.dim + d];
-            order.sort_by(|a, b| coord(*a).total_cmp(&coord(*b)).then(a.cmp(b)));
+            cd.iter_mut().zip(entries).for_each(|(c, &e)| *c = self.points[e as usize * self.dim + d]);
+            let coord = |p: usize| cd[p];
+            // Positions break ties, so the order is total and an unstable sort gives it exactly.
+            order.sort_unstable_by(|a, b| coord(*a).total_cmp(&coord(*b)).then(a.cmp(b)));
             left.iter_mut().for_each(|w| *w = 0);
             for &p in &order[..mc - 1] {
                 to_left(&mut left, p);
