@@ -297,7 +297,7 @@ impl RegionTree {
         // (score, imbalance, dim, value)
         let mut best: Option<(f64, usize, usize, f64)> = None;
         // Positions in `entries`, which is in time order; a child's interest needs its last
-        // zeta measurements in time order, read off a membership mask from the end.
+        // zeta measurements in time order, read off a membership bitset from the top.
         let mut order: Vec<usize> = (0..n).collect();
         let mut cd = vec![0.0; n];
         // Membership of the left child as a bitset over positions.
@@ -461,8 +461,9 @@ mod tests {
     use super::*;
     use crate::rng::{rng_from_seed, uniform};
 
-    /// The tracked minimum and the draw's total weight equal a scan after every measurement, with ties (many leaves at
-    /// the same interest: constant competences give interest exactly 0) and splits.
+    /// The tracked minimum and the draw's total weight equal a scan after every measurement,
+    /// with ties (many leaves at the same interest: constant competences give interest exactly
+    /// 0) and splits.
     #[test]
     fn min_interest_and_weight_total_match_a_scan_after_every_add() {
         for (seed, levels) in [(1u64, 0.0), (2, 4.0), (3, 1.0)] {
