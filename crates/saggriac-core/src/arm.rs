@@ -5,7 +5,7 @@
 
 use crate::error::{invalid, Check, Result};
 use crate::rng::{normal, rng_from_seed, CoreRng};
-use crate::task_space::{Point, MAX_TASK_DIM};
+use crate::task_space::{sub, Point, MAX_TASK_DIM};
 
 /// Which kinematics the arm has.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -201,7 +201,7 @@ impl Arm {
             *t = target;
         }
         let x_new = self.read(self.forward(&self.theta));
-        let dx = crate::task_space::sub(&x_new, &self.x);
+        let dx = sub(&x_new, &self.x);
         self.x = x_new;
         dx
     }

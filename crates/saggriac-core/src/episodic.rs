@@ -55,6 +55,18 @@ pub struct EpisodicMemory {
     nb: Vec<Neighbour>,
 }
 
+/// Merge sample `id` at squared distance `d` into `best`, the k (> 0) nearest so far sorted by
+/// (distance, id), every one of them older than `id`: a later id loses ties, so it must be
+/// strictly closer than the k-th to get in.
+fn merge_newer(best: &mut Vec<Neighbour>, k: usize, id: usize, d: f64) {
+    if best.len() == k && d >= best[k - 1].dist_sq {
+        return;
+    }
+    let pos = best.partition_point(|b| b.dist_sq <= d);
+    best.insert(pos, Neighbour { id: id as u32, dist_sq: d });
+    best.truncate(k);
+}
+
 impl EpisodicMemory {
     /// Memory of movements of `n` joints reaching a `m`-D task space.
     pub fn new(n: usize, m: usize, index_theta: bool) -> Self {
@@ -76,18 +88,10 @@ impl EpisodicMemory {
     /// first `*upto` samples; the samples stored since are scanned and merged in (distance, id)
     /// order, so the answer equals a full search.
     pub fn knn_theta_since(&self, theta: &[f64], k: usize, best: &mut Vec<Neighbour>, upto: &mut usize) {
-        for id in *upto..self.len() {
-            let d = dist_sq(theta, self.theta(id));
-            // Later ids lose ties, so a newcomer must be strictly closer than the k-th.
-            if best.len() == k && k > 0 && d >= best[k - 1].dist_sq {
-                continue;
+        if k > 0 {
+            for id in *upto..self.len() {
+                merge_newer(best, k, id, dist_sq(theta, self.theta(id)));
             }
-            if k == 0 {
-                break;
-            }
-            let pos = best.partition_point(|b| b.dist_sq <= d);
-            best.insert(pos, Neighbour { id: id as u32, dist_sq: d });
-            best.truncate(k);
         }
         *upto = self.len();
     }
@@ -105,13 +109,9 @@ impl EpisodicMemory {
             for id in start..self.len() {
                 distances(self.theta(id), queries, nq, nq, acc);
                 for ((best, upto), &d) in caches.iter_mut().zip(acc.iter()) {
-                    // Later ids lose ties, so a newcomer must be strictly closer than the k-th.
-                    if id < *upto || (best.len() == k && d >= best[k - 1].dist_sq) {
-                        continue;
+                    if id >= *upto {
+                        merge_newer(best, k, id, d);
                     }
-                    let pos = best.partition_point(|b| b.dist_sq <= d);
-                    best.insert(pos, Neighbour { id: id as u32, dist_sq: d });
-                    best.truncate(k);
                 }
             }
         }

@@ -6,7 +6,7 @@ use crate::competence::{clip, cost};
 use crate::error::{Check, Result};
 use crate::local_model::FitFailure;
 use crate::run_loop::{ActionKind, Learner};
-use crate::task_space::{distance, Point, MAX_TASK_DIM};
+use crate::task_space::{distance, norm, sub, Point, MAX_TASK_DIM};
 
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ReachingConfig {
@@ -62,8 +62,8 @@ pub struct AttemptOutcome {
 /// Desired displacement: length min(v, |target - x|) towards the target (the paper's
 /// x_c - x_g is a sign typo, see SPEC.md).
 pub fn desired_step(x: &Point, target: &Point, v: f64) -> Point {
-    let e = crate::task_space::sub(target, x);
-    let d = distance(target, x);
+    let e = sub(target, x);
+    let d = norm(&e);
     if d == 0.0 {
         return [0.0; MAX_TASK_DIM];
     }

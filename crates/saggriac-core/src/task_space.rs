@@ -18,13 +18,18 @@ pub fn point(coords: &[f64]) -> Point {
     p
 }
 
-/// Euclidean distance.
-pub fn distance(a: &Point, b: &Point) -> f64 {
+/// Euclidean length.
+pub fn norm(p: &Point) -> f64 {
     let mut s = 0.0;
-    for i in 0..MAX_TASK_DIM {
-        s += (a[i] - b[i]).powi(2);
+    for v in p {
+        s += v.powi(2);
     }
     s.sqrt()
+}
+
+/// Euclidean distance.
+pub fn distance(a: &Point, b: &Point) -> f64 {
+    norm(&sub(a, b))
 }
 
 /// a - b.
