@@ -136,3 +136,19 @@ def test_too_little_free_space_fails_before_work(small_config, tmp_path, monkeyp
     with pytest.raises(saggriac.StorageError, match="0.1 MB free"):
         saggriac.run(small_config.replace(n_steps=50_000), seed=0, out_dir=tmp_path / "run")
     assert time.perf_counter() - t0 < 2.0  # refused before the 50,000 steps, not after
+
+
+def test_a_finished_result_saves_on_a_nearly_full_disk(small_config, tmp_path, monkeypatch):
+    # The free-space rule guards the start of a run; a run directory (about 1 MB) that is already
+    # computed must still be saved when less than that margin is left.
+    import shutil
+    from collections import namedtuple
+
+    import pandas as pd
+
+    res = saggriac.run(small_config, seed=0)
+    usage = namedtuple("usage", "total used free")
+    monkeypatch.setattr(shutil, "disk_usage", lambda p: usage(10**9, 10**9 - 10**7, 10**7))
+    res.save(tmp_path / "kept")
+    loaded = saggriac.RunResult.load(tmp_path / "kept")
+    pd.testing.assert_frame_equal(loaded.metrics, res.metrics)

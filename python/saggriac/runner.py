@@ -17,7 +17,7 @@ from .config import Config
 from .errors import ParameterError, StorageError
 from .result import RunResult
 from .seeding import check_seed, derive_seeds, environment_seed
-from .storage import check_output_dir, replace_dir, write_run
+from .storage import MIN_FREE_BYTES, check_output_dir, replace_dir, write_run
 
 if TYPE_CHECKING:
     from .environments import Environment
@@ -66,7 +66,7 @@ def run(
     seed = check_seed(seed)
     out = Path(out_dir) if out_dir is not None else None
     if out is not None:
-        check_output_dir(out, overwrite)
+        check_output_dir(out, overwrite, MIN_FREE_BYTES)
     learner_seed, eval_seed = derive_seeds(seed)
     extra = {}
     if environment is not None:

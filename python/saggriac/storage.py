@@ -20,7 +20,7 @@ TABLES = ("metrics", "goals", "attempts", "regions")
 MIN_FREE_BYTES = 20_000_000
 
 
-def _check_writable(parent: Path) -> None:
+def _check_writable(parent: Path, min_free: int) -> None:
     try:
         parent.mkdir(parents=True, exist_ok=True)
     except OSError as e:
@@ -28,15 +28,19 @@ def _check_writable(parent: Path) -> None:
     if not os.access(parent, os.W_OK):
         raise StorageError(f"The output folder {parent} is not writable.")
     free = shutil.disk_usage(parent).free
-    if free < MIN_FREE_BYTES:
-        raise StorageError(f"The disk of {parent} has {free / 1e6:.1f} MB free; a run needs up to {MIN_FREE_BYTES / 1e6:.0f} MB. Free some space or choose another folder.")
+    if free < min_free:
+        raise StorageError(f"The disk of {parent} has {free / 1e6:.1f} MB free; a run needs up to {min_free / 1e6:.0f} MB. Free some space or choose another folder.")
 
 
-def check_output_dir(out: Path, overwrite: bool = False) -> None:
-    """Fail before any work if `out` cannot be written or already holds a finished run."""
+def check_output_dir(out: Path, overwrite: bool = False, min_free: int = 0) -> None:
+    """Fail if `out` cannot be written or already holds a finished run.
+
+    Before a run, pass `min_free=MIN_FREE_BYTES` to refuse a nearly full disk before any work;
+    a finished result is then written with no such rule (a real lack of space still raises).
+    """
     if (out / MANIFEST).exists() and not overwrite:
         raise StorageError(f"{out} already holds a finished run; pass overwrite=True (--overwrite) to replace it.")
-    _check_writable(out.parent)
+    _check_writable(out.parent, min_free)
 
 
 def _fsync(path: Path) -> None:
