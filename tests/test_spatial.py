@@ -96,10 +96,15 @@ class Rail(PlanarArm):
         return super().forward(theta)[:1]
 
 
-def test_a_one_dimensional_task_space():
+def test_a_one_dimensional_task_space(tmp_path):
     env = Rail(n_joints=5, arm_length=10.0)
     check_environment(env)
     cfg = saggriac.Config.from_preset("exp1", n_joints=5, arm_length=10.0, goal_low=(-10.0,), goal_high=(10.0,), n_steps=3000, n_evals=2, n_test_goals=20, n_test_configs=10)
-    res = saggriac.run(cfg, seed=0, environment=env)
+    res = saggriac.run(cfg, seed=0, environment=env, out_dir=tmp_path / "run")
     assert "goal_x" in res.goals.columns and "goal_y" not in res.goals.columns
     assert np.all(np.isfinite(res.reach_error)) and res.reach_error[-1] < 0.5 * res.reach_error[0], res.reach_error
+    # Its goal histograms are plain 1-D histograms.
+    from saggriac import plots
+
+    out = plots.plot_goal_histograms(tmp_path / "run", tmp_path / "goals.png")
+    assert out.stat().st_size > 10_000

@@ -64,20 +64,22 @@ def _leaves_at(regions: pd.DataFrame, n_measurements: int) -> pd.DataFrame:
 def plot_goal_histograms(run_dir: str | Path, path: str | Path, n_windows: int = 4, bins: int = 40) -> Path:
     """Histograms of the self-generated goals over windows of goal indices, with the regions
     existing at the end of each window (white) and the boundary of the reachable disk (cyan).
-    A 3-D goal space gets two rows of panels: its (x, y) and (x, z) projections."""
+    A 3-D goal space gets two rows of panels: its (x, y) and (x, z) projections; a 1-D one gets
+    plain histograms with the region boundaries as vertical lines."""
     from .result import RunResult
 
     res = RunResult.load(run_dir)
     cfg = res.config
     goals, attempts, regions = res.goals, res.attempts, res.regions.reset_index(drop=True)
+    if len(cfg.goal_low) == 1:
+        return _plot_goal_histograms_1d(res, path, n_windows, bins)
     # Planes shown, as pairs of coordinate names; a projection of the ball is its disk.
     planes = [("x", "y")] if len(cfg.goal_low) == 2 else [("x", "y"), ("x", "z")]
     cols = min(n_windows, 4)
     rows_per_plane = (n_windows + 3) // 4
     fig = Figure(figsize=(4.0 * cols, 4.0 * rows_per_plane * len(planes)), layout="constrained")
     grid = np.atleast_2d(fig.subplots(rows_per_plane * len(planes), cols, squeeze=False))
-    n_goals = len(goals)
-    edges = np.unique(np.linspace(0, n_goals, n_windows + 1).round().astype(int))
+    edges, windows = _window_bounds(len(goals), n_windows)
     reach = cfg.arm_length if cfg.link_lengths is None else float(sum(cfg.link_lengths))
     axis_index = {"x": 0, "y": 1, "z": 2}
     for p, (u, w) in enumerate(planes):
@@ -88,8 +90,7 @@ def plot_goal_histograms(run_dir: str | Path, path: str | Path, n_windows: int =
             if k + 1 >= len(edges):
                 ax.set_axis_off()
                 continue
-            # The last window shows all goals, as in the paper's last panel.
-            start, end = (0, edges[-1]) if k == len(edges) - 2 and k > 0 else (edges[k], edges[k + 1])
+            start, end = windows[k]
             sel = goals[(goals["goal_index"] >= start) & (goals["goal_index"] < end)]
             h, _, _ = np.histogram2d(sel[f"goal_{u}"], sel[f"goal_{w}"], bins=bins, range=[[lo[0], hi[0]], [lo[1], hi[1]]])
             ax.imshow(h.T, origin="lower", extent=(lo[0], hi[0], lo[1], hi[1]), cmap="inferno", aspect="auto", interpolation="nearest")
@@ -105,6 +106,34 @@ def plot_goal_histograms(run_dir: str | Path, path: str | Path, n_windows: int =
             ax.set_ylabel(w)
             ax.set_title(f"goals {start}-{end}" + (f", ({u}, {w}) projection" if len(planes) > 1 else ""))
     fig.suptitle(f"{LABELS.get(cfg.condition, cfg.condition)}, seed {res.seed}: self-generated goals and regions")
+    path = Path(path)
+    fig.savefig(path, dpi=110)
+    return path
+
+
+def _window_bounds(n_goals: int, n_windows: int) -> tuple[np.ndarray, list[tuple[int, int]]]:
+    edges = np.unique(np.linspace(0, n_goals, n_windows + 1).round().astype(int))
+    # The last window shows all goals, as in the paper's last panel.
+    return edges, [(0, edges[-1]) if k == len(edges) - 2 and k > 0 else (edges[k], edges[k + 1]) for k in range(len(edges) - 1)]
+
+
+def _plot_goal_histograms_1d(res, path: str | Path, n_windows: int, bins: int) -> Path:
+    cfg, goals, attempts, regions = res.config, res.goals, res.attempts, res.regions.reset_index(drop=True)
+    lo, hi = cfg.goal_low[0], cfg.goal_high[0]
+    _, windows = _window_bounds(len(goals), n_windows)
+    fig = Figure(figsize=(4.0 * max(len(windows), 1), 3.5), layout="constrained")
+    for k, (start, end) in enumerate(windows):
+        ax = fig.add_subplot(1, len(windows), k + 1)
+        sel = goals[(goals["goal_index"] >= start) & (goals["goal_index"] < end)]
+        ax.hist(sel["goal_x"], bins=bins, range=(lo, hi), color="0.3")
+        if len(regions) and "created_at" in regions:
+            n_meas = int((attempts["goal_index"] < end).sum()) if len(attempts) else 0
+            for v in sorted(set(_leaves_at(regions, n_meas)["low_x"]) - {lo}):
+                ax.axvline(v, color="tab:orange", linewidth=0.6)
+        ax.set_xlim(lo, hi)
+        ax.set_xlabel("x")
+        ax.set_title(f"goals {start}-{end}")
+    fig.suptitle(f"{LABELS.get(cfg.condition, cfg.condition)}, seed {res.seed}: self-generated goals and region boundaries")
     path = Path(path)
     fig.savefig(path, dpi=110)
     return path
