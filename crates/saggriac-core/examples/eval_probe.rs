@@ -2,7 +2,7 @@
 use saggriac_core::arm::Arm;
 use saggriac_core::local_model::LocalModel;
 use saggriac_core::neighbours::{dist_sq, Neighbour, WarmStart};
-use saggriac_core::reaching_controller::desired_step;
+use saggriac_core::task_space::desired_step;
 use saggriac_core::{config::Condition, Learner, RunConfig};
 
 fn main() {

@@ -9,8 +9,9 @@ use crate::arm::ArmState;
 use crate::config::RunConfig;
 use crate::error::{Error, Result};
 use crate::goal_selection::SelectorState;
+use crate::recorder::{AttemptRow, Counters, GoalRow, MetricRow, Recorder, Timers};
 use crate::rng::CoreRng;
-use crate::run_loop::{AttemptRow, Counters, GoalRow, Learner, MetricRow, Timers};
+use crate::run_loop::Learner;
 use crate::task_space::Point;
 
 /// Bumped whenever the layout below changes; older checkpoints are then refused.
@@ -50,32 +51,34 @@ fn refuse(why: impl Into<String>) -> Error {
 impl Learner {
     /// Encode the learner's state. Only built-in bodies and goal selectors can be saved.
     pub fn checkpoint(&self) -> Result<Vec<u8>> {
-        let selector = self.selector.save().ok_or_else(|| refuse("This run cannot be checkpointed: its goal selector is a user's object, whose state saggriac cannot save."))?;
-        let body = self.body.save().ok_or_else(|| refuse("This run cannot be checkpointed: its environment is a user's object, whose state saggriac cannot save."))?;
-        let [t, d, x, p] = self.memory.arrays();
+        let p = &self.parts;
+        let selector = p.selector.save().ok_or_else(|| refuse("This run cannot be checkpointed: its goal selector is a user's object, whose state saggriac cannot save."))?;
+        let body = p.body.save().ok_or_else(|| refuse("This run cannot be checkpointed: its environment is a user's object, whose state saggriac cannot save."))?;
+        let (samples, episodes, r) = (p.model.samples(), p.model.episodes(), &p.recorder);
+        let [t, d, x, dx0] = samples.arrays();
         let state = State {
             format: FORMAT,
             version: env!("CARGO_PKG_VERSION").to_string(),
             config: format!("{:?}", self.cfg),
             seeds: self.seeds,
-            steps: self.steps,
-            next_eval: self.next_eval,
-            goals_done: self.goals_done,
-            reported: self.reported,
-            babble_steps: self.babble_steps,
-            rng: self.rng.clone(),
-            memory: [t.to_vec(), d.to_vec(), x.to_vec(), p.to_vec()],
-            rejected: self.memory.rejected(),
-            episodic: self.episodic.as_ref().map(|m| (m.arrays().0.to_vec(), m.arrays().1.to_vec())),
+            steps: r.steps,
+            next_eval: p.evaluator.next_eval,
+            goals_done: r.goals_done,
+            reported: r.reported,
+            babble_steps: self.low_level.saved_progress(),
+            rng: p.rng.clone(),
+            memory: [t.to_vec(), d.to_vec(), x.to_vec(), dx0.to_vec()],
+            rejected: samples.rejected(),
+            episodic: episodes.map(|m| (m.arrays().0.to_vec(), m.arrays().1.to_vec())),
             selector,
             body,
-            scratch: self.evaluator.scratch.as_ref().and_then(|s| s.save()),
-            true_x: self.evaluator.tests.true_x.clone(),
-            counters: self.counters.clone(),
-            timers: self.timers.clone(),
-            metrics: self.metrics.clone(),
-            goals: self.goals.clone(),
-            attempts: self.attempts.clone(),
+            scratch: p.evaluator.scratch.as_ref().and_then(|s| s.save()),
+            true_x: p.evaluator.tests.true_x.clone(),
+            counters: r.counters.clone(),
+            timers: r.timers.clone(),
+            metrics: r.metrics.clone(),
+            goals: r.goals.clone(),
+            attempts: r.attempts.clone(),
         };
         postcard::to_stdvec(&state).map_err(|e| refuse(format!("Could not encode the checkpoint: {e}.")))
     }
@@ -90,35 +93,19 @@ impl Learner {
             return Err(refuse("The checkpoint belongs to a run with another configuration; resume it with the configuration it was written with."));
         }
         let mut l = Learner::new(cfg, s.seeds.0, s.seeds.1)?;
-        let (n, m) = (l.cfg.arm.link_lengths.len(), l.task_dim());
-        let [t, d, x, p] = &s.memory;
-        for i in 0..t.len() / n {
-            l.memory.add(&t[i * n..(i + 1) * n], &d[i * n..(i + 1) * n], &x[i * m..(i + 1) * m], &p[i * m..(i + 1) * m]);
-        }
-        l.memory.set_rejected(s.rejected);
-        if let (Some(mem), Some((thetas, xs))) = (l.episodic.as_mut(), &s.episodic) {
-            for i in 0..xs.len() / m {
-                mem.add(&thetas[i * n..(i + 1) * n], &xs[i * m..(i + 1) * m]);
-            }
-        }
-        if !l.selector.load(&s.selector) || !l.body.load(&s.body) {
+        let p = &mut l.parts;
+        p.model.restore(&s.memory, s.rejected, s.episodic.as_ref());
+        if !p.selector.load(&s.selector) || !p.body.load(&s.body) {
             return Err(refuse("The checkpoint does not match this run's goal selector or body."));
         }
-        if let (Some(sc), Some(st)) = (l.evaluator.scratch.as_mut(), &s.scratch) {
+        if let (Some(sc), Some(st)) = (p.evaluator.scratch.as_mut(), &s.scratch) {
             sc.load(st);
         }
-        l.evaluator.tests.true_x = s.true_x;
-        l.steps = s.steps;
-        l.next_eval = s.next_eval;
-        l.goals_done = s.goals_done;
-        l.reported = s.reported;
-        l.babble_steps = s.babble_steps;
-        l.rng = s.rng;
-        l.counters = s.counters;
-        l.timers = s.timers;
-        l.metrics = s.metrics;
-        l.goals = s.goals;
-        l.attempts = s.attempts;
+        p.evaluator.tests.true_x = s.true_x;
+        p.evaluator.next_eval = s.next_eval;
+        p.rng = s.rng;
+        p.recorder = Recorder { metrics: s.metrics, goals: s.goals, attempts: s.attempts, counters: s.counters, timers: s.timers, steps: s.steps, goals_done: s.goals_done, reported: s.reported };
+        l.low_level.restore_progress(s.babble_steps);
         Ok(l)
     }
 }

@@ -1,33 +1,6 @@
 //! Competence of a reaching attempt (paper II.D.1 and eq. 7).
 
-use crate::error::{invalid, Result};
-
-/// Thresholds of the competence measure.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct CompetenceConfig {
-    /// Lowest competence; worse attempts are clipped to it (min_C < 0).
-    pub min_c: f64,
-    /// Tolerance: a cost above eps_C (min_C < eps_C < 0) counts as reached, competence 0.
-    pub eps_c: f64,
-}
-
-impl Default for CompetenceConfig {
-    fn default() -> Self {
-        CompetenceConfig { min_c: -1.0, eps_c: -0.05 }
-    }
-}
-
-impl CompetenceConfig {
-    pub fn validate(&self) -> Result<()> {
-        if !(self.min_c.is_finite() && self.min_c < 0.0) {
-            return Err(invalid("Competence", "min_c", "a finite float < 0", self.min_c));
-        }
-        if !(self.eps_c.is_finite() && self.eps_c < 0.0 && self.eps_c > self.min_c) {
-            return Err(invalid("Competence", "eps_c", format!("a float with min_c < eps_c < 0 (min_c = {})", self.min_c), self.eps_c));
-        }
-        Ok(())
-    }
-}
+pub use crate::config::high_level::CompetenceConfig;
 
 fn dist(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| (x - y) * (x - y)).sum::<f64>().sqrt()

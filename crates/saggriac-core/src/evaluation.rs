@@ -1,60 +1,21 @@
 //! Evaluation (SPEC.md "Evaluation"): reaching error of the learnt inverse model on fixed test
-//! goals, and prediction error of the learnt forward model on fixed test configurations. It reads
-//! the memory and never writes it, and its micro-actions run on a scratch copy of the arm, so
-//! evaluation neither counts as time nor changes what is learnt.
+//! goals, and prediction error of the learnt forward model on fixed test configurations. It gets
+//! the model as a `ModelView` (shared references only: it cannot write what was learnt) and its
+//! micro-actions run on a scratch copy of the body, so evaluation neither counts as time nor
+//! changes what is learnt.
 
 use crate::arm::{Arm, ArmConfig};
 use crate::body::Body;
-use crate::episodic::{EpisodicConfig, EpisodicMemory};
-use crate::error::{invalid, Check, Result};
-use crate::local_model::{LocalModel, LocalModelConfig};
+pub use crate::config::evaluation::EvalConfig;
+use crate::config::{EpisodicConfig, RunConfig};
+use crate::episodic_memory::EpisodicMemory;
+use crate::error::{invalid, Result};
+use crate::local_model::LocalModel;
 use crate::memory::SensorimotorMemory;
 use crate::neighbours::{Neighbour, WarmStart};
-use crate::reaching_controller::desired_step;
 use crate::rng::{rng_from_seed, uniform};
-use crate::task_space::{distance, point, Point, MAX_TASK_DIM};
-
-#[derive(Debug, Clone, PartialEq)]
-pub struct EvalConfig {
-    pub n_test_goals: usize,
-    pub n_test_configs: usize,
-    /// A test reach stops once closer than this to its goal.
-    pub tolerance: f64,
-    /// ... or after this many micro-actions without getting closer.
-    pub patience: usize,
-    /// ... or after ceil(timeout_factor * distance / v) + timeout_min micro-actions.
-    pub timeout_factor: f64,
-    pub timeout_min: usize,
-    /// Time steps after which to evaluate (sorted, each <= n_steps; 0 = before learning).
-    pub schedule: Vec<u64>,
-}
-
-impl Default for EvalConfig {
-    fn default() -> Self {
-        EvalConfig { n_test_goals: 100, n_test_configs: 100, tolerance: 0.01, patience: 10, timeout_factor: 2.0, timeout_min: 20, schedule: vec![] }
-    }
-}
-
-impl EvalConfig {
-    pub fn validate(&self, n_steps: u64) -> Result<()> {
-        let c = Check { owner: "Evaluation" };
-        c.at_least("n_test_goals", self.n_test_goals, 1)?;
-        c.at_least("n_test_configs", self.n_test_configs, 1)?;
-        c.positive("tolerance", self.tolerance)?;
-        c.at_least("patience", self.patience, 1)?;
-        c.non_negative("timeout_factor", self.timeout_factor)?;
-        c.at_least("timeout_min", self.timeout_min, 1)?;
-        if self.schedule.windows(2).any(|w| w[0] >= w[1]) {
-            return Err(invalid("Evaluation", "schedule", "strictly increasing", format!("{:?}", self.schedule)));
-        }
-        if let Some(&last) = self.schedule.last() {
-            if last > n_steps {
-                return Err(invalid("Evaluation", "schedule", format!("a list of steps <= n_steps (n_steps = {n_steps})"), last));
-            }
-        }
-        Ok(())
-    }
-}
+use crate::sensorimotor_model::ModelView;
+use crate::task_space::{desired_step, distance, point, Point, MAX_TASK_DIM};
 
 /// The fixed test sets of one experiment seed, independent of the learner.
 #[derive(Debug, Clone)]
@@ -146,26 +107,55 @@ pub struct Evaluator {
     neighbours: Vec<Neighbour>,
     v: f64,
     warm_start: bool,
+    episodic: EpisodicConfig,
+    rcond: f64,
+    /// Nearest-neighbour scratch of the episodic inverse model.
+    nb: Vec<Neighbour>,
+    /// Scheduled evaluations done so far.
+    pub(crate) next_eval: usize,
     /// Seconds spent in neighbour search and in local fits during evaluations.
     pub time_knn: f64,
     pub time_fit: f64,
 }
 
 impl Evaluator {
-    pub fn new(cfg: EvalConfig, tests: TestSet, scratch: Option<Box<dyn Body>>, n_joints: usize, task_dim: usize, local: LocalModelConfig, v: f64, warm_recent: usize) -> Self {
+    /// The evaluation of a run configured by `run`, on `tests`, with test reaches on `scratch`
+    /// (None: on the learner's body, put back afterwards).
+    pub fn new(run: &RunConfig, tests: TestSet, scratch: Option<Box<dyn Body>>, n_joints: usize, task_dim: usize) -> Self {
         Evaluator {
-            cfg,
+            cfg: run.eval.clone(),
             tests,
             forward_cache: Vec::new(),
             scan_acc: Vec::new(),
             scratch,
-            model: LocalModel::new(n_joints, task_dim, local),
-            warm: WarmStart::new(warm_recent),
+            model: LocalModel::new(n_joints, task_dim, run.local.clone()),
+            warm: WarmStart::new(run.warm_start_recent),
             neighbours: Vec::new(),
-            v,
-            warm_start: warm_recent > 0,
+            v: run.reaching.v,
+            warm_start: run.warm_start_recent > 0,
+            episodic: run.episodic,
+            rcond: run.local.pinv_rcond,
+            nb: Vec::new(),
+            next_eval: 0,
             time_knn: 0.0,
             time_fit: 0.0,
+        }
+    }
+
+    /// Whether an evaluation scheduled at or before time step `steps` is still to run; if so it
+    /// counts as done from now.
+    pub fn due(&mut self, steps: u64) -> bool {
+        let due = self.next_eval < self.cfg.schedule.len() && self.cfg.schedule[self.next_eval] <= steps;
+        self.next_eval += usize::from(due);
+        due
+    }
+
+    /// Evaluate the model seen through `model`: test reaches run on the scratch body or, if the
+    /// learner's body cannot be copied, on `body` itself, which is put back where it was.
+    pub fn evaluate(&mut self, model: ModelView<'_>, body: &mut dyn Body) -> EvalResult {
+        match model.episodes() {
+            Some(mem) => self.evaluate_episodic(mem, body),
+            None => self.evaluate_micro(model.samples(), body),
         }
     }
 
@@ -201,9 +191,9 @@ impl Evaluator {
         }
     }
 
-    /// Evaluate the model held in `memory`; test reaches run on a copy of `body` or, if it
-    /// cannot be copied, on `body` itself, which is put back where it was.
-    pub fn evaluate(&mut self, memory: &SensorimotorMemory, body: &mut dyn Body) -> EvalResult {
+    /// Micro-actions: closed-loop test reaches with the inverse model, forward predictions by
+    /// the local model.
+    fn evaluate_micro(&mut self, memory: &SensorimotorMemory, body: &mut dyn Body) -> EvalResult {
         let (reach_errors, test_steps) = self.on_body(body, |ev, arm| {
             let mut reach_errors = Vec::with_capacity(ev.tests.goals.len());
             let mut test_steps = 0;
@@ -246,7 +236,9 @@ impl Evaluator {
     /// The same test sets for the episodic paradigm: each test goal gets one configuration from
     /// the inverse model without exploration noise, executed at once; each test configuration
     /// gets the forward model's prediction.
-    pub fn evaluate_episodic(&mut self, memory: &mut EpisodicMemory, body: &mut dyn Body, cfg: &EpisodicConfig, rcond: f64) -> EvalResult {
+    fn evaluate_episodic(&mut self, memory: &EpisodicMemory, body: &mut dyn Body) -> EvalResult {
+        let (cfg, rcond) = (&self.episodic.clone(), self.rcond);
+        let mut nb = std::mem::take(&mut self.nb);
         let t0 = std::time::Instant::now();
         self.forward_cache.resize(self.tests.configs.len(), (Vec::new(), 0));
         let reach_errors = self.on_body(body, |ev, arm| {
@@ -255,7 +247,7 @@ impl Evaluator {
                 .goals
                 .iter()
                 .map(|g| {
-                    if !memory.inverse(g, cfg, rcond, &mut theta) {
+                    if !memory.inverse(g, cfg, rcond, &mut nb, &mut theta) {
                         theta.iter_mut().for_each(|t| *t = 0.0);
                     }
                     arm.set_theta(&theta);
@@ -263,6 +255,7 @@ impl Evaluator {
                 })
                 .collect::<Vec<f64>>()
         });
+        self.nb = nb;
         let configs = &self.tests.configs;
         let nq = configs.len();
         let n = configs.first().map_or(0, Vec::len);

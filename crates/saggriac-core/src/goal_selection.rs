@@ -2,8 +2,10 @@
 //! competence progress over the region tree; SAGG-Random picks them uniformly. Both are usable
 //! on their own, ask/tell style: `sample()` a goal, `update(goal, competence)`.
 
-use crate::error::{invalid, Check, Result};
-use crate::region_tree::{check_bounds, RegionTree, RegionTreeConfig};
+use crate::config::high_level::check_bounds;
+pub use crate::config::high_level::ModeProbabilities;
+use crate::error::Result;
+use crate::region_tree::{RegionTree, RegionTreeConfig};
 use crate::rng::{index, rng_from_seed, uniform, unit, CoreRng};
 
 /// How a goal was chosen.
@@ -57,33 +59,6 @@ pub trait GoalSelector: Send + Sync {
     /// True once a user's selector has failed; the run loop stops.
     fn failed(&self) -> bool {
         false
-    }
-}
-
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct ModeProbabilities {
-    pub p_interest: f64,
-    pub p_global: f64,
-    pub p_lowest: f64,
-}
-
-impl Default for ModeProbabilities {
-    fn default() -> Self {
-        ModeProbabilities { p_interest: 0.7, p_global: 0.2, p_lowest: 0.1 }
-    }
-}
-
-impl ModeProbabilities {
-    pub fn validate(&self) -> Result<()> {
-        let c = Check { owner: "SaggRiac" };
-        c.probability("p_interest", self.p_interest)?;
-        c.probability("p_global", self.p_global)?;
-        c.probability("p_lowest", self.p_lowest)?;
-        let s = self.p_interest + self.p_global + self.p_lowest;
-        if (s - 1.0).abs() > 1e-9 {
-            return Err(invalid("SaggRiac", "p_lowest", format!("such that p_interest + p_global + p_lowest = 1 (p_interest = {}, p_global = {})", self.p_interest, self.p_global), self.p_lowest));
-        }
-        Ok(())
     }
 }
 

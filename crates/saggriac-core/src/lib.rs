@@ -1,31 +1,33 @@
 //! saggriac-core: the SAGG-RIAC system of Baranes & Oudeyer (IROS 2010) in pure Rust.
 //!
-//! The modules follow the paper's concepts: the arm and its micro-actions, the sensorimotor
-//! memory and neighbour index, local models, the reaching controller and exploration phase (low
-//! level), competence, interest, the region tree and goal selection (high level), the evaluation,
-//! and the run loop tying them together.
+//! The modules follow the paper's concepts, each part owning its state (docs/architecture.md):
+//! the configuration (a leaf), the body (the arm and its micro-actions), the sensorimotor model
+//! (memory, neighbour index, local models), the low level (`LowLevel` and its controllers: the
+//! SSA reacher, actuator babbling, the episodic paradigm), the high level (competence, interest,
+//! region tree, goal selection), the evaluation, the recorder, and the run loop composing them.
 
-pub mod actuator_babbling;
 pub mod arm;
 pub mod ask_tell;
 pub mod body;
 pub mod checkpoint;
 pub mod competence;
 pub mod config;
-pub mod episodic;
+pub mod episodic_memory;
 pub mod error;
 pub mod evaluation;
-pub mod exploration_phase;
 pub mod goal_selection;
 pub mod interest;
 pub mod kd_tree;
 pub mod local_model;
+pub mod low_level;
 pub mod memory;
 pub mod neighbours;
-pub mod reaching_controller;
+pub mod parts;
+pub mod recorder;
 pub mod region_tree;
 pub mod rng;
 pub mod run_loop;
+pub mod sensorimotor_model;
 pub mod task_space;
 
 pub use config::{Condition, RunConfig};

@@ -4,41 +4,9 @@
 
 use nalgebra::{DMatrix, DVector};
 
-use crate::error::{Check, Result};
+pub use crate::config::model::{LocalModelConfig, MIN_RCOND};
 use crate::memory::SensorimotorMemory;
 use crate::neighbours::Neighbour;
-
-#[derive(Debug, Clone, PartialEq)]
-pub struct LocalModelConfig {
-    /// Neighbours used for each local fit.
-    pub k_neighbours: usize,
-    /// Ridge strength relative to the mean diagonal of the Gram matrix of dtheta.
-    pub ridge: f64,
-    /// Singular values below `pinv_rcond * sigma_max` are treated as zero in J+.
-    pub pinv_rcond: f64,
-    /// Width of the Gaussian weights, in units of the median neighbour's squared distance
-    /// (0 = unweighted least squares).
-    pub bandwidth: f64,
-}
-
-impl Default for LocalModelConfig {
-    fn default() -> Self {
-        LocalModelConfig { k_neighbours: 45, ridge: 1e-3, pinv_rcond: 1e-2, bandwidth: 1.0 }
-    }
-}
-
-impl LocalModelConfig {
-    pub fn validate(&self) -> Result<()> {
-        let c = Check { owner: "LocalModel" };
-        c.at_least("k_neighbours", self.k_neighbours, 1)?;
-        c.positive("ridge", self.ridge)?;
-        if !(self.pinv_rcond.is_finite() && (MIN_RCOND..=1.0).contains(&self.pinv_rcond)) {
-            return Err(crate::error::invalid("LocalModel", "pinv_rcond", format!("a float in [{MIN_RCOND:e}, 1]"), self.pinv_rcond));
-        }
-        c.non_negative("bandwidth", self.bandwidth)?;
-        Ok(())
-    }
-}
 
 /// Why a local fit could not be used. The controller answers by exploring, never by moving
 /// with a NaN command.
@@ -206,9 +174,6 @@ pub fn pinv_apply_wide(j: &DMatrix<f64>, dx: &[f64], rcond: f64, dtheta: &mut [f
     }
     Ok(())
 }
-
-/// Smallest relative cutoff of the pseudo-inverse (see `pinv_apply_wide`).
-pub const MIN_RCOND: f64 = 1e-6;
 
 /// Apply the Moore-Penrose pseudo-inverse of `j` (m x n) to `dx`, dropping singular values below
 /// `rcond * sigma_max`: through J J^T for a wide J (the arm's case), by SVD otherwise.

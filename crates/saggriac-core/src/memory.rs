@@ -1,36 +1,9 @@
 //! Sensorimotor memory: every executed micro-action (theta, dtheta, dx) with the end-effector
 //! position x before it, plus the neighbour index over theta that the local models query.
 
+pub use crate::config::model::IndexKind;
 use crate::kd_tree::KdTree;
 use crate::neighbours::{BruteForce, KdTreeIndex, Neighbour, NeighbourIndex, WarmStart};
-
-/// Which exact neighbour index backs the memory.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum IndexKind {
-    /// Our k-d tree (`kd_tree.rs`), the default.
-    KdTree,
-    /// The `kdtree` crate, kept as a second exact implementation to compare against.
-    KdTreeCrate,
-    BruteForce,
-}
-
-impl IndexKind {
-    pub fn parse(s: &str) -> Option<Self> {
-        match s {
-            "kdtree" => Some(IndexKind::KdTree),
-            "kdtree_crate" => Some(IndexKind::KdTreeCrate),
-            "brute_force" => Some(IndexKind::BruteForce),
-            _ => None,
-        }
-    }
-    pub fn name(&self) -> &'static str {
-        match self {
-            IndexKind::KdTree => "kdtree",
-            IndexKind::KdTreeCrate => "kdtree_crate",
-            IndexKind::BruteForce => "brute_force",
-        }
-    }
-}
 
 pub struct SensorimotorMemory {
     n: usize,

@@ -2,37 +2,10 @@
 //! leaf keeps the values (competences) measured in it in time order, and its interest (eq. 2).
 //! Works in any dimension: the goal space S' for SAGG-RIAC, (theta, dtheta) for ACTUATOR-RIAC.
 
-use crate::error::{invalid, Check, Result};
+use crate::config::high_level::check_bounds;
+pub use crate::config::high_level::RegionTreeConfig;
+use crate::error::Result;
 use crate::interest::interest;
-
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct RegionTreeConfig {
-    /// A leaf holding more than g_max measurements is split.
-    pub g_max: usize,
-    /// Interest window (eq. 2).
-    pub zeta: usize,
-    /// Fewest measurements each child of a split must receive.
-    pub min_child: usize,
-}
-
-impl Default for RegionTreeConfig {
-    fn default() -> Self {
-        RegionTreeConfig { g_max: 50, zeta: 20, min_child: 5 }
-    }
-}
-
-impl RegionTreeConfig {
-    pub fn validate(&self) -> Result<()> {
-        let c = Check { owner: "RegionTree" };
-        c.at_least("g_max", self.g_max, 2)?;
-        c.at_least("zeta", self.zeta, 2)?;
-        c.at_least("min_child", self.min_child, 1)?;
-        if 2 * self.min_child > self.g_max + 1 {
-            return Err(invalid("RegionTree", "min_child", format!("an int with 2 * min_child <= g_max + 1 (g_max = {})", self.g_max), self.min_child));
-        }
-        Ok(())
-    }
-}
 
 /// One node of the tree. Leaves hold measurements; inner nodes keep their split.
 #[derive(Debug, Clone)]
@@ -441,19 +414,6 @@ fn midpoint(a: f64, b: f64) -> f64 {
     } else {
         b
     }
-}
-
-/// Bounds must be finite, of equal non-zero length, and strictly ordered.
-pub(crate) fn check_bounds(owner: &'static str, low: &[f64], high: &[f64]) -> Result<()> {
-    if low.is_empty() || low.len() != high.len() {
-        return Err(invalid(owner, "bounds", format!("low and high of equal non-zero length (low has {})", low.len()), high.len()));
-    }
-    for (i, (l, h)) in low.iter().zip(high).enumerate() {
-        if !(l.is_finite() && h.is_finite() && l < h) {
-            return Err(invalid(owner, "bounds", format!("finite with low < high in every dimension (dimension {i}: low = {l})"), h));
-        }
-    }
-    Ok(())
 }
 
 #[cfg(test)]

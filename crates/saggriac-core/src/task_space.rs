@@ -42,9 +42,33 @@ pub fn lerp(a: &Point, b: &Point, f: f64) -> Point {
     std::array::from_fn(|i| a[i] + f * (b[i] - a[i]))
 }
 
+/// Desired displacement of a reaching step: length min(v, |target - x|) towards the target
+/// (the paper's x_c - x_g is a sign typo, see SPEC.md). The learner's reacher and the
+/// evaluation's test reaches both ask for it.
+pub fn desired_step(x: &Point, target: &Point, v: f64) -> Point {
+    let e = sub(target, x);
+    let d = norm(&e);
+    if d == 0.0 {
+        return [0.0; MAX_TASK_DIM];
+    }
+    let s = v.min(d) / d;
+    e.map(|v| v * s)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn desired_step_points_at_the_target_and_stops_there() {
+        let s = desired_step(&[0.0, 0.0, 0.0], &[3.0, 4.0, 0.0], 0.5);
+        assert!((s[0] - 0.3).abs() < 1e-15 && (s[1] - 0.4).abs() < 1e-15 && s[2] == 0.0);
+        let s = desired_step(&[0.0, 0.0, 0.0], &[0.03, 0.04, 0.0], 0.5);
+        assert!((s[0] - 0.03).abs() < 1e-15 && (s[1] - 0.04).abs() < 1e-15);
+        assert_eq!(desired_step(&[1.0, 1.0, 0.0], &[1.0, 1.0, 0.0], 0.5), [0.0, 0.0, 0.0]);
+        let s = desired_step(&[1.0, 0.0, 0.0], &[2.0, 2.0, 2.0], 0.3);
+        assert!((s[0] - 0.1).abs() < 1e-15 && (s[1] - 0.2).abs() < 1e-15 && (s[2] - 0.2).abs() < 1e-15);
+    }
 
     #[test]
     fn padding_is_exact() {

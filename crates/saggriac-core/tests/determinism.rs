@@ -9,7 +9,7 @@
 //! step budget) compares equal to itself and -0.0 differs from 0.0.
 
 use saggriac_core::memory::IndexKind;
-use saggriac_core::run_loop::{AttemptRow, Counters, GoalRow, MetricRow};
+use saggriac_core::recorder::{AttemptRow, Counters, GoalRow, MetricRow};
 use saggriac_core::task_space::{Point, MAX_TASK_DIM};
 use saggriac_core::{Condition, Learner, RunConfig};
 
@@ -76,13 +76,13 @@ fn attempt_key(a: &AttemptRow) -> AttemptKey {
 }
 
 fn metrics(l: &Learner) -> Vec<MetricKey> {
-    l.metrics.iter().map(metric_key).collect()
+    l.metrics().iter().map(metric_key).collect()
 }
 fn goals(l: &Learner) -> Vec<GoalKey> {
-    l.goals.iter().map(goal_key).collect()
+    l.goals().iter().map(goal_key).collect()
 }
 fn attempts(l: &Learner) -> Vec<AttemptKey> {
-    l.attempts.iter().map(attempt_key).collect()
+    l.attempts().iter().map(attempt_key).collect()
 }
 
 /// Every stored sample (theta, dtheta, dx, x), as bits.
@@ -114,8 +114,8 @@ fn assert_same_training(a: &Learner, b: &Learner, what: &str) {
 }
 
 fn assert_sane(l: &Learner) {
-    assert!(!l.goals.is_empty(), "a 3000-step run attempts some goals");
-    assert!(!l.attempts.is_empty());
+    assert!(!l.goals().is_empty(), "a 3000-step run attempts some goals");
+    assert!(!l.attempts().is_empty());
     assert_eq!(l.memory().len() as u64, N_STEPS, "every micro-action is stored");
     let c = l.counters();
     assert_eq!(c.reaching_steps + c.exploration_steps, N_STEPS);
@@ -127,9 +127,9 @@ fn same_seed_same_run_sagg_riac() {
     let a = run(cfg.clone(), 11, 1011);
     let b = run(cfg, 11, 1011);
     assert_sane(&a);
-    assert_eq!(a.metrics.len(), 3);
+    assert_eq!(a.metrics().len(), 3);
     assert_eq!(metrics(&a), metrics(&b), "metrics differ");
-    assert_eq!(a.metrics.iter().map(|m| m.step).collect::<Vec<_>>(), default_schedule());
+    assert_eq!(a.metrics().iter().map(|m| m.step).collect::<Vec<_>>(), default_schedule());
     assert_same_training(&a, &b, "same seed");
     assert_eq!(a.counters(), b.counters());
     // The region tree grew the same way.
@@ -153,8 +153,8 @@ fn same_seed_same_run_sagg_random() {
 fn different_seed_different_goals() {
     let a = light_reference();
     let b = run(light_config(vec![N_STEPS]), LIGHT_SEED + 1, LIGHT_EVAL_SEED);
-    let ga: Vec<[u64; MAX_TASK_DIM]> = a.goals.iter().map(|g| bits(&g.goal)).collect();
-    let gb: Vec<[u64; MAX_TASK_DIM]> = b.goals.iter().map(|g| bits(&g.goal)).collect();
+    let ga: Vec<[u64; MAX_TASK_DIM]> = a.goals().iter().map(|g| bits(&g.goal)).collect();
+    let gb: Vec<[u64; MAX_TASK_DIM]> = b.goals().iter().map(|g| bits(&g.goal)).collect();
     assert_ne!(ga, gb, "seeds {} and {} chose the same goals", LIGHT_SEED, LIGHT_SEED + 1);
     // Not just one stray goal: the very first goal already differs.
     assert_ne!(ga[0], gb[0], "seeds {} and {} chose the same first goal", LIGHT_SEED, LIGHT_SEED + 1);
@@ -169,11 +169,11 @@ fn evaluation_frequency_does_not_change_learning() {
     let dense: Vec<u64> = (0..=N_STEPS).step_by(211).chain([N_STEPS]).collect();
     let a = run(light_config(dense.clone()), LIGHT_SEED, LIGHT_EVAL_SEED);
     let b = light_reference();
-    assert_eq!(a.metrics.len(), dense.len());
-    assert_eq!(b.metrics.len(), 1);
+    assert_eq!(a.metrics().len(), dense.len());
+    assert_eq!(b.metrics().len(), 1);
     assert_same_training(&a, b, "dense vs final-only evaluation");
     // The final evaluation reads the same memory with the same test set: same numbers.
-    assert_eq!(metric_key(a.metrics.last().unwrap()), metric_key(&b.metrics[0]));
+    assert_eq!(metric_key(a.metrics().last().unwrap()), metric_key(&b.metrics()[0]));
     assert!(a.counters().test_steps > b.counters().test_steps, "the dense schedule did evaluate more");
 }
 
@@ -207,9 +207,9 @@ fn stopping_and_resuming_does_not_change_learning() {
     }
     assert!(calls > 2, "run() was stopped and resumed");
     assert_same_training(light_reference(), &pieces, "stopped and resumed");
-    assert_eq!(seen, pieces.metrics.iter().map(|m| m.step).collect::<Vec<_>>(), "every row shown exactly once");
-    assert_eq!(pieces.metrics.len(), 7);
-    assert_eq!(metric_key(pieces.metrics.last().unwrap()), metric_key(&light_reference().metrics[0]));
+    assert_eq!(seen, pieces.metrics().iter().map(|m| m.step).collect::<Vec<_>>(), "every row shown exactly once");
+    assert_eq!(pieces.metrics().len(), 7);
+    assert_eq!(metric_key(pieces.metrics().last().unwrap()), metric_key(&light_reference().metrics()[0]));
 }
 
 #[test]
@@ -321,12 +321,12 @@ fn spatial_arm_runs_are_reproducible_and_checkpoints_invisible() {
 #[test]
 fn spatial_goals_use_all_three_coordinates() {
     let l = light_reference_spatial();
-    assert!(!l.goals.is_empty());
-    for g in &l.goals {
+    assert!(!l.goals().is_empty());
+    for g in l.goals() {
         assert!(g.goal[0] >= 0.0 && g.goal[0] <= 50.0 && g.goal[1].abs() <= 50.0 && g.goal[2].abs() <= 50.0, "{:?}", g.goal);
     }
     // The arm leaves the plane z = 0.
-    assert!(l.goals.iter().any(|g| g.end[2].abs() > 1.0));
+    assert!(l.goals().iter().any(|g| g.end[2].abs() > 1.0));
     assert_eq!(l.task_dim(), 3);
     assert_eq!(l.memory().task_dim(), 3);
 }

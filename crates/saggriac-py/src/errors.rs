@@ -1,5 +1,8 @@
-//! Every conversion of a core error into a Python exception lives here. The Python classes are
-//! defined in `saggriac/errors.py` (one base class, `SaggriacError`) and looked up once.
+//! Every conversion of a core error into a Python exception lives here, and the slot where a
+//! user's Python part in the loop keeps its first failure. The Python classes are defined in
+//! `saggriac/errors.py` (one base class, `SaggriacError`) and looked up once.
+
+use std::sync::{Arc, Mutex};
 
 use pyo3::prelude::*;
 use pyo3::sync::PyOnceLock;
@@ -37,4 +40,30 @@ pub fn to_py(py: Python<'_>, e: Error) -> PyErr {
 /// `PyResult` from a core `Result`.
 pub fn wrap<T>(py: Python<'_>, r: saggriac_core::Result<T>) -> PyResult<T> {
     r.map_err(|e| to_py(py, e))
+}
+
+/// Why a user's Python part (environment or goal selector) failed inside the loop.
+pub enum Failure {
+    /// The Python code raised: re-raised as is, traceback included.
+    Raised(PyErr),
+    /// It returned something unusable: raised as `InputError` with this message.
+    Invalid(String),
+}
+
+pub type Slot = Arc<Mutex<Option<Failure>>>;
+
+pub fn keep_first(slot: &Slot, f: Failure) {
+    let mut s = slot.lock().unwrap_or_else(|e| e.into_inner());
+    if s.is_none() {
+        *s = Some(f);
+    }
+}
+
+/// The failure kept in `slot`, if any, as the Python exception to raise (`step`: when it happened).
+pub fn take_failure(py: Python<'_>, slot: &Slot, step: u64) -> Option<PyErr> {
+    let f = slot.lock().unwrap_or_else(|e| e.into_inner()).take()?;
+    Some(match f {
+        Failure::Raised(e) => e,
+        Failure::Invalid(msg) => to_py(py, Error::InvalidInput(format!("{msg} (at time step {step}; nothing from that call was stored)"))),
+    })
 }

@@ -1,13 +1,19 @@
 //! saggriac._core: a thin PyO3 layer over saggriac-core. It converts types and errors only;
-//! the algorithm lives in the core crate.
+//! the algorithm lives in the core crate. One file per core component: config, body (a Python
+//! environment), goal_selection (a Python selector, the region tree), ask_tell, evaluation,
+//! recorder, run_loop; every error conversion in errors.rs.
 
 use pyo3::prelude::*;
 
+mod ask_tell;
+mod body;
 mod config;
 mod errors;
-mod goal_selector;
-mod learner;
-mod python_parts;
+mod evaluation;
+mod goal_selection;
+mod recorder;
+mod run_loop;
+mod values;
 
 /// validate_config(config: dict) -> None: raise ParameterError if any parameter breaks a rule.
 #[pyfunction]
@@ -17,8 +23,8 @@ fn validate_config(config: &Bound<'_, pyo3::types::PyDict>) -> PyResult<()> {
 
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add_class::<learner::PyLearner>()?;
-    m.add_class::<goal_selector::PyAskTell>()?;
+    m.add_class::<run_loop::PyLearner>()?;
+    m.add_class::<ask_tell::PyAskTell>()?;
     m.add("CONFIG_KEYS", config::KEYS.to_vec())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add("GIT_COMMIT", env!("SAGGRIAC_GIT_COMMIT"))?;

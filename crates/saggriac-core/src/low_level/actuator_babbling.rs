@@ -6,8 +6,10 @@
 //! most distant reachable points.
 
 use crate::config::{Condition, RunConfig};
+use crate::goal_selection::GoalChoice;
+use crate::low_level::LowLevel;
+use crate::parts::{ActionKind, Parts};
 use crate::rng::uniform;
-use crate::run_loop::{ActionKind, Learner};
 use crate::task_space::{distance, point, Point, MAX_TASK_DIM};
 
 /// Points on the boundary of the reachable part of the goal box (the box intersected with the
@@ -90,52 +92,71 @@ pub fn actuator_reset_period(cfg: &RunConfig, rest: Point) -> usize {
     ((path / cfg.reaching.v).ceil() as usize).max(1)
 }
 
-impl Learner {
-    /// One babbling micro-action (ACTUATOR conditions).
-    pub(crate) fn babble(&mut self) {
-        if self.babble_steps % self.actuator_reset as u64 == 0 {
-            self.body.reset();
-            self.warm.clear();
-        }
-        self.babble_steps += 1;
-        let step = self.cfg.babble_step;
-        let theta0 = self.body.theta().to_vec();
-        let mut d = std::mem::take(&mut self.buf_dtheta);
-        match self.cfg.condition {
-            Condition::ActuatorRiac => {
-                let t0 = std::time::Instant::now();
-                let choice = self.selector.sample();
-                self.timers.goal_selection += t0.elapsed().as_secs_f64();
-                // The region tree proposes a point (theta, dtheta); the arm cannot jump to
-                // theta, so the proposed dtheta is executed from where the arm is, and the
-                // prediction error is recorded at the point actually visited.
-                d.copy_from_slice(&choice.goal[theta0.len()..]);
-            }
-            _ => {
+pub struct ActuatorBabbling {
+    /// ACTUATOR-RIAC (commands from the region tree) rather than ACTUATOR-Random.
+    riac: bool,
+    step: f64,
+    /// Back to rest every this many micro-actions (the paper's `max`).
+    reset_period: u64,
+    /// Micro-actions so far.
+    babbled: u64,
+    dtheta: Vec<f64>,
+}
+
+impl ActuatorBabbling {
+    pub fn new(cfg: &RunConfig, reset_period: usize) -> Self {
+        let n = cfg.arm.link_lengths.len();
+        ActuatorBabbling { riac: cfg.condition == Condition::ActuatorRiac, step: cfg.babble_step, reset_period: reset_period as u64, babbled: 0, dtheta: vec![0.0; n] }
+    }
+}
+
+impl LowLevel for ActuatorBabbling {
+    fn rest_due(&self, _parts: &Parts) -> bool {
+        self.babbled % self.reset_period == 0
+    }
+    /// R-IAC chooses the command; ACTUATOR-Random draws it itself.
+    fn asks_high_level(&self) -> bool {
+        self.riac
+    }
+    /// Babble until the next evaluation report could be due (a goal attempt's worth).
+    fn attempts_per_report(&self) -> usize {
+        64
+    }
+    fn saved_progress(&self) -> u64 {
+        self.babbled
+    }
+    fn restore_progress(&mut self, progress: u64) {
+        self.babbled = progress;
+    }
+
+    /// One babbling micro-action.
+    fn attempt(&mut self, choice: Option<GoalChoice>, parts: &mut Parts) {
+        self.babbled += 1;
+        let theta0 = parts.body.theta().to_vec();
+        let d = &mut self.dtheta;
+        match &choice {
+            // The region tree proposes a point (theta, dtheta); the arm cannot jump to theta, so
+            // the proposed dtheta is executed from where the arm is, and the prediction error is
+            // recorded at the point actually visited.
+            Some(c) => d.copy_from_slice(&c.goal[theta0.len()..]),
+            None => {
                 for v in d.iter_mut() {
-                    *v = uniform(&mut self.rng, -step, step);
+                    *v = uniform(&mut parts.rng, -self.step, self.step);
                 }
             }
         }
-        let predicted = if self.cfg.condition == Condition::ActuatorRiac { Some(self.predict_dx(&d)) } else { None };
-        let dx = self.micro_action(&mut d, ActionKind::Babbling);
+        // ACTUATOR-RIAC's interest: progress of the forward model's error (J dtheta with J fitted
+        // on the neighbours, or no motion when no model is available yet).
+        let predicted = self.riac.then(|| match parts.model.fit_at(parts.body.theta(), &mut parts.recorder.timers) {
+            Ok(()) => parts.model.expected_dx(d),
+            Err(_) => [0.0; MAX_TASK_DIM],
+        });
+        let dx = parts.micro_action(d, ActionKind::Babbling);
         if let (Some(p), Some(dx)) = (predicted, dx) {
             let err = distance(&dx, &p);
             let mut point = theta0;
-            point.extend_from_slice(&d);
-            let t0 = std::time::Instant::now();
-            self.selector.update(&point, -err);
-            self.timers.goal_selection += t0.elapsed().as_secs_f64();
-        }
-        self.buf_dtheta = d;
-    }
-
-    /// Forward prediction of dx for a command at the current theta: J dtheta with J fitted on the
-    /// neighbours, or no motion when no model is available yet.
-    fn predict_dx(&mut self, dtheta: &[f64]) -> Point {
-        match self.fit_here() {
-            Ok(()) => self.expected_dx(dtheta),
-            Err(_) => [0.0; MAX_TASK_DIM],
+            point.extend_from_slice(d);
+            parts.tell(&point, -err);
         }
     }
 }

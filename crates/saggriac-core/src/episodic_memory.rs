@@ -1,46 +1,16 @@
-//! The episodic paradigm (explauto, IMGEP): one goal, one whole joint configuration proposed by
-//! the inverse model, executed at once, one sample (theta, x). The inverse model is the nearest
-//! neighbour of the goal among the reached positions, plus Gaussian exploration noise, and
-//! optionally a first-order correction from a local linear model around that neighbour. One time
-//! step is one movement. The goal selectors and the evaluation's test sets are the same as for
-//! micro-actions.
+//! The episodic paradigm's part of the sensorimotor model: every movement's (theta, x). Its
+//! inverse model is the nearest neighbour of a goal among the reached positions, optionally with
+//! a first-order correction from a local linear model around that neighbour; its forward model
+//! is the nearest stored configuration's position, corrected the same way. Readers (the
+//! evaluation) use it through `&self` only; the neighbour buffers are the caller's.
 
 use nalgebra::DMatrix;
 
-use crate::competence::competence;
-use crate::config::Condition;
-use crate::error::{Check, Result};
+pub use crate::config::low_level::EpisodicConfig;
 use crate::kd_tree::{distances, KdTree};
 use crate::local_model::pinv_apply_wide;
 use crate::neighbours::{dist_sq, Neighbour, NeighbourIndex};
-use crate::rng::{normal, uniform};
-use crate::run_loop::{AttemptRow, GoalRow, Learner};
-use crate::task_space::{distance, point, sub, Point};
-
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct EpisodicConfig {
-    /// Standard deviation of the Gaussian noise added to every joint of a proposal (rad).
-    pub noise: f64,
-    /// Refine the nearest neighbour's configuration with a local linear model.
-    pub refine: bool,
-    /// Neighbours (in joint space) of the local linear model used by `refine`.
-    pub k_refine: usize,
-}
-
-impl Default for EpisodicConfig {
-    fn default() -> Self {
-        EpisodicConfig { noise: 0.1, refine: false, k_refine: 20 }
-    }
-}
-
-impl EpisodicConfig {
-    pub fn validate(&self, n_joints: usize) -> Result<()> {
-        let c = Check { owner: "Episodic" };
-        c.non_negative("episodic_noise", self.noise)?;
-        c.at_least("episodic_k", self.k_refine, n_joints.min(2))?;
-        Ok(())
-    }
-}
+use crate::task_space::{point, sub, Point};
 
 /// Every movement's (theta, x), indexed by x (for the inverse model) and, when the learner
 /// needs neighbours of arbitrary configurations (local fits, ACTUATOR-RIAC's predictions), by
@@ -52,7 +22,6 @@ pub struct EpisodicMemory {
     xs: Vec<f64>,
     by_x: KdTree,
     by_theta: Option<KdTree>,
-    nb: Vec<Neighbour>,
 }
 
 /// Merge sample `id` at squared distance `d` into `best`, the k (> 0) nearest so far sorted by
@@ -70,7 +39,7 @@ fn merge_newer(best: &mut Vec<Neighbour>, k: usize, id: usize, d: f64) {
 impl EpisodicMemory {
     /// Memory of movements of `n` joints reaching a `m`-D task space.
     pub fn new(n: usize, m: usize, index_theta: bool) -> Self {
-        EpisodicMemory { n, m, thetas: Vec::new(), xs: Vec::new(), by_x: KdTree::new(m), by_theta: index_theta.then(|| KdTree::new(n)), nb: Vec::new() }
+        EpisodicMemory { n, m, thetas: Vec::new(), xs: Vec::new(), by_x: KdTree::new(m), by_theta: index_theta.then(|| KdTree::new(n)) }
     }
 
     fn knn_theta(&self, theta: &[f64], k: usize, out: &mut Vec<Neighbour>) {
@@ -153,20 +122,18 @@ impl EpisodicMemory {
     }
 
     /// Inverse model without noise: the configuration that reached closest to `goal`, optionally
-    /// moved by J+ (goal - x_nn). Returns false when the memory is empty.
-    pub fn inverse(&mut self, goal: &Point, cfg: &EpisodicConfig, rcond: f64, out: &mut [f64]) -> bool {
-        let mut nb = std::mem::take(&mut self.nb);
-        self.by_x.knn(&goal[..self.m], 1, &mut nb);
+    /// moved by J+ (goal - x_nn), `nb` being scratch space. Returns false when the memory is empty.
+    pub fn inverse(&self, goal: &Point, cfg: &EpisodicConfig, rcond: f64, nb: &mut Vec<Neighbour>, out: &mut [f64]) -> bool {
+        self.by_x.knn(&goal[..self.m], 1, nb);
         let Some(first) = nb.first().copied() else {
-            self.nb = nb;
             return false;
         };
         let i = first.id as usize;
         out.copy_from_slice(self.theta(i));
         if cfg.refine {
             let base = self.theta(i).to_vec();
-            self.knn_theta(&base, cfg.k_refine + 1, &mut nb);
-            if let Some(j) = self.local_jacobian(&base, self.x(i), &nb) {
+            self.knn_theta(&base, cfg.k_refine + 1, nb);
+            if let Some(j) = self.local_jacobian(&base, self.x(i), nb) {
                 let x0 = self.x(i);
                 let dx = sub(goal, &x0);
                 let mut d = vec![0.0; self.n];
@@ -179,18 +146,14 @@ impl EpisodicMemory {
                 }
             }
         }
-        self.nb = nb;
         true
     }
 
     /// Forward model: the nearest stored configuration's position, optionally corrected by the
-    /// local linear model. None when the memory is empty.
-    pub fn predict(&mut self, theta: &[f64], cfg: &EpisodicConfig) -> Option<Point> {
-        let mut nb = std::mem::take(&mut self.nb);
-        self.knn_theta(theta, Self::forward_k(cfg), &mut nb);
-        let out = self.predict_from(theta, &nb, cfg);
-        self.nb = nb;
-        out
+    /// local linear model (`nb` is scratch space). None when the memory is empty.
+    pub fn predict(&self, theta: &[f64], cfg: &EpisodicConfig, nb: &mut Vec<Neighbour>) -> Option<Point> {
+        self.knn_theta(theta, Self::forward_k(cfg), nb);
+        self.predict_from(theta, nb, cfg)
     }
 
     /// Neighbours the forward model uses.
@@ -241,72 +204,6 @@ impl EpisodicMemory {
         }
         let jt = gram.cholesky()?.solve(&(dth.transpose() * dx));
         jt.iter().all(|v| v.is_finite()).then(|| jt.transpose())
-    }
-}
-
-impl Learner {
-    /// One movement: choose (goal or configuration), propose, execute at once, store, report.
-    pub(crate) fn episode(&mut self) {
-        let n = self.body.n_joints();
-        let lim = self.cfg.arm.joint_limit;
-        let rest = self.rest_x;
-        let mut theta = vec![0.0; n];
-        let t0 = std::time::Instant::now();
-        let choice = match self.cfg.condition {
-            Condition::SaggRiac | Condition::SaggRandom | Condition::ActuatorRiac => Some(self.selector.sample()),
-            Condition::ActuatorRandom => None,
-        };
-        self.timers.goal_selection += t0.elapsed().as_secs_f64();
-        let goal = match (&choice, self.cfg.condition.uses_goals()) {
-            (Some(c), true) => Some(point(&c.goal[..self.task_dim()])),
-            _ => None,
-        };
-        let mem = self.episodic.as_mut().expect("episodic memory exists in the episodic paradigm");
-        match (self.cfg.condition, &choice) {
-            (Condition::ActuatorRandom, _) => theta.iter_mut().for_each(|t| *t = uniform(&mut self.rng, -lim, lim)),
-            (Condition::ActuatorRiac, Some(c)) => theta.copy_from_slice(&c.goal),
-            (_, _) => {
-                let g = goal.expect("a goal for the SAGG conditions");
-                let t1 = std::time::Instant::now();
-                // Before any movement the inverse model knows nothing: start from rest.
-                mem.inverse(&g, &self.cfg.episodic, self.cfg.local.pinv_rcond, &mut theta);
-                self.timers.knn += t1.elapsed().as_secs_f64();
-                let s = self.cfg.episodic.noise;
-                if s > 0.0 {
-                    theta.iter_mut().for_each(|t| *t += s * normal(&mut self.rng));
-                }
-            }
-        }
-        theta.iter_mut().for_each(|t| *t = t.clamp(-lim, lim));
-        // ACTUATOR-RIAC's interest: progress of the forward model's error on this movement.
-        let predicted = if self.cfg.condition == Condition::ActuatorRiac { mem.predict(&theta, &self.cfg.episodic) } else { None };
-        self.body.set_theta(&theta);
-        let x = self.body.position();
-        mem.add(self.body.theta(), &x[..mem.task_dim()]);
-        let step_start = self.steps;
-        self.steps += 1;
-        self.apply_body_change();
-        self.counters.babbling_steps += u64::from(goal.is_none());
-        self.counters.reaching_steps += u64::from(goal.is_some());
-        let t2 = std::time::Instant::now();
-        match (goal, &choice) {
-            (Some(g), Some(c)) => {
-                let comp = competence(&g, &x, &rest, &self.cfg.competence);
-                let region = self.selector.update(&g[..self.task_dim()], comp);
-                self.attempts.push(AttemptRow { goal_index: self.goals_done, subgoal: 1, step_end: self.steps, target: g, end: x, competence: comp, reached: comp == 0.0, region });
-                self.goals.push(GoalRow { goal_index: self.goals_done, step_start, step_end: self.steps, goal: g, start: rest, end: x, mode: c.mode, region: c.region, competence: comp });
-                self.goals_done += 1;
-            }
-            (None, Some(_)) => {
-                let err = predicted.map(|p| distance(&p, &x));
-                if let Some(e) = err {
-                    self.selector.update(self.body.theta(), -e);
-                }
-            }
-            _ => {}
-        }
-        self.timers.goal_selection += t2.elapsed().as_secs_f64();
-        self.evaluate_due();
     }
 }
 

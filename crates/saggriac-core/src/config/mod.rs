@@ -1,16 +1,20 @@
-//! The full configuration of one run, validated in one place.
+//! The full configuration of one run, validated in one place. A leaf: plain data and its rules,
+//! importing no component (each component's parameters sit in a submodule and are re-exported
+//! by the component that reads them).
 
-use crate::arm::ArmConfig;
-use crate::competence::CompetenceConfig;
-use crate::episodic::EpisodicConfig;
+pub mod body;
+pub mod evaluation;
+pub mod high_level;
+pub mod low_level;
+pub mod model;
+
+pub use body::{ArmConfig, ArmKind, BodyChange};
+pub use evaluation::EvalConfig;
+pub use high_level::{check_bounds, CompetenceConfig, ModeProbabilities, RegionTreeConfig};
+pub use low_level::{EpisodicConfig, ExplorationConfig, ReachingConfig};
+pub use model::{IndexKind, LocalModelConfig, MIN_RCOND};
+
 use crate::error::{invalid, Check, Result};
-use crate::evaluation::EvalConfig;
-use crate::exploration_phase::ExplorationConfig;
-use crate::goal_selection::ModeProbabilities;
-use crate::local_model::LocalModelConfig;
-use crate::memory::IndexKind;
-use crate::reaching_controller::ReachingConfig;
-use crate::region_tree::{check_bounds, RegionTreeConfig};
 use crate::task_space::MAX_TASK_DIM;
 
 /// The experimental conditions of the paper.
@@ -50,7 +54,7 @@ impl Condition {
     }
 }
 
-/// How the low level acts (see `episodic.rs`).
+/// How the low level acts (see `low_level/episodic.rs`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Paradigm {
     /// The paper's: goals reached through subgoals by micro-actions; one step = one micro-action.
@@ -73,14 +77,6 @@ impl Paradigm {
             Paradigm::Episodic => "episodic",
         }
     }
-}
-
-/// A body that changes during a run: at time step `step`, link `link` takes length `length`.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct BodyChange {
-    pub step: u64,
-    pub link: usize,
-    pub length: f64,
 }
 
 #[derive(Debug, Clone, PartialEq)]

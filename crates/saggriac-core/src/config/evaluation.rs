@@ -1,0 +1,45 @@
+//! The evaluation's parameters: test set sizes, test reach stopping rules, schedule.
+
+use crate::error::{invalid, Check, Result};
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct EvalConfig {
+    pub n_test_goals: usize,
+    pub n_test_configs: usize,
+    /// A test reach stops once closer than this to its goal.
+    pub tolerance: f64,
+    /// ... or after this many micro-actions without getting closer.
+    pub patience: usize,
+    /// ... or after ceil(timeout_factor * distance / v) + timeout_min micro-actions.
+    pub timeout_factor: f64,
+    pub timeout_min: usize,
+    /// Time steps after which to evaluate (sorted, each <= n_steps; 0 = before learning).
+    pub schedule: Vec<u64>,
+}
+
+impl Default for EvalConfig {
+    fn default() -> Self {
+        EvalConfig { n_test_goals: 100, n_test_configs: 100, tolerance: 0.01, patience: 10, timeout_factor: 2.0, timeout_min: 20, schedule: vec![] }
+    }
+}
+
+impl EvalConfig {
+    pub fn validate(&self, n_steps: u64) -> Result<()> {
+        let c = Check { owner: "Evaluation" };
+        c.at_least("n_test_goals", self.n_test_goals, 1)?;
+        c.at_least("n_test_configs", self.n_test_configs, 1)?;
+        c.positive("tolerance", self.tolerance)?;
+        c.at_least("patience", self.patience, 1)?;
+        c.non_negative("timeout_factor", self.timeout_factor)?;
+        c.at_least("timeout_min", self.timeout_min, 1)?;
+        if self.schedule.windows(2).any(|w| w[0] >= w[1]) {
+            return Err(invalid("Evaluation", "schedule", "strictly increasing", format!("{:?}", self.schedule)));
+        }
+        if let Some(&last) = self.schedule.last() {
+            if last > n_steps {
+                return Err(invalid("Evaluation", "schedule", format!("a list of steps <= n_steps (n_steps = {n_steps})"), last));
+            }
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,100 @@
+//! The high level's parameters: competence, the region tree, the goal selection modes, and the
+//! rule every box of a goal space obeys.
+
+use crate::error::{invalid, Check, Result};
+
+/// Thresholds of the competence measure.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CompetenceConfig {
+    /// Lowest competence; worse attempts are clipped to it (min_C < 0).
+    pub min_c: f64,
+    /// Tolerance: a cost above eps_C (min_C < eps_C < 0) counts as reached, competence 0.
+    pub eps_c: f64,
+}
+
+impl Default for CompetenceConfig {
+    fn default() -> Self {
+        CompetenceConfig { min_c: -1.0, eps_c: -0.05 }
+    }
+}
+
+impl CompetenceConfig {
+    pub fn validate(&self) -> Result<()> {
+        if !(self.min_c.is_finite() && self.min_c < 0.0) {
+            return Err(invalid("Competence", "min_c", "a finite float < 0", self.min_c));
+        }
+        if !(self.eps_c.is_finite() && self.eps_c < 0.0 && self.eps_c > self.min_c) {
+            return Err(invalid("Competence", "eps_c", format!("a float with min_c < eps_c < 0 (min_c = {})", self.min_c), self.eps_c));
+        }
+        Ok(())
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RegionTreeConfig {
+    /// A leaf holding more than g_max measurements is split.
+    pub g_max: usize,
+    /// Interest window (eq. 2).
+    pub zeta: usize,
+    /// Fewest measurements each child of a split must receive.
+    pub min_child: usize,
+}
+
+impl Default for RegionTreeConfig {
+    fn default() -> Self {
+        RegionTreeConfig { g_max: 50, zeta: 20, min_child: 5 }
+    }
+}
+
+impl RegionTreeConfig {
+    pub fn validate(&self) -> Result<()> {
+        let c = Check { owner: "RegionTree" };
+        c.at_least("g_max", self.g_max, 2)?;
+        c.at_least("zeta", self.zeta, 2)?;
+        c.at_least("min_child", self.min_child, 1)?;
+        if 2 * self.min_child > self.g_max + 1 {
+            return Err(invalid("RegionTree", "min_child", format!("an int with 2 * min_child <= g_max + 1 (g_max = {})", self.g_max), self.min_child));
+        }
+        Ok(())
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ModeProbabilities {
+    pub p_interest: f64,
+    pub p_global: f64,
+    pub p_lowest: f64,
+}
+
+impl Default for ModeProbabilities {
+    fn default() -> Self {
+        ModeProbabilities { p_interest: 0.7, p_global: 0.2, p_lowest: 0.1 }
+    }
+}
+
+impl ModeProbabilities {
+    pub fn validate(&self) -> Result<()> {
+        let c = Check { owner: "SaggRiac" };
+        c.probability("p_interest", self.p_interest)?;
+        c.probability("p_global", self.p_global)?;
+        c.probability("p_lowest", self.p_lowest)?;
+        let s = self.p_interest + self.p_global + self.p_lowest;
+        if (s - 1.0).abs() > 1e-9 {
+            return Err(invalid("SaggRiac", "p_lowest", format!("such that p_interest + p_global + p_lowest = 1 (p_interest = {}, p_global = {})", self.p_interest, self.p_global), self.p_lowest));
+        }
+        Ok(())
+    }
+}
+
+/// Bounds must be finite, of equal non-zero length, and strictly ordered.
+pub fn check_bounds(owner: &'static str, low: &[f64], high: &[f64]) -> Result<()> {
+    if low.is_empty() || low.len() != high.len() {
+        return Err(invalid(owner, "bounds", format!("low and high of equal non-zero length (low has {})", low.len()), high.len()));
+    }
+    for (i, (l, h)) in low.iter().zip(high).enumerate() {
+        if !(l.is_finite() && h.is_finite() && l < h) {
+            return Err(invalid(owner, "bounds", format!("finite with low < high in every dimension (dimension {i}: low = {l})"), h));
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,23 @@
+//! Exploration phase of the low level (paper III.D.2): q small random micro-actions around the
+//! current configuration, so the local model learns (theta, dtheta) -> dx there.
+
+pub use crate::config::low_level::ExplorationConfig;
+use crate::parts::{ActionKind, Parts};
+use crate::rng::uniform;
+
+/// Run one exploration phase: q micro-actions, each moving to a random configuration in a small
+/// box around the theta the phase started from. Staying around that centre (rather than a
+/// drifting random walk) keeps the new samples where the local model must be good. Stops early
+/// only when the run's step budget is spent. `d` is the caller's command buffer.
+pub fn explore(parts: &mut Parts, cfg: &ExplorationConfig, d: &mut [f64]) {
+    let step = cfg.step;
+    let centre = parts.body.theta().to_vec();
+    for _ in 0..cfg.q {
+        for ((v, c), t) in d.iter_mut().zip(&centre).zip(parts.body.theta()) {
+            *v = c + uniform(&mut parts.rng, -step, step) - t;
+        }
+        if parts.micro_action(d, ActionKind::Exploration).is_none() {
+            return;
+        }
+    }
+}

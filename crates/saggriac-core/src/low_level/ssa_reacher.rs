@@ -1,0 +1,144 @@
+//! The paper's low level (III.D), inspired by SSA. A goal is reached through l subgoals on the
+//! line from the start; each is one attempt: from the current position, ask for a displacement of
+//! length v towards the target, execute dtheta = J+ dx with J fitted on the nearest stored
+//! samples, and run an exploration phase when the realised displacement misses (or no local
+//! model exists yet), until the target is reached or the attempt times out. Each subgoal's
+//! competence goes to the high level.
+
+use crate::competence::{clip, cost, CompetenceConfig};
+use crate::config::low_level::ExplorationConfig;
+pub use crate::config::low_level::ReachingConfig;
+use crate::config::RunConfig;
+use crate::goal_selection::GoalChoice;
+use crate::low_level::exploration_phase::explore;
+use crate::low_level::LowLevel;
+use crate::parts::{ActionKind, Parts};
+use crate::recorder::{AttemptRow, GoalRow};
+pub use crate::task_space::desired_step;
+use crate::task_space::{distance, lerp, point, Point};
+
+/// Result of one (sub)goal attempt.
+#[derive(Debug, Clone, PartialEq)]
+pub struct AttemptOutcome {
+    pub start: Point,
+    pub end: Point,
+    pub competence: f64,
+    pub reached: bool,
+    /// The run's step budget ran out during the attempt: its competence is not a measurement.
+    pub interrupted: bool,
+}
+
+pub struct SsaReacher {
+    reaching: ReachingConfig,
+    exploration: ExplorationConfig,
+    competence: CompetenceConfig,
+    reset_every: u64,
+    /// The command buffer of every micro-action.
+    dtheta: Vec<f64>,
+}
+
+impl SsaReacher {
+    pub fn new(cfg: &RunConfig) -> Self {
+        let n = cfg.arm.link_lengths.len();
+        SsaReacher { reaching: cfg.reaching, exploration: cfg.exploration, competence: cfg.competence, reset_every: cfg.reset_every as u64, dtheta: vec![0.0; n] }
+    }
+
+    /// One attempt to reach `target` from where the body is.
+    pub fn reach(&mut self, target: Point, parts: &mut Parts) -> AttemptOutcome {
+        let (rc, comp) = (self.reaching, self.competence);
+        let start = parts.body.position();
+        let timeout = rc.timeout(distance(&target, &start)) as u64;
+        let step0 = parts.recorder.steps();
+        let mut interrupted = false;
+        loop {
+            let x = parts.body.position();
+            if cost(&target, &x, &start, comp.min_c) > comp.eps_c {
+                break;
+            }
+            if parts.recorder.steps() - step0 >= timeout {
+                break;
+            }
+            if parts.budget_spent() || parts.failed() {
+                interrupted = true;
+                break;
+            }
+            let dx_des = desired_step(&x, &target, rc.v);
+            match parts.model.inverse(parts.body.theta(), &dx_des, &mut self.dtheta, &mut parts.recorder.timers) {
+                Ok(()) => match parts.micro_action(&mut self.dtheta, ActionKind::Reaching) {
+                    None => {
+                        interrupted = true;
+                        break;
+                    }
+                    Some(dx) => {
+                        // Compare with what the model expected of the command actually executed:
+                        // the same as the desired dx unless the joint-step bound or a joint limit
+                        // cut the command, which is no fault of the model.
+                        let expected = parts.model.expected_dx(&self.dtheta);
+                        if distance(&dx, &expected) > rc.eps_max {
+                            parts.recorder.counters.explorations += 1;
+                            explore(parts, &self.exploration, &mut self.dtheta);
+                        }
+                    }
+                },
+                Err(_) => {
+                    // No usable local model here yet: explore to build one.
+                    parts.recorder.counters.fit_failures += 1;
+                    parts.recorder.counters.explorations += 1;
+                    explore(parts, &self.exploration, &mut self.dtheta);
+                }
+            }
+        }
+        let end = parts.body.position();
+        let c = clip(cost(&target, &end, &start, comp.min_c), &comp);
+        AttemptOutcome { start, end, competence: c, reached: c == 0.0, interrupted: interrupted && c != 0.0 }
+    }
+}
+
+impl LowLevel for SsaReacher {
+    fn rest_due(&self, parts: &Parts) -> bool {
+        parts.recorder.goals_done() % self.reset_every == 0
+    }
+    fn asks_high_level(&self) -> bool {
+        true
+    }
+
+    /// The goal through l subgoals x_i = x_start + (i / l)(x_g - x_start), the last one the goal
+    /// itself; the high level gets each subgoal's competence.
+    fn attempt(&mut self, choice: Option<GoalChoice>, parts: &mut Parts) {
+        let choice = choice.expect("the SSA reacher reaches goals of the high level");
+        let m = parts.model.task_dim();
+        let g = point(&choice.goal[..m]);
+        let start = parts.body.position();
+        let step_start = parts.recorder.steps();
+        let l = self.reaching.n_subgoals;
+        let mut last_c = f64::NAN;
+        for i in 1..=l {
+            let f = i as f64 / l as f64;
+            let target = if i == l { g } else { lerp(&start, &g, f) };
+            let out = self.reach(target, parts);
+            if out.interrupted {
+                break;
+            }
+            let region = parts.tell(&target[..m], out.competence);
+            let r = &mut parts.recorder;
+            r.attempts.push(AttemptRow { goal_index: r.goals_done(), subgoal: i as u32, step_end: r.steps(), target, end: out.end, competence: out.competence, reached: out.reached, region });
+            if i == l {
+                last_c = out.competence;
+            }
+        }
+        let (r, end) = (&mut parts.recorder, parts.body.position());
+        r.goal_done(GoalRow { goal_index: r.goals_done(), step_start, step_end: r.steps(), goal: g, start, end, mode: choice.mode, region: choice.region, competence: last_c });
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn timeout_grows_with_distance() {
+        let rc = ReachingConfig::default();
+        assert_eq!(rc.timeout(0.0), 10);
+        assert_eq!(rc.timeout(5.0), 30);
+    }
+}

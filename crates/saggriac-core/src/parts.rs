@@ -1,0 +1,189 @@
+//! The parts a learner is made of, and the path of one micro-action through them. Each part owns
+//! its state: the body, the sensorimotor model, the goal selector (high level), the learner's
+//! generator, the evaluator and the recorder. A low-level controller acts only through `Parts`:
+//! it reads the body and the model, draws from the generator, executes micro-actions (or whole
+//! movements) with `micro_action` / `movement`, and tells the high level what it measured.
+
+use std::time::Instant;
+
+use crate::body::Body;
+use crate::config::BodyChange;
+use crate::evaluation::Evaluator;
+use crate::goal_selection::{GoalChoice, GoalSelector};
+use crate::recorder::{MetricRow, Recorder};
+use crate::rng::CoreRng;
+use crate::sensorimotor_model::SensorimotorModel;
+use crate::task_space::Point;
+
+/// What a micro-action was for (counted separately in the recorder).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ActionKind {
+    Reaching,
+    Exploration,
+    Babbling,
+}
+
+pub struct Parts {
+    pub(crate) body: Box<dyn Body>,
+    pub(crate) model: SensorimotorModel,
+    pub(crate) selector: Box<dyn GoalSelector>,
+    /// The learner's own draws (exploration, babbling, episodic noise).
+    pub(crate) rng: CoreRng,
+    pub(crate) evaluator: Evaluator,
+    pub(crate) recorder: Recorder,
+    /// End-effector position at rest (the start of every episodic movement).
+    pub(crate) rest_x: Point,
+    budget: u64,
+    body_change: Option<BodyChange>,
+    /// The configuration before the current micro-action.
+    theta_before: Vec<f64>,
+}
+
+impl Parts {
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn new(
+        body: Box<dyn Body>,
+        model: SensorimotorModel,
+        selector: Box<dyn GoalSelector>,
+        rng: CoreRng,
+        evaluator: Evaluator,
+        rest_x: Point,
+        budget: u64,
+        body_change: Option<BodyChange>,
+    ) -> Self {
+        let n = body.n_joints();
+        Parts { body, model, selector, rng, evaluator, recorder: Recorder::default(), rest_x, budget, body_change, theta_before: vec![0.0; n] }
+    }
+
+    pub fn body(&self) -> &dyn Body {
+        self.body.as_ref()
+    }
+    pub fn model(&self) -> &SensorimotorModel {
+        &self.model
+    }
+    pub fn model_mut(&mut self) -> &mut SensorimotorModel {
+        &mut self.model
+    }
+    pub fn selector(&self) -> &dyn GoalSelector {
+        self.selector.as_ref()
+    }
+    pub fn rng(&mut self) -> &mut CoreRng {
+        &mut self.rng
+    }
+    pub fn recorder(&self) -> &Recorder {
+        &self.recorder
+    }
+    pub fn recorder_mut(&mut self) -> &mut Recorder {
+        &mut self.recorder
+    }
+    pub fn rest_position(&self) -> Point {
+        self.rest_x
+    }
+    pub fn evaluator(&self) -> &Evaluator {
+        &self.evaluator
+    }
+
+    pub fn budget_spent(&self) -> bool {
+        self.recorder.steps >= self.budget
+    }
+    /// A user's body or goal selector failed: the run stops and the binding reports why.
+    pub fn failed(&self) -> bool {
+        self.body.failed() || self.selector.failed()
+    }
+
+    /// Back to the rest pose (not a time step).
+    pub fn rest(&mut self) {
+        self.body.reset();
+        self.model.forget_trajectory();
+    }
+
+    /// The high level chooses (timed).
+    pub fn select(&mut self) -> GoalChoice {
+        let t0 = Instant::now();
+        let choice = self.selector.sample();
+        self.recorder.timers.goal_selection += t0.elapsed().as_secs_f64();
+        choice
+    }
+
+    /// Give the high level the competence measured at `point`; returns the region that took it.
+    pub fn tell(&mut self, point: &[f64], competence: f64) -> Option<usize> {
+        let t0 = Instant::now();
+        let region = self.selector.update(point, competence);
+        self.recorder.timers.goal_selection += t0.elapsed().as_secs_f64();
+        region
+    }
+
+    /// Execute one micro-action on the body and store it. Returns the realised dx, or None
+    /// (without moving) when the step budget is spent or a user's part failed.
+    pub fn micro_action(&mut self, dtheta: &mut [f64], kind: ActionKind) -> Option<Point> {
+        if self.budget_spent() || self.failed() {
+            return None;
+        }
+        self.theta_before.copy_from_slice(self.body.theta());
+        let x0 = self.body.position();
+        let dx = self.body.step(dtheta);
+        if self.body.failed() {
+            return None;
+        }
+        let m = self.model.task_dim();
+        self.model.store(&self.theta_before, dtheta, &dx[..m], &x0[..m]);
+        self.tick();
+        let c = &mut self.recorder.counters;
+        match kind {
+            ActionKind::Reaching => c.reaching_steps += 1,
+            ActionKind::Exploration => c.exploration_steps += 1,
+            ActionKind::Babbling => c.babbling_steps += 1,
+        }
+        // Evaluate exactly at the scheduled step; it only reads the model.
+        self.evaluate_due();
+        Some(dx)
+    }
+
+    /// The episodic paradigm's time step: put the body in `theta` at once and store the movement.
+    /// Returns the position reached. The caller evaluates (`evaluate_due`) once it has told the
+    /// high level, so that the evaluation's row counts this goal.
+    pub fn movement(&mut self, theta: &[f64]) -> Point {
+        self.body.set_theta(theta);
+        let x = self.body.position();
+        let m = self.model.task_dim();
+        self.model.store_movement(self.body.theta(), &x[..m]);
+        self.tick();
+        x
+    }
+
+    /// One time step has passed; at the configured step the body changes, and the evaluation
+    /// follows the new body.
+    fn tick(&mut self) {
+        self.recorder.tick();
+        if let Some(c) = self.body_change {
+            if self.recorder.steps == c.step && self.body.set_link_length(c.link, c.length) {
+                self.evaluator.body_changed(self.body.as_mut());
+            }
+        }
+    }
+
+    /// Run every evaluation scheduled at or before the current time step.
+    pub fn evaluate_due(&mut self) {
+        while self.evaluator.due(self.recorder.steps) {
+            self.evaluate_now();
+        }
+    }
+
+    /// Run one evaluation now and record it.
+    pub fn evaluate_now(&mut self) -> MetricRow {
+        let t0 = Instant::now();
+        let r = self.evaluator.evaluate(self.model.view(), self.body.as_mut());
+        self.recorder.timers.evaluation += t0.elapsed().as_secs_f64();
+        self.recorder.counters.test_steps += r.test_steps;
+        let row = MetricRow {
+            step: self.recorder.steps,
+            n_samples: self.model.len() as u64,
+            reach_error: r.mean_reach(),
+            pred_error: r.mean_pred(),
+            n_goals: self.recorder.goals_done,
+            n_regions: self.selector.tree().map(|t| t.leaves().len() as u64).unwrap_or(1),
+        };
+        self.recorder.metrics.push(row.clone());
+        row
+    }
+}

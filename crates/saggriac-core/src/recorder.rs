@@ -1,0 +1,111 @@
+//! What a run leaves behind: the rows of the four tables (metrics, goals, attempts; the regions
+//! come from the goal selector), the counters and the wall-time split of run.json, and the clock
+//! (time steps so far, goals so far). Every part writes here; nothing here changes learning.
+
+use serde::{Deserialize, Serialize};
+
+use crate::goal_selection::Mode;
+use crate::task_space::Point;
+
+/// One evaluation point of the learning curve.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct MetricRow {
+    pub step: u64,
+    pub n_samples: u64,
+    pub reach_error: f64,
+    pub pred_error: f64,
+    pub n_goals: u64,
+    pub n_regions: u64,
+}
+
+/// One self-generated goal.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct GoalRow {
+    pub goal_index: u64,
+    pub step_start: u64,
+    pub step_end: u64,
+    pub goal: Point,
+    pub start: Point,
+    pub end: Point,
+    pub mode: Mode,
+    pub region: Option<usize>,
+    /// Competence of the last attempt (the goal itself), NaN if interrupted by the step budget.
+    pub competence: f64,
+}
+
+/// One (sub)goal attempt: the measurements given to the high level.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct AttemptRow {
+    pub goal_index: u64,
+    pub subgoal: u32,
+    pub step_end: u64,
+    pub target: Point,
+    pub end: Point,
+    pub competence: f64,
+    pub reached: bool,
+    pub region: Option<usize>,
+}
+
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct Counters {
+    pub reaching_steps: u64,
+    pub exploration_steps: u64,
+    pub babbling_steps: u64,
+    pub explorations: u64,
+    pub fit_failures: u64,
+    pub test_steps: u64,
+}
+
+/// Wall time spent in each part, in seconds.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct Timers {
+    pub knn: f64,
+    pub fit: f64,
+    pub goal_selection: f64,
+    pub evaluation: f64,
+    pub total: f64,
+}
+
+/// The rows, counters, timers and clock of one run.
+#[derive(Debug, Clone, Default)]
+pub struct Recorder {
+    pub metrics: Vec<MetricRow>,
+    pub goals: Vec<GoalRow>,
+    pub attempts: Vec<AttemptRow>,
+    pub counters: Counters,
+    pub timers: Timers,
+    /// Time steps so far (micro-actions, or movements in the episodic paradigm).
+    pub(crate) steps: u64,
+    /// Goals attempted so far (the index of the next goal row).
+    pub(crate) goals_done: u64,
+    /// Metric rows already shown to the caller of `run`.
+    pub(crate) reported: usize,
+}
+
+impl Recorder {
+    pub fn steps(&self) -> u64 {
+        self.steps
+    }
+    pub fn goals_done(&self) -> u64 {
+        self.goals_done
+    }
+    /// One more time step has passed.
+    pub fn tick(&mut self) {
+        self.steps += 1;
+    }
+    /// A goal attempt is over: its row closes it and the next goal gets the next index.
+    pub fn goal_done(&mut self, row: GoalRow) {
+        self.goals.push(row);
+        self.goals_done += 1;
+    }
+
+    /// Show `on_eval` every metric row it has not seen yet; false if it asked to stop.
+    pub fn report(&mut self, on_eval: &mut dyn FnMut(&MetricRow) -> bool) -> bool {
+        let mut keep_going = true;
+        while self.reported < self.metrics.len() {
+            keep_going &= on_eval(&self.metrics[self.reported]);
+            self.reported += 1;
+        }
+        keep_going
+    }
+}

@@ -1,0 +1,113 @@
+//! A user's Python goal selector in the Rust run loop, through the core's `GoalSelector` trait
+//! (failures handled as for environments, see `body.rs`), and the region tree of a selector as
+//! numpy arrays.
+
+use numpy::{IntoPyArray, PyArrayMethods};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use saggriac_core::goal_selection::{GoalChoice, GoalSelector, Mode};
+
+use crate::errors::{keep_first, Failure, Slot};
+use crate::values::vector;
+
+/// A Python goal selector: `sample() -> goal` and `update(goal, competence)`, with `low` and
+/// `high` arrays giving its goal space.
+pub struct PySelector {
+    obj: Py<PyAny>,
+    low: Vec<f64>,
+    high: Vec<f64>,
+    slot: Slot,
+    failed: bool,
+}
+
+impl PySelector {
+    pub fn new(py: Python<'_>, obj: Py<PyAny>, slot: Slot) -> PyResult<Self> {
+        let b = obj.bind(py);
+        let read = |name: &str| -> PyResult<Vec<f64>> {
+            let v = b.getattr(name).map_err(|_| pyo3::exceptions::PyTypeError::new_err(format!("a goal selector needs a '{name}' attribute (the bounds of its goal space)")))?;
+            vector(&v, v.len().unwrap_or(0), &format!("goal_selector.{name}")).map_err(pyo3::exceptions::PyValueError::new_err)
+        };
+        let (low, high) = (read("low")?, read("high")?);
+        Ok(PySelector { obj, low, high, slot, failed: false })
+    }
+    fn fail(&mut self, f: Failure) {
+        self.failed = true;
+        keep_first(&self.slot, f);
+    }
+}
+
+impl GoalSelector for PySelector {
+    fn low(&self) -> &[f64] {
+        &self.low
+    }
+    fn high(&self) -> &[f64] {
+        &self.high
+    }
+    fn sample(&mut self) -> GoalChoice {
+        let centre: Vec<f64> = self.low.iter().zip(&self.high).map(|(l, h)| 0.5 * (l + h)).collect();
+        if self.failed {
+            return GoalChoice { goal: centre, mode: Mode::External, region: None };
+        }
+        let d = self.dim();
+        let got = Python::attach(|py| match self.obj.bind(py).call_method0("sample") {
+            Err(e) => Err(Failure::Raised(e)),
+            Ok(v) => vector(&v, d, "the goal returned by goal_selector.sample()").map_err(Failure::Invalid),
+        });
+        match got {
+            Ok(g) => {
+                if let Some(i) = (0..d).find(|&i| !(g[i] >= self.low[i] && g[i] <= self.high[i])) {
+                    self.fail(Failure::Invalid(format!(
+                        "the goal returned by goal_selector.sample() must lie in [low, high]; coordinate {i} is {} but the bounds are [{}, {}].",
+                        g[i], self.low[i], self.high[i]
+                    )));
+                    return GoalChoice { goal: centre, mode: Mode::External, region: None };
+                }
+                GoalChoice { goal: g, mode: Mode::External, region: None }
+            }
+            Err(f) => {
+                self.fail(f);
+                GoalChoice { goal: centre, mode: Mode::External, region: None }
+            }
+        }
+    }
+    fn update(&mut self, point: &[f64], competence: f64) -> Option<usize> {
+        if self.failed {
+            return None;
+        }
+        let r = Python::attach(|py| self.obj.bind(py).call_method1("update", (point.to_vec().into_pyarray(py), competence)).map(|_| ()));
+        if let Err(e) = r {
+            self.fail(Failure::Raised(e));
+        }
+        None
+    }
+    fn failed(&self) -> bool {
+        self.failed
+    }
+}
+
+fn col<'py, T: numpy::Element>(py: Python<'py>, v: Vec<T>) -> Bound<'py, numpy::PyArray1<T>> {
+    v.into_pyarray(py)
+}
+
+/// The selector's region tree (all nodes, leaves and inner): bounds, parent, split, interest,
+/// count. Empty arrays for selectors without a tree.
+pub fn regions<'py>(py: Python<'py>, selector: &dyn GoalSelector) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    let regs = selector.tree().map(|t| t.regions().to_vec()).unwrap_or_default();
+    let dim = selector.dim();
+    let n = regs.len();
+    let low: Vec<f64> = regs.iter().flat_map(|r| r.low.clone()).collect();
+    let high: Vec<f64> = regs.iter().flat_map(|r| r.high.clone()).collect();
+    d.set_item("low", low.into_pyarray(py).reshape([n, dim])?)?;
+    d.set_item("high", high.into_pyarray(py).reshape([n, dim])?)?;
+    d.set_item("parent", col(py, regs.iter().map(|r| r.parent.map(|p| p as i64).unwrap_or(-1)).collect()))?;
+    d.set_item("is_leaf", col(py, regs.iter().map(|r| r.is_leaf()).collect()))?;
+    d.set_item("split_dim", col(py, regs.iter().map(|r| if r.is_leaf() { -1 } else { r.split_dim as i64 }).collect()))?;
+    d.set_item("split_value", col(py, regs.iter().map(|r| r.split_value).collect()))?;
+    d.set_item("interest", col(py, regs.iter().map(|r| r.interest).collect()))?;
+    d.set_item("n_measurements", col(py, regs.iter().map(|r| r.entries.len() as u64).collect()))?;
+    d.set_item("mean_competence", col(py, regs.iter().map(|r| r.mean().unwrap_or(f64::NAN)).collect()))?;
+    d.set_item("created_at", col(py, regs.iter().map(|r| r.created_at).collect()))?;
+    d.set_item("depth", col(py, regs.iter().map(|r| r.depth).collect()))?;
+    Ok(d)
+}

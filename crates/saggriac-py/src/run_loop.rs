@@ -1,0 +1,147 @@
+//! Binding of the run loop: build a learner from a config dict (with a user's Python
+//! environment or goal selector if given), run it with the GIL released, checkpoint and restore
+//! it. Its records are converted by `recorder.rs`, `goal_selection.rs` and `evaluation.rs`.
+
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use saggriac_core::body::Body;
+use saggriac_core::goal_selection::GoalSelector;
+use saggriac_core::recorder::MetricRow;
+use saggriac_core::Learner;
+
+use crate::body::PyBody;
+use crate::config::run_config_from_dict;
+use crate::errors::{take_failure, wrap, Slot};
+use crate::goal_selection::PySelector;
+use crate::{evaluation, goal_selection, recorder};
+
+#[pyclass(name = "Learner", module = "saggriac._core")]
+pub struct PyLearner {
+    inner: Learner,
+    /// First failure of a user's environment or goal selector during a run.
+    slot: Slot,
+}
+
+impl PyLearner {
+    fn take_failure(&mut self, py: Python<'_>) -> Option<PyErr> {
+        take_failure(py, &self.slot, self.inner.steps())
+    }
+}
+
+#[pymethods]
+impl PyLearner {
+    /// Learner(config: dict, seed: int, eval_seed: int, environment=None, goal_selector=None, env_seed=0)
+    #[new]
+    #[pyo3(signature = (config, seed, eval_seed, environment=None, goal_selector=None, env_seed=0))]
+    fn new(py: Python<'_>, config: &Bound<'_, PyDict>, seed: u64, eval_seed: u64, environment: Option<Py<PyAny>>, goal_selector: Option<Py<PyAny>>, env_seed: u64) -> PyResult<Self> {
+        let cfg = run_config_from_dict(config)?;
+        let slot: Slot = Default::default();
+        let (n, m) = (cfg.arm.link_lengths.len(), cfg.goal_low.len());
+        let body = match environment {
+            Some(env) => Some(Box::new(PyBody::new(py, env, n, m, env_seed, slot.clone())?) as Box<dyn Body>),
+            None => None,
+        };
+        let selector = match goal_selector {
+            Some(s) => Some(Box::new(PySelector::new(py, s, slot.clone())?) as Box<dyn GoalSelector>),
+            None => None,
+        };
+        let mut this = PyLearner { inner: wrap(py, Learner::with_parts(cfg, seed, eval_seed, body, selector)).map_err(|e| take_failure(py, &slot, 0).unwrap_or(e))?, slot };
+        // The environment may already have failed while the test set was measured.
+        if let Some(e) = this.take_failure(py) {
+            return Err(e);
+        }
+        Ok(this)
+    }
+
+    /// Run to the end of the step budget. `callback(row: dict) -> bool | None` sees each new
+    /// evaluation; returning False stops the run. Ctrl-C also stops it (and raises).
+    /// Returns True when the budget was spent.
+    #[pyo3(signature = (callback=None))]
+    fn run(&mut self, py: Python<'_>, callback: Option<Py<PyAny>>) -> PyResult<bool> {
+        let learner = &mut self.inner;
+        let mut pending: Option<PyErr> = None;
+        let done = py.detach(|| {
+            learner.run(&mut |row: &MetricRow| {
+                Python::attach(|py| {
+                    if let Err(e) = py.check_signals() {
+                        pending = Some(e);
+                        return false;
+                    }
+                    let Some(cb) = &callback else { return true };
+                    let r = recorder::metric_row(py, row).and_then(|d| cb.call1(py, (d,)));
+                    match r {
+                        // Only an explicit False stops the run; None or anything else goes on.
+                        Ok(v) => !v.bind(py).is_instance_of::<pyo3::types::PyBool>() || v.extract::<bool>(py).unwrap_or(true),
+                        Err(e) => {
+                            pending = Some(e);
+                            false
+                        }
+                    }
+                })
+            })
+        });
+        if let Some(e) = self.take_failure(py) {
+            return Err(e);
+        }
+        match pending {
+            Some(e) => Err(e),
+            None => Ok(done),
+        }
+    }
+
+    /// The learner's whole state as bytes (between goal attempts, e.g. after run() was stopped).
+    fn checkpoint<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyBytes>> {
+        let bytes = wrap(py, self.inner.checkpoint())?;
+        Ok(pyo3::types::PyBytes::new(py, &bytes))
+    }
+
+    /// Learner.restore(config: dict, state: bytes): the learner a checkpoint was taken from.
+    #[staticmethod]
+    fn restore(py: Python<'_>, config: &Bound<'_, PyDict>, state: &[u8]) -> PyResult<Self> {
+        let cfg = run_config_from_dict(config)?;
+        let inner = wrap(py, py.detach(|| Learner::restore(cfg, state)))?;
+        Ok(PyLearner { inner, slot: Default::default() })
+    }
+
+    #[getter]
+    fn steps(&self) -> u64 {
+        self.inner.steps()
+    }
+
+    #[getter]
+    fn n_samples(&self) -> usize {
+        self.inner.memory().len()
+    }
+
+    /// Learning curve: dict of 1-D arrays (step, n_samples, reach_error, pred_error, n_goals, n_regions).
+    fn metrics<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        recorder::metrics(py, self.inner.recorder())
+    }
+
+    /// Self-generated goals: one row per goal.
+    fn goals<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        recorder::goals(py, self.inner.recorder(), self.inner.task_dim())
+    }
+
+    /// Every (sub)goal attempt and the competence the high level received for it.
+    fn attempts<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        recorder::attempts(py, self.inner.recorder(), self.inner.task_dim())
+    }
+
+    /// The region tree (all nodes, leaves and inner): bounds, parent, split, interest, count.
+    /// Empty arrays for conditions without a tree.
+    fn regions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        goal_selection::regions(py, self.inner.selector())
+    }
+
+    /// Test goals (n x task dimension) and test configurations (n x joints) of the evaluation.
+    fn test_set<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        evaluation::test_set(py, self.inner.test_set(), self.inner.task_dim(), self.inner.body().n_joints())
+    }
+
+    /// Micro-action counts and wall time (s) per part of the loop.
+    fn profile<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let l = &self.inner;
+        recorder::profile(py, l.recorder(), l.actuator_reset_period(), l.memory().rejected(), l.evaluation_split())
+    }
+}
