@@ -10,6 +10,7 @@ use crate::body::Body;
 use crate::config::BodyChange;
 use crate::evaluation::Evaluator;
 use crate::goal_selection::{GoalChoice, GoalSelector};
+use crate::local_model::FitFailure;
 use crate::recorder::{MetricRow, Recorder};
 use crate::rng::CoreRng;
 use crate::sensorimotor_model::SensorimotorModel;
@@ -111,6 +112,16 @@ impl Parts {
         let region = self.selector.update(point, competence);
         self.recorder.timers.goal_selection += t0.elapsed().as_secs_f64();
         region
+    }
+
+    /// Fit the local model at the body's configuration (timed).
+    pub fn fit_here(&mut self) -> Result<(), FitFailure> {
+        self.model.fit_at(self.body.theta(), &mut self.recorder.timers)
+    }
+
+    /// The inverse model at the body's configuration: dtheta = J+ dx (timed).
+    pub fn inverse_here(&mut self, dx: &Point, dtheta: &mut [f64]) -> Result<(), FitFailure> {
+        self.model.inverse(self.body.theta(), dx, dtheta, &mut self.recorder.timers)
     }
 
     /// Execute one micro-action on the body and store it. Returns the realised dx, or None

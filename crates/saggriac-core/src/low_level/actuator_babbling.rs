@@ -147,7 +147,7 @@ impl LowLevel for ActuatorBabbling {
         }
         // ACTUATOR-RIAC's interest: progress of the forward model's error (J dtheta with J fitted
         // on the neighbours, or no motion when no model is available yet).
-        let predicted = self.riac.then(|| match parts.model.fit_at(parts.body.theta(), &mut parts.recorder.timers) {
+        let predicted = self.riac.then(|| match parts.fit_here() {
             Ok(()) => parts.model.expected_dx(d),
             Err(_) => [0.0; MAX_TASK_DIM],
         });

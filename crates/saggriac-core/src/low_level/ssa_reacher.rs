@@ -63,7 +63,7 @@ impl SsaReacher {
                 break;
             }
             let dx_des = desired_step(&x, &target, rc.v);
-            match parts.model.inverse(parts.body.theta(), &dx_des, &mut self.dtheta, &mut parts.recorder.timers) {
+            match parts.inverse_here(&dx_des, &mut self.dtheta) {
                 Ok(()) => match parts.micro_action(&mut self.dtheta, ActionKind::Reaching) {
                     None => {
                         interrupted = true;
