@@ -452,6 +452,10 @@ pub(crate) fn check_bounds(owner: &'static str, low: &[f64], high: &[f64]) -> Re
         if !(l.is_finite() && h.is_finite() && l < h) {
             return Err(invalid(owner, "bounds", format!("finite with low < high in every dimension (dimension {i}: low = {l})"), h));
         }
+        // Goals are drawn as low + u * (high - low): the width itself must be a finite float.
+        if !(h - l).is_finite() {
+            return Err(invalid(owner, "bounds", format!("such that high - low is a finite float in every dimension (dimension {i}: low = {l:?})"), format!("{h:?}")));
+        }
     }
     Ok(())
 }

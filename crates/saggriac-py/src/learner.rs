@@ -8,7 +8,7 @@ use saggriac_core::run_loop::MetricRow;
 use saggriac_core::task_space::Point;
 use saggriac_core::Learner;
 
-use crate::config::run_config_from_dict;
+use crate::config::{in_config_terms, run_config_from_dict};
 use crate::errors::{to_py, wrap};
 use crate::python_parts::{Failure, PyBody, PySelector, Slot};
 
@@ -71,7 +71,7 @@ impl PyLearner {
             Some(s) => Some(Box::new(PySelector::new(py, s, slot.clone())?) as Box<dyn saggriac_core::goal_selection::GoalSelector>),
             None => None,
         };
-        let mut this = PyLearner { inner: wrap(py, Learner::with_parts(cfg, seed, eval_seed, body, selector)).map_err(|e| Self::failure(py, &slot, 0).unwrap_or(e))?, slot };
+        let mut this = PyLearner { inner: wrap(py, Learner::with_parts(cfg, seed, eval_seed, body, selector).map_err(in_config_terms)).map_err(|e| Self::failure(py, &slot, 0).unwrap_or(e))?, slot };
         // The environment may already have failed while the test set was measured.
         if let Some(e) = this.take_failure(py) {
             return Err(e);
