@@ -211,8 +211,13 @@ def resume(out_dir: str | Path, progress: bool = False) -> RunResult:
     without the interruption, and write it to ``out_dir``."""
     out = as_path(out_dir, "out_dir", "resume")
     ck = checkpoint_dir(out)
-    if not (ck / "state.bin").exists() or not (ck / "checkpoint.json").exists():
-        if (out / "run.json").exists():
+    try:
+        found = (ck / "state.bin").is_file() and (ck / "checkpoint.json").is_file()
+        finished = (out / "run.json").exists()
+    except OSError as e:
+        raise StorageError(f"Cannot look for a checkpoint of {out}: {e.strerror or e}.") from None
+    if not found:
+        if finished:
             raise StorageError(f"{out} already holds a finished run; there is nothing to resume.")
         raise StorageError(f"No checkpoint for {out} (looked for {ck}). Start the run with checkpoint_every (--checkpoint-every) to be able to resume it.")
     with target_lock(out):

@@ -98,6 +98,10 @@ class RunExistsError(StorageError):
         self.path = out
 
 
+#: Longest addition to a target's name among its siblings (".NAME.checkpoint", ".NAME.XXXXXXXX.tmp").
+SIBLING_EXTRA = 24
+
+
 def check_output_dir(out: Path, overwrite: bool = False, min_free: int = 0) -> None:
     """Refuse, before any work, a target that saggriac must not or cannot write.
 
@@ -105,6 +109,30 @@ def check_output_dir(out: Path, overwrite: bool = False, min_free: int = 0) -> N
     ``min_free=MIN_FREE_BYTES`` before a run to refuse a nearly full disk before any work.
     """
     out = Path(out)
+    try:
+        _check_output_dir(out, overwrite, min_free)
+    except StorageError:
+        raise
+    except OSError as e:  # a name the file system refuses, a folder that vanished meanwhile, ...
+        raise StorageError(f"Cannot use {out} as a run directory: {e.strerror or e}.") from None
+
+
+def _check_name(out: Path) -> None:
+    base = _existing_ancestor(Path(os.path.abspath(out)).parent)
+    try:
+        limit = os.pathconf(base, "PC_NAME_MAX")
+    except (OSError, ValueError, AttributeError):
+        limit = 255
+    for part in Path(os.path.abspath(out)).parts[1:]:
+        if len(os.fsencode(part)) > limit:
+            raise StorageError(f"The folder name {part[:40]}... in {out} is {len(os.fsencode(part))} bytes long; this file system allows {limit}.")
+    name = len(os.fsencode(out.name))
+    if name + SIBLING_EXTRA > limit:
+        raise StorageError(f"The name of {out} is {name} bytes long; runs need at most {limit - SIBLING_EXTRA} here ({limit} allowed, minus room for the temporary folder beside it).")
+
+
+def _check_output_dir(out: Path, overwrite: bool, min_free: int) -> None:
+    _check_name(out)
     absolute = Path(os.path.abspath(out))
     here = Path.cwd()
     if absolute == Path(absolute.anchor) or absolute == here or absolute in here.parents:
@@ -275,9 +303,13 @@ def write_run(out: Path, manifest: dict[str, Any], tables: dict[str, pd.DataFram
 def _read_manifest(path: Path) -> dict[str, Any]:
     try:
         manifest = json.loads((path / MANIFEST).read_text())
-    except FileNotFoundError:
+    except (FileNotFoundError, NotADirectoryError):
         raise StorageError(f"{path} is not a finished run directory (no {MANIFEST}).") from None
-    except (OSError, ValueError, UnicodeDecodeError) as e:
+    except IsADirectoryError:
+        raise StorageError(f"{path / MANIFEST} is damaged: it is a folder, not a file.") from None
+    except OSError as e:
+        raise StorageError(f"Cannot read {path / MANIFEST}: {e.strerror or e}.") from None
+    except (ValueError, UnicodeDecodeError) as e:
         raise StorageError(f"{path / MANIFEST} is damaged: it cannot be read as JSON ({e}).") from None
     if not isinstance(manifest, dict) or not {"config", "seed"} <= set(manifest):
         raise StorageError(f"{path / MANIFEST} is damaged: it is not a saggriac manifest (no config and seed).")

@@ -33,7 +33,7 @@ from .config import Config, check_keys
 from .errors import ParameterError, SaggriacError, StorageError
 from .runner import run
 from .seeding import check_seed
-from .storage import MANIFEST, run_damage
+from .storage import MANIFEST, as_path, run_damage
 
 STUDY_FILE = "study.json"
 LOCK_FILE = ".lock"
@@ -291,6 +291,28 @@ def _runs_of(study: Study) -> dict[str, tuple[int, dict[str, Any]]]:
     return {t.path: (t.seed, t.config) for t in study.tasks()}
 
 
+def _check_study_folder(out: Path) -> None:
+    """A study goes into a new or empty folder, or a study folder; never into a user's folder."""
+    try:
+        _check_study_place(out)
+    except StorageError:
+        raise
+    except OSError as e:
+        raise StorageError(f"Cannot use {out} as a study folder: {e.strerror or e}.") from None
+
+
+def _check_study_place(out: Path) -> None:
+    if out.is_symlink() or (out.exists() and not out.is_dir()):
+        raise StorageError(f"{out} is not a folder; a study needs a folder of its own. Choose another out_dir.")
+    if out.is_dir() and not (out / STUDY_FILE).exists():
+        entries = sorted(n for n in os.listdir(out) if n != LOCK_FILE and not (n.startswith(f".{STUDY_FILE}.") and n.endswith(".tmp")))
+        if (out / RUNS_DIR).exists():
+            raise StorageError(f"{out} holds a {RUNS_DIR}/ folder but no {STUDY_FILE}; it was not made by run_study. Choose another out_dir.")
+        if entries:
+            shown = ", ".join(entries[:5]) + (" ..." if len(entries) > 5 else "")
+            raise StorageError(f"{out} is a folder run_study did not make (it holds {shown}); a study goes into a new or empty folder. Choose another out_dir.")
+
+
 def _check_or_write_spec(out: Path, study: Study) -> None:
     path = out / STUDY_FILE
     if path.exists():
@@ -460,7 +482,8 @@ def run_study(
         _import_distributed()  # fail before writing anything
         if isinstance(scheduler, str):
             _check_scheduler(scheduler)
-    out = Path(out_dir).resolve()  # absolute: workers may run elsewhere (Dask, SLURM)
+    out = as_path(out_dir, "out_dir", "run_study").resolve()  # absolute: workers may run elsewhere (Dask, SLURM)
+    _check_study_folder(out)
     try:
         out.mkdir(parents=True, exist_ok=True)
     except OSError as e:
