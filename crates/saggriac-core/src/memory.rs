@@ -1,6 +1,7 @@
 //! Sensorimotor memory: every executed micro-action (theta, dtheta, dx) with the end-effector
 //! position x before it, plus the neighbour index over theta that the local models query.
 
+use crate::block_index::BlockIndex;
 use crate::kd_tree::KdTree;
 use crate::neighbours::{BruteForce, KdTreeIndex, Neighbour, NeighbourIndex, WarmStart};
 
@@ -12,6 +13,8 @@ pub enum IndexKind {
     /// The `kdtree` crate, kept as a second exact implementation to compare against.
     KdTreeCrate,
     BruteForce,
+    /// Boxes over runs of consecutive samples (`block_index.rs`).
+    Blocks,
 }
 
 impl IndexKind {
@@ -20,6 +23,7 @@ impl IndexKind {
             "kdtree" => Some(IndexKind::KdTree),
             "kdtree_crate" => Some(IndexKind::KdTreeCrate),
             "brute_force" => Some(IndexKind::BruteForce),
+            "blocks" => Some(IndexKind::Blocks),
             _ => None,
         }
     }
@@ -28,6 +32,7 @@ impl IndexKind {
             IndexKind::KdTree => "kdtree",
             IndexKind::KdTreeCrate => "kdtree_crate",
             IndexKind::BruteForce => "brute_force",
+            IndexKind::Blocks => "blocks",
         }
     }
 }
@@ -49,6 +54,7 @@ impl SensorimotorMemory {
             IndexKind::KdTree => Box::new(KdTree::new(n)),
             IndexKind::KdTreeCrate => Box::new(KdTreeIndex::new(n)),
             IndexKind::BruteForce => Box::new(BruteForce::new(n)),
+            IndexKind::Blocks => Box::new(BlockIndex::new(n)),
         };
         SensorimotorMemory { n, m, theta: Vec::new(), dtheta: Vec::new(), dx: Vec::new(), x: Vec::new(), index, rejected: 0 }
     }
