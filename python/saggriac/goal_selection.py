@@ -36,6 +36,8 @@ class GoalSelectorProtocol(Protocol):
 
 
 def _vector(name: str, value: Any, dim: int | None = None) -> np.ndarray:
+    if value is None or isinstance(value, (str, bytes)):
+        raise InputError(f"{name} must be an array of floats; got {value!r}.")
     try:
         arr = np.ascontiguousarray(value, dtype=np.float64)
     except (TypeError, ValueError) as e:

@@ -21,7 +21,7 @@ from .errors import ParameterError, StorageError
 from .result import RunResult
 from .seeding import check_seed, derive_seeds, environment_seed
 from .resources import check_run_fits
-from .storage import MIN_FREE_BYTES, as_path, check_output_dir, replace_dir, target_lock, write_run
+from .storage import MIN_FREE_BYTES, as_path, check_output_dir, replace_dir, sibling, target_lock, write_run
 
 CHECKPOINT_FILES = frozenset({"state.bin", "checkpoint.json"})
 
@@ -124,7 +124,7 @@ def _check_checkpointing(every: Any, out: Path | None, environment: Any, goal_se
 def checkpoint_dir(out: str | Path) -> Path:
     """Where the checkpoint of the run that will be written to ``out`` is kept."""
     out = Path(out)
-    return out.with_name(f".{out.name}.checkpoint")
+    return sibling(Path(out), ".checkpoint")
 
 
 def _write_checkpoint(out: Path, state: bytes, info: dict[str, Any], config: Config, steps: int, every: int) -> None:

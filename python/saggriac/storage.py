@@ -50,6 +50,15 @@ def as_path(value: Any, param: str, owner: str) -> Path:
     return Path(value)
 
 
+def sibling(out: Path, suffix: str) -> Path:
+    """``.NAME<suffix>`` beside ``out`` (its lock, temporary copy, checkpoint), for any spelling
+    of ``out`` (``.``, ``..`` or a trailing slash name no folder by themselves)."""
+    full = Path(os.path.abspath(out))
+    if not full.name:
+        raise StorageError(f"{out} is the root folder; a run needs a folder of its own.")
+    return full.with_name(f".{full.name}{suffix}")
+
+
 def _existing_ancestor(path: Path) -> Path:
     p = path
     while not p.exists():
@@ -175,7 +184,7 @@ def target_lock(out: Path, what: str = "run") -> Iterator[None]:
         out.parent.mkdir(parents=True, exist_ok=True)
     except OSError as e:
         raise StorageError(f"Cannot create the output folder {out.parent}: {e.strerror}.") from None
-    path = out.with_name(f".{out.name}.lock")
+    path = sibling(out, ".lock")
     while True:
         try:
             fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o644)
@@ -242,7 +251,7 @@ def replace_dir(out: Path, fill: Callable[[Path], None], what: str, replace: Cal
 
     An existing ``out`` is replaced only if ``replace(out)`` says so (by default: never, except an
     empty folder). A failure of any kind leaves ``out`` as it was and no temporary sibling."""
-    old = out.with_name(f".{out.name}.old")
+    old = sibling(out, ".old")
     tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.", suffix=".tmp", dir=out.parent))
     try:
         tmp.chmod(0o755)  # mkdtemp makes it private; results are meant to be shared
@@ -283,7 +292,7 @@ def write_run(out: Path, manifest: dict[str, Any], tables: dict[str, pd.DataFram
     """Write a run directory atomically; a directory with a manifest is always complete. The
     manifest gets the size and SHA-256 of every table (``manifest["tables"]``)."""
     out = Path(out)
-    old = out.with_name(f".{out.name}.old")
+    old = sibling(out, ".old")
     if not os.path.lexists(out) and is_saggriac_run(old):
         # A previous overwrite was killed between its two renames: put the finished run back.
         old.rename(out)
@@ -326,8 +335,10 @@ def run_damage(path: Path) -> str | None:
     recorded = manifest.get("tables")
     for t in TABLES:
         f = path / f"{t}.parquet"
-        if not f.exists():
+        if not os.path.lexists(f):
             return f"{f} is missing"
+        if f.is_symlink() or not f.is_file():
+            return f"{f} is not a regular file"
         if recorded is None:  # written before checksums were recorded: it must at least parse
             try:
                 pd.read_parquet(f)
@@ -337,7 +348,10 @@ def run_damage(path: Path) -> str | None:
         want = recorded.get(f.name)
         if not isinstance(want, dict):
             return f"{path / MANIFEST} records no checksum for {f.name}"
-        got = _digest(f)
+        try:
+            got = _digest(f)
+        except OSError as e:
+            return f"{f} cannot be read ({e.strerror or e})"
         if got["bytes"] != want.get("bytes"):
             return f"{f} has {got['bytes']} bytes, {MANIFEST} records {want.get('bytes')} (truncated or changed)"
         if got["sha256"] != want.get("sha256"):
