@@ -95,8 +95,10 @@ def run(
         extras["environment"] = f"{type(environment).__module__}.{type(environment).__qualname__}"
     if goal_selector is not None:
         extras["goal_selector"] = f"{type(goal_selector).__module__}.{type(goal_selector).__qualname__}"
+    # Built before the target is locked (and its parent made): a refused environment or
+    # selector leaves nothing on disk.
+    learner = _core.Learner(config.core_dict(), learner_seed, eval_seed, env_seed=environment_seed(seed), **extra)
     with _holding(out, overwrite):
-        learner = _core.Learner(config.core_dict(), learner_seed, eval_seed, env_seed=environment_seed(seed), **extra)
         return _drive(learner, config, info, out, progress, checkpoint_every, extras)
 
 
