@@ -4,9 +4,10 @@
 //! The memory is a trajectory: a micro-action moves each joint by at most `max_joint_step`, so
 //! `BLOCK` consecutive samples span a tiny box, far smaller than a k-d leaf in 15-D. Samples are
 //! kept in blocks of `BLOCK`, dimension-major within a block (so distances run in SIMD lanes),
-//! with a bounding box per block and per group of `GROUP` blocks. A query computes the lower
-//! bound of every group box, opens the groups and then the blocks whose bound does not exceed
-//! the current k-th distance, and ranks the points of open blocks by (distance, id).
+//! under a hierarchy of bounding boxes over insertion order: one per block, one per `FANOUT`
+//! blocks, one per `FANOUT` of those, and so on (append-only: an insert widens one box per
+//! level). A query descends it depth first, opening only boxes whose lower bound does not
+//! exceed the k-th distance so far, and ranks the points of open blocks by (distance, id).
 //!
 //! Exactness: the bound of a box is `sum_d gap_d^2`, summed in the same order as `dist_sq`, with
 //! `gap_d` the distance from the query to the box along dimension d. For a point inside the box
@@ -21,8 +22,8 @@ use crate::neighbours::{Neighbour, NeighbourIndex};
 
 /// Samples per block (the unit whose distances are computed together).
 const BLOCK: usize = 16;
-/// Blocks per group (the unit whose box every query tests).
-const GROUP: usize = 4;
+/// Boxes per box of the level above: level 0 boxes one block, level i boxes FANOUT^i blocks.
+const FANOUT: usize = 8;
 
 #[derive(Debug, Clone)]
 pub struct BlockIndex {
@@ -30,9 +31,9 @@ pub struct BlockIndex {
     len: usize,
     /// Block b holds its points at `coords[b * dim * BLOCK + d * BLOCK + j]`.
     coords: Vec<f64>,
-    /// Box of block b: lows at `[b * 2 * dim..][..dim]`, highs right after.
-    block_box: Vec<f32>,
-    group_box: Vec<f32>,
+    /// `boxes[level]`: box i of that level (over blocks i * FANOUT^level ..): lows at
+    /// `[i * 2 * dim..][..dim]`, highs right after. The top level has at most FANOUT boxes.
+    boxes: Vec<Vec<f32>>,
 }
 
 /// The largest f32 <= v and the smallest f32 >= v (v finite).
@@ -67,16 +68,29 @@ fn box_bound(q: &[f64], bx: &[f32]) -> f64 {
     let mut s = 0.0;
     for d in 0..dim {
         let (l, h, x) = (lo[d] as f64, hi[d] as f64, q[d]);
-        let gap = if x < l {
-            l - x
-        } else if x > h {
-            x - h
-        } else {
-            0.0
-        };
+        // One of the two terms is zero (l <= h), so gap is l - x, x - h or 0, exactly.
+        let gap = (l - x).max(0.0) + (x - h).max(0.0);
         s += gap * gap;
     }
     s
+}
+
+/// Whether the box's lower bound is <= limit. The partial sums only grow, so the sum stops as
+/// soon as it passes the limit (the same sums as `box_bound`, so the same answer).
+#[inline]
+fn box_within(q: &[f64], bx: &[f32], limit: f64) -> bool {
+    let dim = q.len();
+    let (lo, hi) = bx.split_at(dim);
+    let mut s = 0.0;
+    for d in 0..dim {
+        let (l, h, x) = (lo[d] as f64, hi[d] as f64, q[d]);
+        let gap = (l - x).max(0.0) + (x - h).max(0.0);
+        s += gap * gap;
+        if s > limit {
+            return false;
+        }
+    }
+    true
 }
 
 fn widen(bx: &mut [f32], dim: usize, p: &[f64]) {
@@ -114,7 +128,7 @@ impl TopK<'_> {
     }
     #[inline]
     fn offer(&mut self, id: u32, d: f64) {
-        if !(d <= self.bound()) {
+        if d > self.bound() {
             return;
         }
         let full = self.out.len() >= self.k;
@@ -134,11 +148,7 @@ impl TopK<'_> {
 
 impl BlockIndex {
     pub fn new(dim: usize) -> Self {
-        BlockIndex { dim, len: 0, coords: Vec::new(), block_box: Vec::new(), group_box: Vec::new() }
-    }
-
-    fn n_blocks(&self) -> usize {
-        self.len.div_ceil(BLOCK)
+        BlockIndex { dim, len: 0, coords: Vec::new(), boxes: vec![Vec::new()] }
     }
 
     /// The coordinates of point `id`, gathered into `out`.
@@ -152,28 +162,72 @@ impl BlockIndex {
 
     /// Bytes held per stored point (coordinates and boxes), for the memory benchmark.
     pub fn bytes_per_point(&self) -> f64 {
-        let bytes = self.coords.capacity() * 8 + (self.block_box.capacity() + self.group_box.capacity()) * 4;
+        let bytes = self.coords.capacity() * 8 + self.boxes.iter().map(|b| b.capacity() * 4).sum::<usize>();
         bytes as f64 / self.len.max(1) as f64
     }
 
+    fn n_boxes(&self, level: usize) -> usize {
+        self.boxes[level].len() / (2 * self.dim)
+    }
+
+    #[inline]
+    fn bound(&self, level: usize, i: usize, q: &[f64]) -> f64 {
+        box_bound(q, &self.boxes[level][i * 2 * self.dim..(i + 1) * 2 * self.dim])
+    }
+
+    #[inline]
+    fn within(&self, level: usize, i: usize, q: &[f64], limit: f64) -> bool {
+        box_within(q, &self.boxes[level][i * 2 * self.dim..(i + 1) * 2 * self.dim], limit)
+    }
+
     fn visit_block(&self, b: usize, q: &[f64], best: &mut TopK<'_>, acc: &mut [f64; BLOCK]) {
-        let dim = self.dim;
-        if box_bound(q, &self.block_box[b * 2 * dim..(b + 1) * 2 * dim]) > best.bound() {
-            return;
-        }
         let first = b * BLOCK;
         let count = (self.len - first).min(BLOCK);
-        distances(q, &self.coords[b * dim * BLOCK..(b + 1) * dim * BLOCK], BLOCK, count, acc);
+        distances(q, &self.coords[b * self.dim * BLOCK..(b + 1) * self.dim * BLOCK], BLOCK, count, acc);
         for (j, &d) in acc.iter().enumerate().take(count) {
             best.offer((first + j) as u32, d);
         }
     }
 
-    fn visit_group(&self, g: usize, q: &[f64], best: &mut TopK<'_>, acc: &mut [f64; BLOCK]) {
-        let last = ((g + 1) * GROUP).min(self.n_blocks());
-        for b in g * GROUP..last {
-            self.visit_block(b, q, best, acc);
+    /// Depth first through box `i` of `level`, in insertion order, opening only boxes whose
+    /// bound does not exceed the k-th distance so far; `skip` is a level-1 box already done.
+    fn search(&self, level: usize, i: usize, q: &[f64], best: &mut TopK<'_>, acc: &mut [f64; BLOCK], skip: Option<usize>) {
+        if level == 0 {
+            return self.visit_block(i, q, best, acc);
         }
+        if level == 1 && skip == Some(i) {
+            return;
+        }
+        let last = ((i + 1) * FANOUT).min(self.n_boxes(level - 1));
+        for c in i * FANOUT..last {
+            if self.within(level - 1, c, q, best.bound()) {
+                self.search(level - 1, c, q, best, acc, skip);
+            }
+        }
+    }
+
+    /// Without k points in hand the bound is only the radius: first take every point of the
+    /// level-1 box reached by always descending into the child of smallest bound.
+    fn seed(&self, q: &[f64], best: &mut TopK<'_>, acc: &mut [f64; BLOCK]) -> Option<usize> {
+        let top = self.boxes.len() - 1;
+        if top == 0 {
+            return None;
+        }
+        let nearest = |level: usize, from: usize, to: usize| (from..to).map(|c| (self.bound(level, c, q), c)).min_by(|a, b| a.0.total_cmp(&b.0));
+        let (mut lb, mut i) = nearest(top, 0, self.n_boxes(top))?;
+        for level in (1..top).rev() {
+            (lb, i) = nearest(level, i * FANOUT, ((i + 1) * FANOUT).min(self.n_boxes(level)))?;
+        }
+        if lb > best.bound() {
+            return None;
+        }
+        let last = ((i + 1) * FANOUT).min(self.n_boxes(0));
+        for b in i * FANOUT..last {
+            if self.within(0, b, q, best.bound()) {
+                self.visit_block(b, q, best, acc);
+            }
+        }
+        Some(i)
     }
 }
 
@@ -191,18 +245,40 @@ impl NeighbourIndex for BlockIndex {
         let (b, j) = (self.len / BLOCK, self.len % BLOCK);
         if j == 0 {
             self.coords.resize(self.coords.len() + dim * BLOCK, 0.0);
-            self.block_box.extend(empty_box(dim));
-            if b % GROUP == 0 {
-                self.group_box.extend(empty_box(dim));
+            // A new block: a new box on every level whose span it starts.
+            let mut span = 1;
+            for level in 0..self.boxes.len() {
+                if b % span == 0 {
+                    self.boxes[level].extend(empty_box(dim));
+                }
+                span *= FANOUT;
+            }
+            // The top level outgrew its fan-out: a level above it, boxing all of it.
+            let top = self.boxes.len() - 1;
+            if self.n_boxes(top) > FANOUT {
+                let mut above: Vec<f32> = Vec::new();
+                for chunk in self.boxes[top].chunks(2 * dim * FANOUT) {
+                    let mut bx: Vec<f32> = empty_box(dim).collect();
+                    for child in chunk.chunks_exact(2 * dim) {
+                        for d in 0..dim {
+                            bx[d] = bx[d].min(child[d]);
+                            bx[dim + d] = bx[dim + d].max(child[dim + d]);
+                        }
+                    }
+                    above.extend(bx);
+                }
+                self.boxes.push(above);
             }
         }
         let base = b * dim * BLOCK;
         for (d, &v) in point.iter().enumerate() {
             self.coords[base + d * BLOCK + j] = v;
         }
-        widen(&mut self.block_box[b * 2 * dim..(b + 1) * 2 * dim], dim, point);
-        let g = b / GROUP;
-        widen(&mut self.group_box[g * 2 * dim..(g + 1) * 2 * dim], dim, point);
+        let mut i = b;
+        for level in self.boxes.iter_mut() {
+            widen(&mut level[i * 2 * dim..(i + 1) * 2 * dim], dim, point);
+            i /= FANOUT;
+        }
         self.len += 1;
     }
 
@@ -211,27 +287,13 @@ impl NeighbourIndex for BlockIndex {
         if k == 0 || self.len == 0 {
             return;
         }
-        let dim = self.dim;
-        let n_groups = self.n_blocks().div_ceil(GROUP);
-        let mut bounds: Vec<f64> = (0..n_groups).map(|g| box_bound(query, &self.group_box[g * 2 * dim..(g + 1) * 2 * dim])).collect();
         let mut best = TopK { out, k, radius_sq };
         let mut acc = [0.0; BLOCK];
-        // Open the nearest groups first until k points are in hand, so the bound is tight for
-        // the scan (a warm start's radius usually is already; a cold search needs this).
-        for _ in 0..4 {
-            if best.out.len() >= k {
-                break;
-            }
-            let Some((g, &lb)) = bounds.iter().enumerate().min_by(|a, b| a.1.total_cmp(b.1)) else { break };
-            if !(lb <= best.bound()) {
-                break;
-            }
-            self.visit_group(g, query, &mut best, &mut acc);
-            bounds[g] = f64::NAN; // opened: NaN passes no bound, so never again
-        }
-        for (g, &lb) in bounds.iter().enumerate() {
-            if lb <= best.bound() {
-                self.visit_group(g, query, &mut best, &mut acc);
+        let seeded = if best.out.len() < k { self.seed(query, &mut best, &mut acc) } else { None };
+        let top = self.boxes.len() - 1;
+        for i in 0..self.n_boxes(top) {
+            if self.within(top, i, query, best.bound()) {
+                self.search(top, i, query, &mut best, &mut acc, seeded);
             }
         }
     }
@@ -311,7 +373,8 @@ mod tests {
     #[test]
     fn radius_and_growth_match_brute_force() {
         let dim = 15;
-        let pts = trajectory(3000, dim, 0.05, 700, 21);
+        // 9,000 points: 563 blocks under four levels of boxes, each level growing in turn.
+        let pts = trajectory(9000, dim, 0.05, 700, 21);
         let mut idx = BlockIndex::new(dim);
         let mut bf = BruteForce::new(dim);
         let mut r = rng_from_seed(5);
@@ -319,7 +382,7 @@ mod tests {
         for (i, p) in pts.chunks_exact(dim).enumerate() {
             idx.add(p);
             bf.add(p);
-            if i % 97 == 0 || i < 40 {
+            if i % 211 == 0 || i < 40 || (i + 1) % (BLOCK * FANOUT * FANOUT) == 0 {
                 let q: Vec<f64> = (0..dim).map(|_| uniform(&mut r, -0.8, 0.8)).collect();
                 for &radius in &[0.0, 0.05, 0.5, 4.0, f64::INFINITY] {
                     bf.knn_within(&q, 45, radius, &mut a);
