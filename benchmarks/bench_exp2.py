@@ -22,7 +22,7 @@ def main() -> None:
     p.add_argument("--preset", default="exp2")
     p.add_argument("--steps", type=int, default=None)
     p.add_argument("--seed", type=int, default=0)
-    p.add_argument("--knn-index", default="kdtree", choices=["kdtree", "kdtree_crate", "brute_force"])
+    p.add_argument("--knn-index", default="kdtree", choices=["kdtree", "kdtree_crate", "brute_force", "blocks"])
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
     args = p.parse_args()
     overrides = _overrides(args.set)

@@ -1,5 +1,6 @@
-"""The long fuzzing campaign: the Hypothesis properties of tests/test_fuzz.py with many more
-examples, and the Rust proptest properties with more cases.
+"""The long fuzzing campaign: the Hypothesis properties of tests/test_fuzz.py (parameter values,
+ask/tell sequences, tiny runs) and tests/test_fuzz_storage.py (targets, permissions, concurrent
+runs, corrupted files) with many more examples, and the Rust proptest properties with more cases.
 
     python benchmarks/fuzz_campaign.py [--examples 4000] [--rust-cases 2048]
 
@@ -24,9 +25,11 @@ def main() -> None:
     a = p.parse_args()
     t0 = time.perf_counter()
     env = {**os.environ, "SAGGRIAC_FUZZ_EXAMPLES": str(a.examples)}
-    py = subprocess.run([sys.executable, "-m", "pytest", "-q", "-s", "-p", "no:cacheprovider", "tests/test_fuzz.py"], env=env, capture_output=True, text=True)
+    py = subprocess.run([sys.executable, "-m", "pytest", "-q", "-s", "-p", "no:cacheprovider", "tests/test_fuzz.py", "tests/test_fuzz_storage.py"], env=env, capture_output=True, text=True)
     counts = re.search(r"fuzz examples: (\{.*\})", py.stdout)
-    print(f"Python (Hypothesis), {a.examples} examples per property: {counts.group(1) if counts else '?'}; {py.stdout.strip().splitlines()[-1]}")
+    storage = re.search(r"storage fuzz cases: (.*)", py.stdout)
+    print(f"Python (Hypothesis), {a.examples} examples per property: {counts.group(1) if counts else '?'}")
+    print(f"Python (Hypothesis), storage scenarios: {storage.group(1) if storage else '?'}; {py.stdout.strip().splitlines()[-1]}")
     env = {**os.environ, "PROPTEST_CASES": str(a.rust_cases)}
     rs = subprocess.run(["cargo", "test", "--release", "-q", "-p", "saggriac-core", "--test", "properties"], env=env, capture_output=True, text=True)
     summary = [line for line in rs.stdout.splitlines() if line.startswith("test result")]

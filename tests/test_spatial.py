@@ -55,13 +55,13 @@ def test_spatial_arm_conforms(env):
 
 
 def test_the_goal_space_must_have_the_body_dimension():
-    with pytest.raises(ParameterError, match=r"'goal_low' parameter of Run must be a list of 3 floats \(the spatial arm's task space is 3-D\)"):
+    with pytest.raises(ParameterError, match=r"'goal_low' parameter of Config must be a list of 3 floats \(the spatial arm's task space is 3-D\)"):
         saggriac.run(arm3d(goal_low=(0.0, -50.0), goal_high=(50.0, 50.0)), seed=0)
-    with pytest.raises(ParameterError, match=r"'goal_low' parameter of Run must be a list of 2 floats \(the planar arm's task space is 2-D\)"):
+    with pytest.raises(ParameterError, match=r"'goal_low' parameter of Config must be a list of 2 floats \(the planar arm's task space is 2-D\)"):
         saggriac.run(arm3d(body="planar_arm"), seed=0)
-    with pytest.raises(ParameterError, match="'goal_low' parameter of Run must be a list of 1 to 3 floats"):
+    with pytest.raises(ParameterError, match="'goal_low' parameter of Config must be a list of 1 to 3 floats"):
         arm3d(goal_low=(0.0,) * 4, goal_high=(1.0,) * 4)
-    with pytest.raises(ParameterError, match="'body' parameter of Run must be one of 'planar_arm', 'spatial_arm'"):
+    with pytest.raises(ParameterError, match="'body' parameter of Config must be one of 'planar_arm', 'spatial_arm'"):
         arm3d(body="hexapod")
     # A Python body declares its task space: it must match the goal space.
     small2d = saggriac.Config.from_preset("exp1", n_steps=500, n_evals=1, n_test_goals=5, n_test_configs=5)

@@ -145,7 +145,11 @@ def test_run_killed_while_writing_is_redone_and_never_read(finished, study, tmp_
     before = _fingerprints(out, kept)
     res = run_study(study, out, n_workers=2, progress=False)
     assert (res.n_computed, res.n_skipped) == (2, 2)
-    assert _leftovers(out) == []
+    # The killed write's temporary folder is gone; the final folder without run.json is kept
+    # aside (saggriac never deletes what it cannot vouch for) and the run is redone.
+    (aside,) = _leftovers(out)
+    assert aside.startswith(".seed1.damaged-") and list(res.repaired) == ["sagg_random/seed1"]
+    assert (out / "runs/sagg_random" / aside / "metrics.parquet").read_bytes() == data[: len(data) // 3]
     assert _fingerprints(out, kept) == before
     assert _finished_runs(out) == RUNS
     order = ["condition", "seed", "metric", "step"]
@@ -247,7 +251,7 @@ def test_missing_dask_names_the_extra(study, tmp_path, monkeypatch):
         ({"grid": {"condition": ["sagg_riac"]}}, "cannot hold 'condition'"),
         ({"grid": {"g_max": []}}, "The values of grid key 'g_max' must not be empty."),
         ({"grid": {"g_max": 40}}, "The values of grid key 'g_max' must be a list. Got 40 instead."),
-        ({"grid": {"g_max": [1]}}, "The 'g_max' parameter of RegionTree must be an int >= 2. Got 1 instead."),
+        ({"grid": {"g_max": [1]}}, "The 'g_max' parameter of Config must be an int >= 2. Got 1 instead."),
         ({"grid": {"knn_index": ["../x"]}}, "they name directories"),
     ],
 )

@@ -12,14 +12,14 @@ from saggriac.errors import ParameterError, SaggriacError, StorageError
 @pytest.mark.parametrize(
     "kwargs, message",
     [
-        ({"g_max": 1}, "The 'g_max' parameter of RegionTree must be an int >= 2. Got 1 instead."),
-        ({"eps_c": -2.0}, "The 'eps_c' parameter of Competence must be a float with min_c < eps_c < 0 (min_c = -1). Got -2 instead."),
-        ({"v": 0.0}, "The 'v' parameter of Reaching must be a finite float > 0. Got 0 instead."),
-        ({"q": 0}, "The 'q' parameter of Exploration must be an int >= 1. Got 0 instead."),
-        ({"joint_limit": 4.0}, "The 'joint_limit' parameter of Arm must be a float in (0, 3.141592653589793]. Got 4 instead."),
+        ({"g_max": 1}, "The 'g_max' parameter of Config must be an int >= 2. Got 1 instead."),
+        ({"eps_c": -2.0}, "The 'eps_c' parameter of Config must be a float with min_c < eps_c < 0 (min_c = -1). Got -2 instead."),
+        ({"v": 0.0}, "The 'v' parameter of Config must be a finite float > 0. Got 0 instead."),
+        ({"q": 0}, "The 'q' parameter of Config must be an int >= 1. Got 0 instead."),
+        ({"joint_limit": 4.0}, "The 'joint_limit' parameter of Config must be a float in (0, 3.141592653589793]. Got 4 instead."),
         ({"n_joints": "many"}, "The 'n_joints' parameter of Config must be an int >= 1. Got 'many' instead."),
         ({"condition": "best"}, "The 'condition' parameter of Config must be one of 'sagg_riac', 'sagg_random', 'actuator_random', 'actuator_riac'. Got 'best' instead."),
-        ({"knn_index": "hnsw"}, "The 'knn_index' parameter of Config must be one of 'kdtree', 'kdtree_crate', 'brute_force'. Got 'hnsw' instead."),
+        ({"knn_index": "hnsw"}, "The 'knn_index' parameter of Config must be one of 'kdtree', 'kdtree_crate', 'brute_force', 'blocks'. Got 'hnsw' instead."),
         ({"n_evals": 0}, "The 'n_evals' parameter of Config must be an int >= 1. Got 0 instead."),
     ],
 )
@@ -99,7 +99,7 @@ def test_cli_run_and_errors(tmp_path, capsys):
     assert (tmp_path / "c" / "run.json").exists()
     rc = main(["run", "--steps", "100", "--set", "g_max=0", "--no-progress", "--out", str(tmp_path / "d")])
     err = capsys.readouterr().err
-    assert rc == 2 and "The 'g_max' parameter of RegionTree must be an int >= 2. Got 0 instead." in err
+    assert rc == 2 and "The 'g_max' parameter of Config must be an int >= 2. Got 0 instead." in err
     assert not (tmp_path / "d").exists()
 
 

@@ -3,12 +3,20 @@
 from __future__ import annotations
 
 import argparse
+import hashlib
+import os
+import re
 import sys
+import tempfile
+import time
+from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any
 
-from .config import CONDITIONS, PRESETS, Config
-from .errors import SaggriacError
+from . import _core
+from .config import CONDITIONS, PRESETS, Config, read_toml
+from .errors import SaggriacError, StorageError
+from .storage import RunExistsError, as_path
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -38,13 +46,13 @@ def _cmd_run(args: argparse.Namespace) -> int:
     from .runner import resume, run
 
     if args.resume is not None:
-        given = [flag for flag, v in (("--config", args.config), ("--steps", args.steps), ("--condition", args.condition), ("--set", args.set), ("--out", args.out), ("--checkpoint-every", args.checkpoint_every)) if v]
+        flags = (("--config", args.config), ("--preset", args.preset), ("--seed", args.seed), ("--steps", args.steps), ("--condition", args.condition), ("--set", args.set), ("--out", args.out), ("--checkpoint-every", args.checkpoint_every), ("--overwrite", args.overwrite))
+        given = [flag for flag, v in flags if v is not None and v is not False and v != []]
         if given:
-            raise SaggriacError(f"--resume continues a run with the configuration it was started with; drop {', '.join(given)}.")
-        res = resume(args.resume, progress=not args.no_progress)
-        cfg, out, seed = res.config, Path(args.resume), res.seed
+            raise SaggriacError(f"--resume continues a run with the configuration, seed and target it was started with; drop {', '.join(given)}.")
+        res = _saved_or_recovered(lambda: resume(args.resume, progress=not args.no_progress), Path(args.resume))
         print(f"resumed at step {res.manifest['resumed_at_step']}")
-        _print_run(res, cfg, seed, out)
+        _print_run(res, res.config, res.seed, res.path)
         return 0
     overrides = _overrides(args.set)
     if args.steps is not None:
@@ -52,13 +60,77 @@ def _cmd_run(args: argparse.Namespace) -> int:
     if args.condition is not None:
         overrides["condition"] = args.condition
     if args.config:
-        cfg = Config.from_toml(args.config, **overrides)
+        preset, _ = read_toml(Path(args.config), args.preset)
+        cfg = Config.from_toml(args.config, preset=preset, **overrides)
     else:
-        cfg = Config.from_preset(args.preset, **overrides)
-    out = Path(args.out) if args.out else Path("runs") / f"{args.preset}-{cfg.condition}-seed{args.seed}"
-    res = run(cfg, seed=args.seed, out_dir=out, progress=not args.no_progress, overwrite=args.overwrite, checkpoint_every=args.checkpoint_every)
-    _print_run(res, cfg, args.seed, out)
+        preset = args.preset or "exp1"
+        cfg = Config.from_preset(preset, **overrides)
+    seed = 0 if args.seed is None else args.seed
+    out = Path(args.out) if args.out is not None else default_run_dir(preset, cfg, seed)
+    if args.out is not None:
+        as_path(args.out, "--out", "saggriac run")
+    try:
+        res = _saved_or_recovered(lambda: run(cfg, seed=seed, out_dir=out, progress=not args.no_progress, overwrite=args.overwrite, checkpoint_every=args.checkpoint_every), out)
+    except RunExistsError:
+        if args.out is not None:
+            raise SaggriacError(f"{out} already holds a finished run; pass --overwrite to replace it, or choose another --out.") from None
+        raise SaggriacError(f"{out} already holds a finished run of this configuration and seed; pass --overwrite to replace it, or --out DIR to write elsewhere.") from None
+    _print_run(res, cfg, seed, out)
     return 0
+
+
+def default_run_dir(preset: str, cfg: Config, seed: int) -> Path:
+    """runs/PRESET-CONDITION-seedSEED, plus every parameter that differs from the preset, so
+    that runs of other --steps or --set land in folders of their own and say what they are."""
+    base = Config.from_preset(preset, condition=cfg.condition).to_dict()
+    mine = cfg.to_dict()
+    diffs = [f"{k}={_name_value(mine[k])}" for k in sorted(mine) if mine[k] != base[k]]
+    name = "-".join([f"{preset}-{cfg.condition}-seed{seed}", *diffs])
+    if len(name) > 120 or not re.fullmatch(r"[A-Za-z0-9_.,=+-]+", name):
+        digest = hashlib.sha256(repr(sorted(diffs)).encode()).hexdigest()[:10]
+        name = f"{preset}-{cfg.condition}-seed{seed}-custom-{digest}"
+    return Path("runs") / name
+
+
+def _name_value(v: Any) -> str:
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, list):
+        return ",".join(_name_value(x) for x in v)
+    if isinstance(v, float) and v.is_integer() and abs(v) < 1e15:
+        return str(int(v))
+    return str(v)
+
+
+def _saved_or_recovered(work: Callable[[], Any], out: Path) -> Any:
+    """Run ``work``; if it finished but its result could not be written to ``out``, write it to a
+    recovery folder beside ``out`` (or in the current folder, or the temporary folder) and say
+    where, so that nothing computed is lost."""
+    try:
+        return work()
+    except StorageError as e:
+        result = getattr(e, "result", None)
+        if result is None:
+            raise
+        reason = str(e).split(" The result is kept")[0]
+        for place in _recovery_places(out):
+            try:
+                saved = result.save(place)
+            except (StorageError, OSError):
+                continue
+            raise SaggriacError(f"{reason} The finished result was saved to {saved} instead; move it where you want it.") from None
+        raise SaggriacError(f"{reason} The result could not be saved anywhere else either (tried beside {out}, the current folder and the temporary folder).") from None
+
+
+def _recovery_places(out: Path) -> Iterator[Path]:
+    stamp = time.strftime("%Y%m%d-%H%M%S")
+    name = Path(os.path.abspath(out)).name or "run"
+    for parent in (Path(os.path.abspath(out)).parent, Path.cwd(), Path(tempfile.gettempdir())):
+        for i in range(100):
+            place = parent / f"{name}.recovered-{stamp}{'' if i == 0 else f'-{i}'}"
+            if not os.path.lexists(place):
+                yield place
+                break
 
 
 def _print_run(res: Any, cfg: Config, seed: int, out: Path) -> None:
@@ -72,7 +144,12 @@ def _print_run(res: Any, cfg: Config, seed: int, out: Path) -> None:
 def _cmd_reproduce(args: argparse.Namespace) -> int:
     from .reproduce import final_summary, reproduce
 
-    conditions = tuple(c.strip() for c in args.conditions.split(",")) if args.conditions else CONDITIONS
+    if args.conditions is None:
+        conditions = CONDITIONS
+    else:
+        conditions = tuple(c.strip() for c in args.conditions.split(","))
+        if not all(conditions):
+            raise SaggriacError(f"--conditions takes a comma-separated list of conditions ({', '.join(CONDITIONS)}). Got {args.conditions!r}.")
     written = reproduce(
         args.experiment,
         out_dir=args.out,
@@ -109,23 +186,24 @@ def _cmd_stats(args: argparse.Namespace) -> int:
 
 def build_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="saggriac", description="SAGG-RIAC goal exploration (Baranes & Oudeyer, IROS 2010).")
+    p.add_argument("--version", action="version", version=f"saggriac {_core.__version__}")
     sub = p.add_subparsers(dest="command", required=True)
     r = sub.add_parser("run", help="run one learner and save its results")
-    r.add_argument("--preset", default="exp1", choices=sorted(PRESETS), help="the paper's experiments exp1 and exp2, explauto's episodic task, or arm3d: exp1 with an arm in space (default exp1)")
+    r.add_argument("--preset", choices=sorted(PRESETS), help="the paper's experiments exp1 and exp2, explauto's episodic task, or arm3d: exp1 with an arm in space (default: the --config file's preset, else exp1; if both name one, they must agree)")
     r.add_argument("--config", help="TOML file with parameters (and optionally preset = ...)")
-    r.add_argument("--seed", type=int, default=0, help="root seed of the run (default 0)")
+    r.add_argument("--seed", type=int, help="root seed of the run (default 0)")
     r.add_argument("--condition", help="sagg_riac (default), sagg_random, actuator_random or actuator_riac")
     r.add_argument("--steps", type=int, help="number of time steps: micro-actions, or movements in the episodic paradigm (overrides the preset)")
     r.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help="override any parameter, e.g. --set g_max=40")
-    r.add_argument("--out", help="run directory (default runs/PRESET-CONDITION-seedSEED)")
-    r.add_argument("--overwrite", action="store_true", help="replace an existing run directory")
+    r.add_argument("--out", help="run directory, new or empty (default runs/PRESET-CONDITION-seedSEED, plus each parameter that differs from the preset)")
+    r.add_argument("--overwrite", action="store_true", help="replace a finished saggriac run in the target (never any other file or folder)")
     r.add_argument("--no-progress", action="store_true", help="no progress bar")
     r.add_argument("--checkpoint-every", type=int, metavar="N", help="save the whole run state at the first evaluation after every N steps, next to the run directory")
     r.add_argument("--resume", metavar="DIR", help="continue the interrupted run that was to be written to DIR, from its checkpoint")
     r.set_defaults(func=_cmd_run)
 
     rp = sub.add_parser("reproduce", help="run one of the paper's experiments (4 conditions x seeds) with figures and statistics")
-    rp.add_argument("experiment", choices=sorted(PRESETS))
+    rp.add_argument("experiment", choices=sorted(PRESETS), help="the preset to study: exp1 or exp2 (the paper's), explauto or arm3d")
     rp.add_argument("--seeds", type=int, default=15, help="seeds 0..N-1 (default 15, as the paper)")
     rp.add_argument("--conditions", help="comma-separated subset of the conditions (default: all four)")
     rp.add_argument("--steps", type=int, help="time steps per run (default: the paper's)")
@@ -133,15 +211,15 @@ def build_parser() -> argparse.ArgumentParser:
     rp.add_argument("--backend", default="local", choices=["local", "dask"], help="process pool on this machine (default) or Dask")
     rp.add_argument("--workers", type=int, help="worker processes (default: all cores)")
     rp.add_argument("--scheduler", help="address of a running Dask scheduler (with --backend dask)")
-    rp.add_argument("--no-progress", action="store_true")
+    rp.add_argument("--no-progress", action="store_true", help="no progress bar")
     rp.set_defaults(func=_cmd_reproduce)
 
     pl = sub.add_parser("plot", help="rebuild the figures and statistics of a study folder from its saved results")
-    pl.add_argument("study")
+    pl.add_argument("study", help="study folder written by saggriac reproduce or saggriac.run_study")
     pl.set_defaults(func=_cmd_plot)
 
     st = sub.add_parser("stats", help="rebuild the statistics table of a study folder and print it")
-    st.add_argument("study")
+    st.add_argument("study", help="study folder written by saggriac reproduce or saggriac.run_study")
     st.set_defaults(func=_cmd_stats)
     return p
 

@@ -15,6 +15,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from . import _core
 from .errors import ParameterError
 
@@ -99,6 +101,8 @@ class Config:
         for f in dataclasses.fields(self):
             if getattr(self, f.name) is None and f.default is not None:
                 raise ParameterError(f"The '{f.name}' parameter of Config must be given a value (default {f.default!r}). Got None instead.", f.name, "None")
+            # numpy scalars become the Python values they stand for (JSON, TOML and the core take those).
+            object.__setattr__(self, f.name, _plain(getattr(self, f.name)))
         # Lists from TOML or JSON become tuples so configs stay hashable and comparable.
         for name in ("link_lengths", "goal_low", "goal_high", "eval_schedule"):
             val = getattr(self, name)
@@ -108,6 +112,9 @@ class Config:
                 raise ParameterError(f"The '{name}' parameter of Config must be a list of numbers. Got {val!r} instead.", name, repr(val))
         if self.eval_schedule is not None and len(self.eval_schedule) == 0:
             raise ParameterError("The 'eval_schedule' parameter of Config must be a non-empty list of steps (or None for n_evals). Got () instead.", "eval_schedule", "()")
+        _check_types(self)
+        _check_goal_space(self)
+        _check_magnitudes(self)
         if not isinstance(self.n_evals, int) or isinstance(self.n_evals, bool) or self.n_evals < 1:
             raise ParameterError(
                 f"The 'n_evals' parameter of Config must be an int >= 1. Got {self.n_evals!r} instead.",
@@ -122,6 +129,11 @@ class Config:
                 repr(self.condition),
             )
         _core.validate_config(self.core_dict())
+
+    @property
+    def joints(self) -> int:
+        """Number of joints of the built-in arm (``link_lengths`` replaces ``n_joints`` when given)."""
+        return len(self.link_lengths) if self.link_lengths is not None else self.n_joints
 
     def schedule(self) -> list[int]:
         """Time steps at which the run is evaluated (0 and the last step included)."""
@@ -161,23 +173,113 @@ class Config:
         return cls(**{**PRESETS[name], **overrides})
 
     @classmethod
-    def from_toml(cls, path: str | Path, **overrides: Any) -> Config:
-        """Read a TOML file: an optional ``preset = "exp2"`` plus any parameters, flat."""
+    def from_toml(cls, path: str | Path, preset: str | None = None, **overrides: Any) -> Config:
+        """Read a TOML file: an optional ``preset = "exp2"`` plus any parameters, flat.
+
+        ``preset`` (the command line's ``--preset``) applies when the file names none; if both
+        name a preset they must agree."""
         path = Path(path)
-        try:
-            data = tomllib.loads(path.read_text())
-        except FileNotFoundError:
-            raise ParameterError(f"Configuration file {path} does not exist.", "config", str(path)) from None
-        except tomllib.TOMLDecodeError as e:
-            raise ParameterError(f"Configuration file {path} is not valid TOML: {e}", "config", str(path)) from None
-        preset = data.pop("preset", "exp1")
-        check_keys(data, source=path)
+        preset, data = read_toml(path, preset)
         try:
             return cls.from_preset(preset, **{**data, **overrides})
         except ParameterError as e:
-            if e.param in data or e.param == "preset":
-                raise ParameterError(f"{path}: key '{e.param}': {e}", e.param, e.value) from None
+            keys = (e.param or "").split("/")
+            if any(k in data for k in keys) or e.param == "preset":
+                raise ParameterError(f"{path}: key '{next((k for k in keys if k in data), e.param)}': {e}", e.param, e.value) from None
             raise
+
+
+def read_toml(path: Path, preset: str | None = None) -> tuple[str, dict[str, Any]]:
+    """The preset (the file's, else ``preset``, else exp1) and the other keys of a TOML file."""
+    try:
+        text = path.read_bytes().decode("utf-8")
+    except FileNotFoundError:
+        raise ParameterError(f"Configuration file {path} does not exist.", "config", str(path)) from None
+    except IsADirectoryError:
+        raise ParameterError(f"Configuration file {path} is a folder, not a TOML file.", "config", str(path)) from None
+    except UnicodeDecodeError as e:
+        raise ParameterError(f"Configuration file {path} is not UTF-8 text (byte {e.start} is {e.object[e.start]:#04x}); TOML files are UTF-8.", "config", str(path)) from None
+    except OSError as e:
+        raise ParameterError(f"Configuration file {path} cannot be read: {e.strerror}.", "config", str(path)) from None
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as e:
+        raise ParameterError(f"Configuration file {path} is not valid TOML: {e}", "config", str(path)) from None
+    named = data.pop("preset", None)
+    if named is not None and preset is not None and named != preset:
+        raise ParameterError(f"{path} names preset {named!r} but --preset (preset=) says {preset!r}; give one of them, or the same in both.", "preset", repr(preset))
+    check_keys(data, source=path)
+    return (named if named is not None else preset if preset is not None else "exp1"), data
+
+
+def _plain(value: Any) -> Any:
+    if isinstance(value, np.generic):
+        return value.item()
+    if isinstance(value, np.ndarray):
+        return [_plain(v) for v in value.tolist()]
+    if isinstance(value, (list, tuple)):
+        return type(value)(_plain(v) for v in value)
+    return value
+
+
+#: Parameters whose default is None, with the type of their values.
+_OPTIONAL_KINDS = {"link_lengths": "floats", "eval_schedule": "ints", "body_change_step": int, "body_change_link": int, "body_change_length": float}
+#: Lengths and goal bounds beyond this overflow nothing yet, but squared distances and the step
+#: counts derived from them would lose their meaning long before float overflow; refuse them.
+MAX_MAGNITUDE = 1e12
+
+
+def _number(v: Any, kind: Any) -> bool:
+    if isinstance(v, bool):
+        return False
+    return isinstance(v, int) if kind is int else isinstance(v, (int, float))
+
+
+def _check_types(cfg: Config) -> None:
+    """Refuse values the core would coerce silently: booleans for numbers, floats for ints."""
+    for f in dataclasses.fields(cfg):
+        v = getattr(cfg, f.name)
+        kind = _OPTIONAL_KINDS.get(f.name, type(f.default))
+        if v is None or kind is str:
+            continue
+        if kind is bool:
+            ok, rule = isinstance(v, bool), "a bool (true or false)"
+        elif kind in (int, float):
+            # Other types are named by the core's conversion, with the parameter's rule.
+            ok, rule = not isinstance(v, bool) and not (kind is int and isinstance(v, float)), "an int" if kind is int else "a float"
+        else:  # a list
+            item = int if kind == "ints" else float
+            ok = isinstance(v, tuple) and all(_number(x, item) for x in v)
+            rule = "a list of ints (time steps)" if kind == "ints" else "a list of floats"
+        if not ok:
+            raise ParameterError(f"The '{f.name}' parameter of Config must be {rule}. Got {v!r} instead.", f.name, repr(v))
+
+
+def _check_goal_space(cfg: Config) -> None:
+    low, high = cfg.goal_low, cfg.goal_high
+    if not all(_number(v, float) for v in (*low, *high)):
+        return  # the core names the wrong element type
+    if len(low) != len(high) or not low:
+        raise ParameterError(f"The 'goal_low' and 'goal_high' parameters of Config must be lists of the same non-zero length. Got goal_low = {list(low)} and goal_high = {list(high)} instead.", "goal_low/goal_high", repr((low, high)))
+    for i, (lo, hi) in enumerate(zip(low, high)):
+        if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
+            raise ParameterError(
+                f"The 'goal_low' and 'goal_high' parameters of Config must be finite with goal_low < goal_high in every dimension. "
+                f"Got goal_low = {list(low)} and goal_high = {list(high)} instead (dimension {i}: {lo} and {hi}).",
+                "goal_low/goal_high",
+                repr((low, high)),
+            )
+
+
+def _check_magnitudes(cfg: Config) -> None:
+    values = {"arm_length": [cfg.arm_length], "link_lengths": list(cfg.link_lengths or ()), "goal_low": list(cfg.goal_low), "goal_high": list(cfg.goal_high)}
+    for name, vals in values.items():
+        for v in vals:
+            if _number(v, float) and math.isfinite(v) and abs(v) > MAX_MAGNITUDE:
+                raise ParameterError(f"The '{name}' parameter of Config must be at most {MAX_MAGNITUDE:g} in absolute value (lengths in the units of the task space). Got {v!r} instead.", name, repr(v))
+    from .resources import check_config_fits
+
+    check_config_fits(cfg)
 
 
 def check_keys(d: dict[str, Any], source: Path | None) -> None:

@@ -17,7 +17,7 @@ from typing import Any, Protocol, runtime_checkable
 import numpy as np
 
 from . import _core
-from .errors import InputError
+from .errors import InputError, ParameterError
 
 #: Names of the mode codes in ``history()["asked_mode"]`` and ``last_mode``.
 MODES = {0: "initial", 1: "interest", 2: "global", 3: "lowest_competence", 4: "random", 5: "external"}
@@ -36,6 +36,8 @@ class GoalSelectorProtocol(Protocol):
 
 
 def _vector(name: str, value: Any, dim: int | None = None) -> np.ndarray:
+    if value is None or isinstance(value, (str, bytes)):
+        raise InputError(f"{name} must be an array of floats; got {value!r}.")
     try:
         arr = np.ascontiguousarray(value, dtype=np.float64)
     except (TypeError, ValueError) as e:
@@ -46,14 +48,34 @@ def _vector(name: str, value: Any, dim: int | None = None) -> np.ndarray:
     return arr
 
 
+def _int_param(owner: str, name: str, value: Any, low: int, high: int) -> int:
+    """An int argument in [low, high): numpy ints are taken, floats and bools refused (never
+    truncated), and the range is checked here so the core's fixed-width ints never overflow
+    (the core checks each parameter's own rule)."""
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not low <= int(value) < high:
+        span = f"in [{low}, 2**{high.bit_length() - 1})"
+        raise ParameterError(f"The '{name}' parameter of {owner} must be an int {span}. Got {value!r} instead.", name, repr(value))
+    return int(value)
+
+
+def _float_param(owner: str, name: str, value: Any) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise ParameterError(f"The '{name}' parameter of {owner} must be a float. Got {value!r} instead.", name, repr(value))
+    return float(value)
+
+
 class _AskTellSelector:
     _kind = ""
 
     def __init__(self, low: Any, high: Any, seed: int, **params: Any) -> None:
+        owner = type(self).__name__
         lo = _vector("low", low)
         hi = _vector("high", high)
-        self._inner = _core.AskTell(self._kind, lo.tolist(), hi.tolist(), int(seed), **params)
-        self.seed = int(seed)
+        seed = _int_param(owner, "seed", seed, 0, 2**64)
+        for name, value in params.items():
+            params[name] = _float_param(owner, name, value) if name.startswith("p_") else _int_param(owner, name, value, 0, 2**63)
+        self._inner = _core.AskTell(self._kind, lo.tolist(), hi.tolist(), seed, **params)
+        self.seed = seed
         self.last_mode: str | None = None
         self.last_region: int | None = None
 

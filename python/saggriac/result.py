@@ -46,10 +46,13 @@ class RunResult:
 
     def save(self, path: str | Path, overwrite: bool = False) -> Path:
         """Write this result as a run directory (atomically, as ``saggriac.run`` does)."""
-        from .storage import write_run
+        from .storage import as_path, check_output_dir, target_lock, write_run
 
+        out = as_path(path, "path", "RunResult.save")
+        check_output_dir(out, overwrite)
         tables = {"metrics": self.metrics, "goals": self.goals, "attempts": self.attempts, "regions": self.regions}
-        self.path = write_run(Path(path), self.manifest, tables, overwrite)
+        with target_lock(out, what="save"):
+            self.path = write_run(out, self.manifest, tables, overwrite)
         return self.path
 
     @classmethod

@@ -3,9 +3,12 @@
 from __future__ import annotations
 
 import json
+import os
 import platform
 import shutil
 import time
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -17,7 +20,10 @@ from .config import Config
 from .errors import ParameterError, StorageError
 from .result import RunResult
 from .seeding import check_seed, derive_seeds, environment_seed
-from .storage import MIN_FREE_BYTES, check_output_dir, replace_dir, write_run
+from .resources import check_run_fits
+from .storage import MIN_FREE_BYTES, as_path, check_output_dir, replace_dir, sibling, target_lock, write_run
+
+CHECKPOINT_FILES = frozenset({"state.bin", "checkpoint.json"})
 
 if TYPE_CHECKING:
     from .environments import Environment
@@ -64,7 +70,10 @@ def run(
     if not isinstance(config, Config):
         raise ParameterError(f"The 'config' parameter of run must be a saggriac.Config. Got {type(config).__name__} instead.", "config", repr(config))
     seed = check_seed(seed)
-    out = Path(out_dir) if out_dir is not None else None
+    out = as_path(out_dir, "out_dir", "run") if out_dir is not None else None
+    if checkpoint_every is not None:
+        _check_checkpointing(checkpoint_every, out, environment, goal_selector)
+    check_run_fits(config)
     if out is not None:
         check_output_dir(out, overwrite, MIN_FREE_BYTES)
     learner_seed, eval_seed = derive_seeds(seed)
@@ -80,17 +89,29 @@ def run(
 
         check_goal_selector_interface(goal_selector, config)
         extra["goal_selector"] = goal_selector
-    learner = _core.Learner(config.core_dict(), learner_seed, eval_seed, env_seed=environment_seed(seed), **extra)
-
-    if checkpoint_every is not None:
-        _check_checkpointing(checkpoint_every, out, environment, goal_selector)
     info = {"seed": seed, "learner_seed": learner_seed, "eval_seed": eval_seed, "overwrite": overwrite}
     extras = {}
     if environment is not None:
         extras["environment"] = f"{type(environment).__module__}.{type(environment).__qualname__}"
     if goal_selector is not None:
         extras["goal_selector"] = f"{type(goal_selector).__module__}.{type(goal_selector).__qualname__}"
-    return _drive(learner, config, info, out, progress, checkpoint_every, extras)
+    # Built before the target is locked (and its parent made): a refused environment or
+    # selector leaves nothing on disk.
+    learner = _core.Learner(config.core_dict(), learner_seed, eval_seed, env_seed=environment_seed(seed), **extra)
+    with _holding(out, overwrite):
+        return _drive(learner, config, info, out, progress, checkpoint_every, extras)
+
+
+@contextmanager
+def _holding(out: Path | None, overwrite: bool) -> Iterator[None]:
+    """Lock the target for the whole run; look at it again once the lock is held, since another
+    run may have finished there while this one was starting."""
+    if out is None:
+        yield
+        return
+    with target_lock(out):
+        check_output_dir(out, overwrite)
+        yield
 
 
 def _check_checkpointing(every: Any, out: Path | None, environment: Any, goal_selector: Any) -> None:
@@ -105,7 +126,7 @@ def _check_checkpointing(every: Any, out: Path | None, environment: Any, goal_se
 def checkpoint_dir(out: str | Path) -> Path:
     """Where the checkpoint of the run that will be written to ``out`` is kept."""
     out = Path(out)
-    return out.with_name(f".{out.name}.checkpoint")
+    return sibling(Path(out), ".checkpoint")
 
 
 def _write_checkpoint(out: Path, state: bytes, info: dict[str, Any], config: Config, steps: int, every: int) -> None:
@@ -116,7 +137,15 @@ def _write_checkpoint(out: Path, state: bytes, info: dict[str, Any], config: Con
         (tmp / "state.bin").write_bytes(state)
         (tmp / "checkpoint.json").write_text(json.dumps(meta, indent=2, sort_keys=True))
 
-    replace_dir(checkpoint_dir(out), fill, "the checkpoint")
+    replace_dir(checkpoint_dir(out), fill, "the checkpoint", replace=_is_checkpoint)
+
+
+def _is_checkpoint(path: Path) -> bool:
+    """A checkpoint folder saggriac wrote (and may replace): its two files and nothing else."""
+    try:
+        return path.is_dir() and not path.is_symlink() and set(os.listdir(path)) <= CHECKPOINT_FILES and (path / "state.bin").exists()
+    except OSError:
+        return False
 
 
 def _drive(learner: Any, config: Config, info: dict[str, Any], out: Path | None, progress: bool, every: int | None, extras: dict[str, str]) -> RunResult:
@@ -173,7 +202,8 @@ def _drive(learner: Any, config: Config, info: dict[str, Any], out: Path | None,
             e.result = result
             e.args = (f"{e} The result is kept in this exception's .result; save it elsewhere with .result.save(path).",)
             raise
-        shutil.rmtree(checkpoint_dir(out), ignore_errors=True)
+        if _is_checkpoint(checkpoint_dir(out)):
+            shutil.rmtree(checkpoint_dir(out), ignore_errors=True)
     return result
 
 
@@ -181,15 +211,26 @@ def resume(out_dir: str | Path, progress: bool = False) -> RunResult:
     """Continue the interrupted run whose checkpoint sits next to ``out_dir`` (written by
     ``run(..., out_dir=..., checkpoint_every=N)``), to the same result the run would have given
     without the interruption, and write it to ``out_dir``."""
-    out = Path(out_dir)
+    out = as_path(out_dir, "out_dir", "resume")
     ck = checkpoint_dir(out)
-    if not (ck / "state.bin").exists() or not (ck / "checkpoint.json").exists():
-        if (out / "run.json").exists():
+    try:
+        found = (ck / "state.bin").is_file() and (ck / "checkpoint.json").is_file()
+        finished = (out / "run.json").exists()
+    except OSError as e:
+        raise StorageError(f"Cannot look for a checkpoint of {out}: {e.strerror or e}.") from None
+    if not found:
+        if finished:
             raise StorageError(f"{out} already holds a finished run; there is nothing to resume.")
         raise StorageError(f"No checkpoint for {out} (looked for {ck}). Start the run with checkpoint_every (--checkpoint-every) to be able to resume it.")
-    meta = json.loads((ck / "checkpoint.json").read_text())
-    config = Config(**meta["config"])
-    learner = _core.Learner.restore(config.core_dict(), (ck / "state.bin").read_bytes())
-    info = {k: meta[k] for k in ("seed", "learner_seed", "eval_seed", "overwrite")}
-    info["resumed_at"] = learner.steps
-    return _drive(learner, config, info, out, progress, meta["checkpoint_every"], {})
+    with target_lock(out):
+        try:
+            meta = json.loads((ck / "checkpoint.json").read_text())
+            config = Config(**meta["config"])
+            info = {k: meta[k] for k in ("seed", "learner_seed", "eval_seed", "overwrite")}
+            every = meta["checkpoint_every"]
+        except (OSError, ValueError, KeyError, TypeError, UnicodeDecodeError) as e:
+            raise StorageError(f"The checkpoint {ck} is damaged: checkpoint.json cannot be read ({e}). Start the run over: run it again without --resume.") from None
+        check_output_dir(out, info["overwrite"], MIN_FREE_BYTES)
+        learner = _core.Learner.restore(config.core_dict(), (ck / "state.bin").read_bytes())
+        info["resumed_at"] = learner.steps
+        return _drive(learner, config, info, out, progress, every, {})

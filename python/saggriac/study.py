@@ -17,6 +17,7 @@ import shutil
 import signal
 import sys
 import tempfile
+import time
 import warnings
 from collections.abc import Callable, Iterable, Iterator, Mapping
 from contextlib import contextmanager
@@ -32,7 +33,7 @@ from .config import Config, check_keys
 from .errors import ParameterError, SaggriacError, StorageError
 from .runner import run
 from .seeding import check_seed
-from .storage import MANIFEST
+from .storage import MANIFEST, as_path, run_damage
 
 STUDY_FILE = "study.json"
 LOCK_FILE = ".lock"
@@ -201,12 +202,25 @@ def run_task(task: Task, out_root: str | os.PathLike) -> str:
     return str(out)
 
 
+def _set_aside(run_dir: Path) -> Path:
+    """Move a damaged run out of the study's way, keeping what is left of it."""
+    stamp = time.strftime("%Y%m%d-%H%M%S")
+    for i in range(1000):
+        aside = run_dir.with_name(f".{run_dir.name}.damaged-{stamp}{'' if i == 0 else f'-{i}'}")
+        if not os.path.lexists(aside):
+            run_dir.rename(aside)
+            return aside
+    raise StorageError(f"Cannot set the damaged run {run_dir} aside: too many earlier copies beside it; delete them.")  # pragma: no cover
+
+
 @dataclass
 class StudyResult:
     path: Path
     study: Study
     n_computed: int  # runs computed by this call
     n_skipped: int  # runs already finished before this call
+    #: Damaged runs found and recomputed by this call: name -> what was wrong, where it was set aside.
+    repaired: dict[str, str] = field(default_factory=dict)
 
     def frame(self) -> pd.DataFrame:
         """The learning curves of every finished run, tidy (see :func:`load_study`)."""
@@ -277,6 +291,28 @@ def _runs_of(study: Study) -> dict[str, tuple[int, dict[str, Any]]]:
     return {t.path: (t.seed, t.config) for t in study.tasks()}
 
 
+def _check_study_folder(out: Path) -> None:
+    """A study goes into a new or empty folder, or a study folder; never into a user's folder."""
+    try:
+        _check_study_place(out)
+    except StorageError:
+        raise
+    except OSError as e:
+        raise StorageError(f"Cannot use {out} as a study folder: {e.strerror or e}.") from None
+
+
+def _check_study_place(out: Path) -> None:
+    if out.is_symlink() or (out.exists() and not out.is_dir()):
+        raise StorageError(f"{out} is not a folder; a study needs a folder of its own. Choose another out_dir.")
+    if out.is_dir() and not (out / STUDY_FILE).exists():
+        entries = sorted(n for n in os.listdir(out) if n != LOCK_FILE and not (n.startswith(f".{STUDY_FILE}.") and n.endswith(".tmp")))
+        if (out / RUNS_DIR).exists():
+            raise StorageError(f"{out} holds a {RUNS_DIR}/ folder but no {STUDY_FILE}; it was not made by run_study. Choose another out_dir.")
+        if entries:
+            shown = ", ".join(entries[:5]) + (" ..." if len(entries) > 5 else "")
+            raise StorageError(f"{out} is a folder run_study did not make (it holds {shown}); a study goes into a new or empty folder. Choose another out_dir.")
+
+
 def _check_or_write_spec(out: Path, study: Study) -> None:
     path = out / STUDY_FILE
     if path.exists():
@@ -295,17 +331,21 @@ def _check_or_write_spec(out: Path, study: Study) -> None:
     _write_json_atomic(path, {"format": _FORMAT, "study": study.to_dict(), "created_with": {"saggriac": _core.__version__, "git_commit": _core.GIT_COMMIT}})
 
 
-def _is_finished(out: Path, task: Task) -> bool:
-    """True for a finished run of this task; raises if a finished run is of another configuration."""
+def _is_finished(out: Path, task: Task) -> bool | str:
+    """True for a finished, intact run of this task; False for none; for a damaged one, the
+    reason. Raises if a finished run is of another configuration."""
     run_dir = out / task.path
     manifest = run_dir / MANIFEST
     if not manifest.exists():
         return False
+    damage = run_damage(run_dir)
+    if damage is not None:
+        return damage
+    data = json.loads(manifest.read_text())
     try:
-        data = json.loads(manifest.read_text())
         same = data["seed"] == task.seed and Config(**data["config"]) == Config(**task.config)
-    except (OSError, ValueError, KeyError, TypeError) as e:
-        raise StorageError(f"{manifest} cannot be read ({e}); delete {run_dir} to have the run redone.") from None
+    except (KeyError, TypeError, ParameterError) as e:
+        return f"{manifest} does not describe a run this version of saggriac can read ({e})"
     if not same:
         raise StorageError(f"{run_dir} holds a finished run of another configuration or seed; delete it to have the run redone.")
     return True
@@ -368,8 +408,36 @@ def _dask_client(distributed: Any, scheduler: Any, n_workers: int) -> Iterator[A
         with cluster, distributed.Client(cluster, set_as_default=False) as client:
             yield client
     else:  # an address, or a cluster object (LocalCluster, dask_jobqueue.SLURMCluster, ...)
-        with distributed.Client(scheduler, set_as_default=False) as client:
+        try:
+            client = distributed.Client(scheduler, set_as_default=False, timeout=SCHEDULER_TIMEOUT)
+        except (OSError, TimeoutError, ValueError) as e:
+            raise ParameterError(f"The 'scheduler' parameter of run_study names a Dask scheduler that does not answer within {SCHEDULER_TIMEOUT} s: {scheduler!r} ({type(e).__name__}: {e}).", "scheduler", repr(scheduler)) from None
+        with client:
             yield client
+
+
+#: Seconds to wait for a Dask scheduler to answer before giving up.
+SCHEDULER_TIMEOUT = 10
+
+
+def _check_scheduler(address: str) -> None:
+    """Refuse, before anything is written, an address that is not one or a scheduler that does
+    not answer within SCHEDULER_TIMEOUT seconds (Dask itself waits 30 s, then may hang on exit)."""
+    import socket
+
+    rule = "an address such as 'tcp://HOST:PORT'"
+    m = re.fullmatch(r"(?:(tcp|tls)://)?\[?([A-Za-z0-9_.:-]*?)\]?:(\d{1,5})", address.strip())
+    if m is None:
+        if re.fullmatch(r"[a-z]+://.+", address.strip()):
+            return  # another Dask protocol (ucx://, inproc://): Dask checks it, with the timeout
+        raise ParameterError(f"The 'scheduler' parameter of run_study must be {rule}. Got {address!r} instead.", "scheduler", repr(address))
+    host, port = m.group(2) or "127.0.0.1", int(m.group(3))
+    if not 0 < port < 65536:
+        raise ParameterError(f"The 'scheduler' parameter of run_study must be {rule} with a port in 1..65535. Got {address!r} instead.", "scheduler", repr(address))
+    try:
+        socket.create_connection((host, port), timeout=SCHEDULER_TIMEOUT).close()
+    except OSError as e:
+        raise ParameterError(f"The 'scheduler' parameter of run_study names {address!r}, where no Dask scheduler answers within {SCHEDULER_TIMEOUT} s ({e.strerror or e}). Start it (dask scheduler) or check the address.", "scheduler", repr(address)) from None
 
 
 def _run_dask(tasks: list[Task], out: Path, n_workers: int, scheduler: Any, on_done: Callable[[Task, Any], None]) -> None:
@@ -412,7 +480,10 @@ def run_study(
         raise ParameterError("The 'n_workers' parameter of run_study applies only to workers it starts itself; size the given Dask cluster instead.", "n_workers", repr(n_workers))
     if backend == "dask":
         _import_distributed()  # fail before writing anything
-    out = Path(out_dir).resolve()  # absolute: workers may run elsewhere (Dask, SLURM)
+        if isinstance(scheduler, str):
+            _check_scheduler(scheduler)
+    out = as_path(out_dir, "out_dir", "run_study").resolve()  # absolute: workers may run elsewhere (Dask, SLURM)
+    _check_study_folder(out)
     try:
         out.mkdir(parents=True, exist_ok=True)
     except OSError as e:
@@ -422,10 +493,19 @@ def run_study(
         _check_or_write_spec(out, study)
         tasks = study.tasks()
         pending = []
+        repaired: dict[str, str] = {}
         for task in tasks:
-            if not _is_finished(out, task):
-                _remove_leftovers(out, task)
-                pending.append(task)
+            state = _is_finished(out, task)
+            if state is True:
+                continue
+            if state is False and os.path.lexists(out / task.path) and (not (out / task.path).is_dir() or os.listdir(out / task.path)):
+                state = f"it holds files but no {MANIFEST} (unfinished, or its {MANIFEST} was lost)"
+            if isinstance(state, str):
+                aside = _set_aside(out / task.path)
+                repaired[task.name] = f"{state}; set aside as {aside.name}"
+                print(f"saggriac: {task.name} is damaged ({state}); it is set aside as {aside} and recomputed.", file=sys.stderr)
+            _remove_leftovers(out, task)
+            pending.append(task)
         n_skipped = len(tasks) - len(pending)
         failures: dict[str, BaseException] = {}
         if pending:
@@ -457,7 +537,7 @@ def run_study(
             failures,
         )
         raise err from next(iter(failures.values()))
-    return StudyResult(path=out, study=study, n_computed=len(pending), n_skipped=n_skipped)
+    return StudyResult(path=out, study=study, n_computed=len(pending), n_skipped=n_skipped, repaired=repaired)
 
 
 def load_study(out_dir: str | Path) -> pd.DataFrame:
@@ -471,10 +551,10 @@ def load_study(out_dir: str | Path) -> pd.DataFrame:
         run_dir = out / task.path
         if not (run_dir / MANIFEST).exists():
             continue
-        try:
-            m = pd.read_parquet(run_dir / "metrics.parquet", columns=["step", *METRICS])
-        except (OSError, ValueError) as e:
-            raise StorageError(f"Cannot read {run_dir / 'metrics.parquet'}: {e}") from None
+        damage = run_damage(run_dir)
+        if damage is not None:
+            raise StorageError(f"{run_dir} is damaged: {damage}. Run the study again on {out} (saggriac reproduce, or run_study) to set it aside and recompute it.")
+        m = pd.read_parquet(run_dir / "metrics.parquet", columns=["step", *METRICS])
         n = len(m) * len(METRICS)
         cols: dict[str, Any] = {"condition": [task.condition] * n, "seed": np.full(n, task.seed, dtype=np.int64)}
         for k in keys:

@@ -15,7 +15,14 @@ use crate::run_loop::Learner;
 use crate::task_space::Point;
 
 /// Bumped whenever the layout below changes; older checkpoints are then refused.
-const FORMAT: u32 = 2;
+/// Format 3: the encoding is followed by a CRC-32 (Castagnoli) of it.
+const FORMAT: u32 = 3;
+
+/// CRC-32C: detects every error of up to 32 consecutive bits, so any one damaged byte.
+const CHECKSUM: crc::Crc<u32> = crc::Crc::<u32>::new(&crc::CRC_32_ISCSI);
+
+/// What to do about a checkpoint that cannot be used: the run can only start over.
+const START_OVER: &str = "Start the run over: run it again without --resume (from Python, saggriac.run instead of saggriac.resume).";
 
 #[derive(Serialize, Deserialize)]
 struct State {
@@ -80,12 +87,17 @@ impl Learner {
             goals: r.goals.clone(),
             attempts: r.attempts.clone(),
         };
-        postcard::to_stdvec(&state).map_err(|e| refuse(format!("Could not encode the checkpoint: {e}.")))
+        postcard::to_stdvec_crc32(&state, CHECKSUM.digest()).map_err(|e| refuse(format!("Could not encode the checkpoint: {e}.")))
     }
 
     /// Rebuild a learner from a checkpoint of a run with configuration `cfg`.
     pub fn restore(cfg: RunConfig, bytes: &[u8]) -> Result<Learner> {
-        let s: State = postcard::from_bytes(bytes).map_err(|e| refuse(format!("The checkpoint is damaged or not a saggriac checkpoint ({e}).")))?;
+        let s: State = match postcard::take_from_bytes_crc32::<State>(bytes, CHECKSUM.digest()) {
+            Ok((s, rest)) if rest.is_empty() => s,
+            Ok(_) => return Err(refuse(format!("The checkpoint is damaged: bytes follow its end. {START_OVER}"))),
+            Err(postcard::Error::DeserializeBadCrc) => return Err(refuse(format!("The checkpoint is damaged: its checksum does not match its content. {START_OVER}"))),
+            Err(e) => return Err(refuse(format!("The checkpoint is damaged or not a saggriac checkpoint ({e}). {START_OVER}"))),
+        };
         if s.format != FORMAT {
             return Err(refuse(format!("The checkpoint has format {} but this saggriac ({}) reads format {FORMAT}; it was written by saggriac {}.", s.format, env!("CARGO_PKG_VERSION"), s.version)));
         }

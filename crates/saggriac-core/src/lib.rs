@@ -8,6 +8,7 @@
 
 pub mod arm;
 pub mod ask_tell;
+pub mod block_index;
 pub mod body;
 pub mod checkpoint;
 pub mod competence;

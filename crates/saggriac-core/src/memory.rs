@@ -1,6 +1,7 @@
 //! Sensorimotor memory: every executed micro-action (theta, dtheta, dx) with the end-effector
 //! position x before it, plus the neighbour index over theta that the local models query.
 
+use crate::block_index::BlockIndex;
 pub use crate::config::model::IndexKind;
 use crate::kd_tree::KdTree;
 use crate::neighbours::{BruteForce, KdTreeIndex, Neighbour, NeighbourIndex, WarmStart};
@@ -22,6 +23,7 @@ impl SensorimotorMemory {
             IndexKind::KdTree => Box::new(KdTree::new(n)),
             IndexKind::KdTreeCrate => Box::new(KdTreeIndex::new(n)),
             IndexKind::BruteForce => Box::new(BruteForce::new(n)),
+            IndexKind::Blocks => Box::new(BlockIndex::new(n)),
         };
         SensorimotorMemory { n, m, theta: Vec::new(), dtheta: Vec::new(), dx: Vec::new(), x: Vec::new(), index, rejected: 0 }
     }

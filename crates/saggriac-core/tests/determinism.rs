@@ -360,4 +360,31 @@ fn a_checkpoint_only_restores_its_own_run() {
     assert!(e.contains("another configuration"), "{e}");
     let e = Learner::restore(light_config(vec![0, 1000, N_STEPS]), &bytes[..bytes.len() / 2]).err().expect("a truncated checkpoint is refused").to_string();
     assert!(e.contains("damaged"), "{e}");
+    let mut longer = bytes.clone();
+    longer.push(0);
+    let e = Learner::restore(light_config(vec![0, 1000, N_STEPS]), &longer).err().expect("trailing bytes are refused").to_string();
+    assert!(e.contains("damaged"), "{e}");
+}
+
+#[test]
+fn a_checkpoint_with_any_flipped_byte_is_refused() {
+    let cfg = light_config(vec![0, 1000, N_STEPS]);
+    let mut l = Learner::new(cfg.clone(), 1, 2).unwrap();
+    l.run(&mut |m| m.step < 1000);
+    let bytes = l.checkpoint().unwrap();
+    assert!(Learner::restore(cfg.clone(), &bytes).is_ok());
+    // Every position near both ends (header, checksum) and 200 spread over the body, with a
+    // one-bit and an all-bits change each.
+    let n = bytes.len();
+    let mut positions: Vec<usize> = (0..64.min(n)).chain(n.saturating_sub(64)..n).collect();
+    positions.extend((0..200).map(|i| i * n / 200));
+    for &pos in &positions {
+        for mask in [0x01u8, 0xFF] {
+            let mut bad = bytes.clone();
+            bad[pos] ^= mask;
+            let e = Learner::restore(cfg.clone(), &bad).err().unwrap_or_else(|| panic!("byte {pos} ^ {mask:#x} of {n} was resumed")).to_string();
+            assert!(e.contains("damaged") || e.contains("another configuration") || e.contains("format"), "byte {pos}: {e}");
+            assert!(e.contains("without --resume") || e.contains("another configuration") || e.contains("format"), "byte {pos}: {e}");
+        }
+    }
 }

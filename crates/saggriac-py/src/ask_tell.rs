@@ -7,6 +7,7 @@ use saggriac_core::ask_tell::AskTell;
 use saggriac_core::error::invalid;
 use saggriac_core::goal_selection::ModeProbabilities;
 use saggriac_core::region_tree::RegionTreeConfig;
+use saggriac_core::Error;
 
 use crate::errors::{to_py, wrap};
 
@@ -32,6 +33,12 @@ impl PyAskTell {
             "random" => AskTell::random(&low, &high, seed),
             other => return Err(to_py(py, invalid("GoalSelector", "kind", "one of 'sagg_riac', 'random'", format!("'{other}'")))),
         };
+        // Messages name the Python class and its arguments, not the core's parts.
+        let owner = if kind == "random" { "RandomSelector" } else { "SaggRiacSelector" };
+        let inner = inner.map_err(|e| match e {
+            Error::InvalidParameter { param, rule, value, .. } => Error::InvalidParameter { owner, param: if param == "bounds" { "low/high".into() } else { param }, rule, value },
+            other => other,
+        });
         Ok(PyAskTell { inner: wrap(py, inner)? })
     }
 

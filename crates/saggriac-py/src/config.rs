@@ -7,7 +7,7 @@ use saggriac_core::arm::{ArmConfig, ArmKind};
 use saggriac_core::config::Paradigm;
 use saggriac_core::error::invalid;
 use saggriac_core::memory::IndexKind;
-use saggriac_core::{Condition, RunConfig};
+use saggriac_core::{Condition, Error, RunConfig};
 
 use crate::errors::to_py;
 
@@ -21,6 +21,27 @@ pub const KEYS: &[&str] = &[
     "eval_schedule", "knn_index", "warm_start_recent", "babble_step", "actuator_reset_every", "paradigm", "episodic_noise", "episodic_refine", "episodic_k", "motor_noise", "sensor_noise", "body_change_step",
     "body_change_link", "body_change_length",
 ];
+
+/// The core names a rule's parameter by the struct that owns it (`tolerance` of `Evaluation`);
+/// a Python user knows one flat `Config`, so every message names the Config key instead.
+pub fn in_config_terms(e: Error) -> Error {
+    match e {
+        Error::InvalidParameter { owner, param, rule, value } => {
+            if param == "goal_selector" {
+                // An argument of saggriac.run, not a Config key.
+                return Error::InvalidParameter { owner: "run", param, rule, value };
+            }
+            let key = match (owner, param.as_str()) {
+                ("Evaluation", "tolerance" | "patience" | "timeout_factor" | "timeout_min" | "schedule") => format!("eval_{param}"),
+                ("Exploration", "step") => "explore_step".to_string(),
+                ("Run", "bounds") => "goal_low/goal_high".to_string(),
+                _ => param,
+            };
+            Error::InvalidParameter { owner: "Config", param: key, rule, value }
+        }
+        other => other,
+    }
+}
 
 fn get<'py, T: FromPyObjectOwned<'py>>(d: &Bound<'py, PyDict>, key: &str, default: T, kind: &str) -> PyResult<T> {
     match d.get_item(key)? {
@@ -43,7 +64,7 @@ pub fn run_config_from_dict(d: &Bound<'_, PyDict>) -> PyResult<RunConfig> {
     }
     let mut c = RunConfig::default();
     let condition: String = get(d, "condition", c.condition.name().to_string(), "a str")?;
-    c.condition = Condition::parse(&condition).map_err(|e| to_py(py, e))?;
+    c.condition = Condition::parse(&condition).map_err(|e| to_py(py, in_config_terms(e)))?;
     c.n_steps = get(d, "n_steps", c.n_steps, "an int >= 1")?;
     let n_joints: usize = get(d, "n_joints", c.arm.link_lengths.len(), "an int >= 1")?;
     let length: f64 = get(d, "arm_length", 50.0, "a float > 0")?;
@@ -58,7 +79,7 @@ pub fn run_config_from_dict(d: &Bound<'_, PyDict>) -> PyResult<RunConfig> {
         None => ArmConfig::uniform(n_joints, length, limit, max_step),
     };
     let body: String = get(d, "body", ArmKind::Planar.name().to_string(), "a str")?;
-    c.arm.kind = ArmKind::parse(&body).map_err(|e| to_py(py, e))?;
+    c.arm.kind = ArmKind::parse(&body).map_err(|e| to_py(py, in_config_terms(e)))?;
     c.arm.motor_noise = get(d, "motor_noise", 0.0, "a float")?;
     c.arm.sensor_noise = get(d, "sensor_noise", 0.0, "a float")?;
     let change_step: Option<u64> = get(d, "body_change_step", None, "an int >= 1")?;
@@ -97,15 +118,15 @@ pub fn run_config_from_dict(d: &Bound<'_, PyDict>) -> PyResult<RunConfig> {
     c.eval.timeout_min = get(d, "eval_timeout_min", c.eval.timeout_min, "an int >= 1")?;
     c.eval.schedule = get(d, "eval_schedule", c.eval.schedule, "a list of ints >= 0")?;
     let index: String = get(d, "knn_index", c.index.name().to_string(), "a str")?;
-    c.index = IndexKind::parse(&index).ok_or_else(|| to_py(py, invalid("Config", "knn_index", "one of 'kdtree', 'kdtree_crate', 'brute_force'", format!("'{index}'"))))?;
+    c.index = IndexKind::parse(&index).ok_or_else(|| to_py(py, invalid("Config", "knn_index", "one of 'kdtree', 'kdtree_crate', 'brute_force', 'blocks'", format!("'{index}'"))))?;
     c.warm_start_recent = get(d, "warm_start_recent", c.warm_start_recent, "an int >= 0")?;
     c.babble_step = get(d, "babble_step", c.babble_step, "a float")?;
     c.actuator_reset_every = get(d, "actuator_reset_every", c.actuator_reset_every, "an int >= 0")?;
     let paradigm: String = get(d, "paradigm", c.paradigm.name().to_string(), "a str")?;
-    c.paradigm = Paradigm::parse(&paradigm).map_err(|e| to_py(py, e))?;
+    c.paradigm = Paradigm::parse(&paradigm).map_err(|e| to_py(py, in_config_terms(e)))?;
     c.episodic.noise = get(d, "episodic_noise", c.episodic.noise, "a float")?;
     c.episodic.refine = get(d, "episodic_refine", c.episodic.refine, "a bool")?;
     c.episodic.k_refine = get(d, "episodic_k", c.episodic.k_refine, "an int >= 1")?;
-    c.validate().map_err(|e| to_py(py, e))?;
+    c.validate().map_err(|e| to_py(py, in_config_terms(e)))?;
     Ok(c)
 }

@@ -10,7 +10,7 @@ use saggriac_core::recorder::MetricRow;
 use saggriac_core::Learner;
 
 use crate::body::PyBody;
-use crate::config::run_config_from_dict;
+use crate::config::{in_config_terms, run_config_from_dict};
 use crate::errors::{take_failure, wrap, Slot};
 use crate::goal_selection::PySelector;
 use crate::{evaluation, goal_selection, recorder};
@@ -45,7 +45,7 @@ impl PyLearner {
             Some(s) => Some(Box::new(PySelector::new(py, s, slot.clone())?) as Box<dyn GoalSelector>),
             None => None,
         };
-        let mut this = PyLearner { inner: wrap(py, Learner::with_parts(cfg, seed, eval_seed, body, selector)).map_err(|e| take_failure(py, &slot, 0).unwrap_or(e))?, slot };
+        let mut this = PyLearner { inner: wrap(py, Learner::with_parts(cfg, seed, eval_seed, body, selector).map_err(in_config_terms)).map_err(|e| take_failure(py, &slot, 0).unwrap_or(e))?, slot };
         // The environment may already have failed while the test set was measured.
         if let Some(e) = this.take_failure(py) {
             return Err(e);

@@ -95,6 +95,10 @@ pub fn check_bounds(owner: &'static str, low: &[f64], high: &[f64]) -> Result<()
         if !(l.is_finite() && h.is_finite() && l < h) {
             return Err(invalid(owner, "bounds", format!("finite with low < high in every dimension (dimension {i}: low = {l})"), h));
         }
+        // Goals are drawn as low + u * (high - low): the width itself must be a finite float.
+        if !(h - l).is_finite() {
+            return Err(invalid(owner, "bounds", format!("such that high - low is a finite float in every dimension (dimension {i}: low = {l:?})"), format!("{h:?}")));
+        }
     }
     Ok(())
 }

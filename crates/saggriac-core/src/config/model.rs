@@ -45,6 +45,8 @@ pub enum IndexKind {
     /// The `kdtree` crate, kept as a second exact implementation to compare against.
     KdTreeCrate,
     BruteForce,
+    /// Boxes over runs of consecutive samples (`block_index.rs`).
+    Blocks,
 }
 
 impl IndexKind {
@@ -53,6 +55,7 @@ impl IndexKind {
             "kdtree" => Some(IndexKind::KdTree),
             "kdtree_crate" => Some(IndexKind::KdTreeCrate),
             "brute_force" => Some(IndexKind::BruteForce),
+            "blocks" => Some(IndexKind::Blocks),
             _ => None,
         }
     }
@@ -61,6 +64,7 @@ impl IndexKind {
             IndexKind::KdTree => "kdtree",
             IndexKind::KdTreeCrate => "kdtree_crate",
             IndexKind::BruteForce => "brute_force",
+            IndexKind::Blocks => "blocks",
         }
     }
 }

@@ -1,0 +1,95 @@
+//! The k-d tree and the block index answering the same recorded evaluation queries of an exp2
+//! memory (warm-started, as the evaluation asks them), checked equal, timed side by side.
+//!
+//!     cargo run --release -p saggriac-core --example index_probe -- [steps] [condition] [repeats]
+use saggriac_core::arm::Arm;
+use saggriac_core::block_index::BlockIndex;
+use saggriac_core::kd_tree::KdTree;
+use saggriac_core::local_model::LocalModel;
+use saggriac_core::neighbours::{Neighbour, NeighbourIndex, WarmStart};
+use saggriac_core::task_space::desired_step;
+use saggriac_core::{config::Condition, Learner, RunConfig};
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    let steps: u64 = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(200_000);
+    let cond = Condition::parse(args.get(2).map(|s| s.as_str()).unwrap_or("actuator_random")).unwrap();
+    let repeats: usize = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(3);
+    let mut cfg = RunConfig { n_steps: steps, condition: cond, ..RunConfig::default() };
+    cfg.goal_low = vec![0.0, -150.0];
+    cfg.goal_high = vec![150.0, 150.0];
+    cfg.exploration.q = 100;
+    cfg.eval.schedule = vec![steps];
+    cfg.eval.n_test_goals = 1;
+    cfg.eval.n_test_configs = 1;
+    let mut l = Learner::new(cfg.clone(), 0, 1).unwrap();
+    l.run(&mut |_| true);
+    let mem = l.memory();
+    let n = mem.n_joints();
+    let k = cfg.local.k_neighbours;
+    // Record the queries of 100 test reaches (what one evaluation asks).
+    let tests = saggriac_core::evaluation::TestSet::new(&cfg.arm, &cfg.goal_low, &cfg.goal_high, 100, 1, 1).unwrap();
+    let mut arm = Arm::new(cfg.arm.clone()).unwrap();
+    let mut model = LocalModel::new(n, 2, cfg.local.clone());
+    let mut ws = WarmStart::new(cfg.warm_start_recent);
+    let mut nb: Vec<Neighbour> = Vec::new();
+    let mut queries: Vec<(bool, Vec<f64>)> = Vec::new();
+    let mut dtheta = vec![0.0; n];
+    for (i, g) in tests.goals.iter().enumerate() {
+        if i % 2 == 0 {
+            arm.reset();
+        }
+        ws.clear();
+        let mut fresh = true;
+        for _ in 0..(2.0 * saggriac_core::task_space::distance(g, &arm.position()) / 0.5).ceil() as usize + 20 {
+            let x = arm.position();
+            if saggriac_core::task_space::distance(g, &x) <= 0.01 {
+                break;
+            }
+            let th = arm.theta().to_vec();
+            mem.knn_warm(&mut ws, &th, k, &mut nb);
+            queries.push((fresh, th));
+            fresh = false;
+            let dx = desired_step(&x, g, 0.5);
+            if model.fit(mem, &nb).and_then(|_| model.inverse(&dx[..2], &mut dtheta)).is_err() {
+                break;
+            }
+            arm.step(&mut dtheta);
+        }
+    }
+    let [thetas, ..] = mem.arrays();
+    let mut tree = KdTree::new(n);
+    let mut blocks = BlockIndex::new(n);
+    for p in thetas.chunks_exact(n) {
+        tree.add(p);
+        blocks.add(p);
+    }
+    let replay = |index: &dyn NeighbourIndex, answers: &mut Vec<Vec<Neighbour>>| {
+        let mut ws = WarmStart::new(cfg.warm_start_recent);
+        let mut out = Vec::new();
+        answers.clear();
+        let t0 = std::time::Instant::now();
+        for (fresh, q) in &queries {
+            if *fresh {
+                ws.clear();
+            }
+            ws.knn(index, thetas, q, k, &mut out);
+            answers.push(out.clone());
+        }
+        t0.elapsed().as_secs_f64() / queries.len() as f64 * 1e6
+    };
+    let (mut a, mut b) = (Vec::new(), Vec::new());
+    let mut times = (Vec::new(), Vec::new());
+    for _ in 0..repeats {
+        times.0.push(replay(&tree, &mut a));
+        times.1.push(replay(&blocks, &mut b));
+    }
+    assert_eq!(a, b, "the indexes disagree");
+    let med = |v: &mut Vec<f64>| {
+        v.sort_by(|x, y| x.total_cmp(y));
+        v[v.len() / 2]
+    };
+    let (t, bl) = (med(&mut times.0), med(&mut times.1));
+    println!("{} samples, {} queries, condition {}: k-d tree {t:.1} us, blocks {bl:.1} us per query ({:.2}x); same answers", mem.len(), queries.len(), cond.name(), t / bl);
+    println!("block index: {:.1} bytes per point", blocks.bytes_per_point());
+}
