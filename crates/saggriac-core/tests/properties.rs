@@ -986,3 +986,23 @@ proptest! {
         }
     }
 }
+
+// ---------------------------------------------------------------------------------------------
+// The suite's own configuration
+// ---------------------------------------------------------------------------------------------
+
+/// Two runners built from the suite's configuration draw the same cases: the seed is fixed
+/// (DEFAULT_SEED, or PROPTEST_RNG_SEED when set), never taken from the OS.
+#[test]
+fn every_run_draws_the_same_cases() {
+    use proptest::strategy::ValueTree;
+    use proptest::test_runner::TestRunner;
+    let draw = || {
+        let mut runner = TestRunner::new(cases(1));
+        (0..20).map(|_| jacobian().new_tree(&mut runner).unwrap().current()).collect::<Vec<_>>()
+    };
+    assert_eq!(draw(), draw());
+    if std::env::var_os("PROPTEST_RNG_SEED").is_none() {
+        assert_eq!(cases(1).rng_seed, RngSeed::Fixed(DEFAULT_SEED));
+    }
+}
