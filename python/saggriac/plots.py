@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 from matplotlib.figure import Figure
-from matplotlib.patches import Arc, Rectangle
+from matplotlib.patches import Arc, Patch, Rectangle
 from matplotlib.ticker import FuncFormatter
 
 from .config import Config
@@ -22,11 +22,13 @@ LABELS = {
     "actuator_random": "ACTUATOR-Random",
     "actuator_riac": "ACTUATOR-RIAC",
 }
+SD_BAND_LABEL = "shaded: mean \u00b1 1 sd over seeds"
 METRIC_TITLES = {"reach_error": "reaching error (distance goal - end effector)", "pred_error": "prediction error (end-effector position)"}
 
 
-def plot_curves(frame: pd.DataFrame, path: str | Path, title: str = "", step_unit: str = "micro-actions") -> Path:
-    """Mean +- standard deviation of each metric against time steps, one line per condition."""
+def curves_figure(frame: pd.DataFrame, title: str = "", step_unit: str = "micro-actions") -> Figure:
+    """Mean +- one standard deviation over seeds of each metric against time steps, one line per
+    condition; the legend says what the shaded band is."""
     fig = Figure(figsize=(11, 4.2), layout="constrained")
     axes = fig.subplots(1, 2)
     conditions = [c for c in LABELS if c in set(frame["condition"])] + sorted(set(frame["condition"]) - set(LABELS))
@@ -45,11 +47,19 @@ def plot_curves(frame: pd.DataFrame, path: str | Path, title: str = "", step_uni
         ax.set_ylabel(METRIC_TITLES[metric])
         ax.set_ylim(bottom=0)
         ax.grid(alpha=0.3)
-    axes[0].legend()
+    handles, _ = axes[0].get_legend_handles_labels()
+    band = Patch(facecolor="0.5", alpha=0.3, linewidth=0, label=SD_BAND_LABEL)
+    axes[0].legend(handles=[*handles, band])
     if title:
         fig.suptitle(title)
+    return fig
+
+
+def plot_curves(frame: pd.DataFrame, path: str | Path, title: str = "", step_unit: str = "micro-actions") -> Path:
+    """Write :func:`curves_figure` to ``path`` (PNG; its title is also kept as the file's
+    ``Title`` metadata)."""
     path = Path(path)
-    fig.savefig(path, dpi=120)
+    curves_figure(frame, title, step_unit).savefig(path, dpi=120, format="png", metadata={"Title": title} if title else None)
     return path
 
 
@@ -61,27 +71,34 @@ def _leaves_at(regions: pd.DataFrame, n_measurements: int) -> pd.DataFrame:
     return regions.loc[ids]
 
 
-def plot_goal_histograms(run_dir: str | Path, path: str | Path, n_windows: int = 4, bins: int = 40) -> Path:
+def goal_histograms_figure(run_dir: str | Path, n_windows: int = 4, bins: int = 40) -> Figure:
     """Histograms of the self-generated goals over windows of goal indices, with the regions
-    existing at the end of each window (white) and the boundary of the reachable disk (cyan).
-    A 3-D goal space gets two rows of panels: its (x, y) and (x, z) projections; a 1-D one gets
-    plain histograms with the region boundaries as vertical lines."""
+    existing at the end of each window (white) and the boundary of the reachable disk (cyan),
+    drawn to scale (equal aspect: the half-disk of exp1 looks like one). A 3-D goal space gets
+    two rows of panels: its (x, y) and (x, z) projections; a 1-D one gets plain histograms with
+    the region boundaries as vertical lines."""
     from .result import RunResult
 
     res = RunResult.load(run_dir)
     cfg = res.config
     goals, attempts, regions = res.goals, res.attempts, res.regions.reset_index(drop=True)
     if len(cfg.goal_low) == 1:
-        return _plot_goal_histograms_1d(res, path, n_windows, bins)
+        return _goal_histograms_1d(res, n_windows, bins)
     # Planes shown, as pairs of coordinate names; a projection of the ball is its disk.
     planes = [("x", "y")] if len(cfg.goal_low) == 2 else [("x", "y"), ("x", "z")]
+    axis_index = {"x": 0, "y": 1, "z": 2}
     cols = min(n_windows, 4)
     rows_per_plane = (n_windows + 3) // 4
-    fig = Figure(figsize=(4.0 * cols, 4.0 * rows_per_plane * len(planes)), layout="constrained")
-    grid = np.atleast_2d(fig.subplots(rows_per_plane * len(planes), cols, squeeze=False))
+    # Size each panel to the goal space's shape so that the equal-aspect panels fill it: a fixed
+    # height, the width that keeps the scale (within limits that leave room for the titles).
+    width_per_height = max((cfg.goal_high[axis_index[u]] - cfg.goal_low[axis_index[u]]) / (cfg.goal_high[axis_index[w]] - cfg.goal_low[axis_index[w]]) for u, w in planes)
+    panel_h = 3.4
+    panel_w = float(np.clip(panel_h * width_per_height, 2.0, 6.0))
+    n_rows = rows_per_plane * len(planes)
+    fig = Figure(figsize=(cols * (panel_w + 0.8), n_rows * (panel_h + (1.1 if len(planes) > 1 else 0.9)) + 0.4), layout="constrained")
+    grid = np.atleast_2d(fig.subplots(n_rows, cols, squeeze=False))
     edges, windows = _window_bounds(len(goals), n_windows)
     reach = cfg.arm_length if cfg.link_lengths is None else float(sum(cfg.link_lengths))
-    axis_index = {"x": 0, "y": 1, "z": 2}
     for p, (u, w) in enumerate(planes):
         iu, iw = axis_index[u], axis_index[w]
         lo, hi = (cfg.goal_low[iu], cfg.goal_low[iw]), (cfg.goal_high[iu], cfg.goal_high[iw])
@@ -93,7 +110,7 @@ def plot_goal_histograms(run_dir: str | Path, path: str | Path, n_windows: int =
             start, end = windows[k]
             sel = goals[(goals["goal_index"] >= start) & (goals["goal_index"] < end)]
             h, _, _ = np.histogram2d(sel[f"goal_{u}"], sel[f"goal_{w}"], bins=bins, range=[[lo[0], hi[0]], [lo[1], hi[1]]])
-            ax.imshow(h.T, origin="lower", extent=(lo[0], hi[0], lo[1], hi[1]), cmap="inferno", aspect="auto", interpolation="nearest")
+            ax.imshow(h.T, origin="lower", extent=(lo[0], hi[0], lo[1], hi[1]), cmap="inferno", aspect="equal", interpolation="nearest")
             if len(regions) and "created_at" in regions:
                 n_meas = int((attempts["goal_index"] < end).sum()) if len(attempts) else 0
                 for _, r in _leaves_at(regions, n_meas).iterrows():
@@ -102,13 +119,25 @@ def plot_goal_histograms(run_dir: str | Path, path: str | Path, n_windows: int =
             ax.add_patch(Arc((0, 0), 2 * reach, 2 * reach, theta1=0, theta2=360, edgecolor="cyan", linewidth=1.5))
             ax.set_xlim(lo[0], hi[0])
             ax.set_ylim(lo[1], hi[1])
+            ax.set_aspect("equal")
             ax.set_xlabel(u)
             ax.set_ylabel(w)
-            ax.set_title(f"goals {start}-{end}" + (f", ({u}, {w}) projection" if len(planes) > 1 else ""))
+            ax.set_title(_window_title(windows, k) + (f"\n({u}, {w}) projection" if len(planes) > 1 else ""), fontsize=10)
     fig.suptitle(f"{LABELS.get(cfg.condition, cfg.condition)}, seed {res.seed}: self-generated goals and regions")
+    return fig
+
+
+def plot_goal_histograms(run_dir: str | Path, path: str | Path, n_windows: int = 4, bins: int = 40) -> Path:
+    """Write :func:`goal_histograms_figure` of the run in ``run_dir`` to ``path`` (PNG)."""
     path = Path(path)
-    fig.savefig(path, dpi=110)
+    goal_histograms_figure(run_dir, n_windows, bins).savefig(path, dpi=110, format="png")
     return path
+
+
+def _window_title(windows: list[tuple[int, int]], k: int) -> str:
+    start, end = windows[k]
+    # The last panel holds every goal (see _window_bounds).
+    return f"all goals (0-{end})" if k == len(windows) - 1 and k > 0 else f"goals {start}-{end}"
 
 
 def _window_bounds(n_goals: int, n_windows: int) -> tuple[np.ndarray, list[tuple[int, int]]]:
@@ -117,7 +146,7 @@ def _window_bounds(n_goals: int, n_windows: int) -> tuple[np.ndarray, list[tuple
     return edges, [(0, edges[-1]) if k == len(edges) - 2 and k > 0 else (edges[k], edges[k + 1]) for k in range(len(edges) - 1)]
 
 
-def _plot_goal_histograms_1d(res, path: str | Path, n_windows: int, bins: int) -> Path:
+def _goal_histograms_1d(res, n_windows: int, bins: int) -> Figure:
     cfg, goals, attempts, regions = res.config, res.goals, res.attempts, res.regions.reset_index(drop=True)
     lo, hi = cfg.goal_low[0], cfg.goal_high[0]
     _, windows = _window_bounds(len(goals), n_windows)
@@ -132,11 +161,10 @@ def _plot_goal_histograms_1d(res, path: str | Path, n_windows: int, bins: int) -
                 ax.axvline(v, color="tab:orange", linewidth=0.6)
         ax.set_xlim(lo, hi)
         ax.set_xlabel("x")
-        ax.set_title(f"goals {start}-{end}")
+        ax.set_ylabel("goals")
+        ax.set_title(_window_title(windows, k), fontsize=10)
     fig.suptitle(f"{LABELS.get(cfg.condition, cfg.condition)}, seed {res.seed}: self-generated goals and region boundaries")
-    path = Path(path)
-    fig.savefig(path, dpi=110)
-    return path
+    return fig
 
 
 def arm_points(theta: np.ndarray, lengths: np.ndarray) -> np.ndarray:

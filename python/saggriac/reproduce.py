@@ -3,6 +3,7 @@ figures (Fig. 2-5 style) and the statistics table, all written into one folder."
 
 from __future__ import annotations
 
+import contextlib
 import os
 from pathlib import Path
 from typing import Any
@@ -19,11 +20,37 @@ FIGURES = "figures"
 
 
 def _atomic(path: Path, write: Any) -> Path:
-    """Write through a temporary sibling and rename, so a half-written file never stands."""
+    """Write through a temporary sibling and rename, so a half-written file never stands. If
+    anything fails the temporary file is removed; an OSError becomes a StorageError naming the
+    folder and the reason."""
     tmp = path.with_name(f".{path.name}.tmp{path.suffix}")
-    write(tmp)
-    os.replace(tmp, path)
+    try:
+        write(tmp)
+        os.replace(tmp, path)
+    except BaseException as e:
+        with contextlib.suppress(OSError):
+            tmp.unlink()
+        if isinstance(e, OSError) and not isinstance(e, StorageError):
+            raise StorageError(f"Cannot write {path.name} into {path.parent}: {e.strerror or e}.") from e
+        raise
     return path
+
+
+def matching_preset(config: Config) -> str | None:
+    """The preset ``config`` is, up to its number of steps and its condition (the two things a
+    study of a preset changes), or None."""
+    mine = config.to_dict()
+    for name in PRESETS:
+        if Config.from_preset(name, n_steps=config.n_steps, condition=config.condition).to_dict() == mine:
+            return name
+    return None
+
+
+def study_title(study: Study) -> str:
+    """Title of a study's figures, from what its folder records: "exp1: 2 seed(s), 5000 time
+    steps" for a study of a preset, the same without the name otherwise."""
+    preset = matching_preset(study.base)
+    return f"{preset + ': ' if preset else ''}{len(study.seeds)} seed(s), {study.base.n_steps} time steps"
 
 
 def reproduce(
@@ -47,19 +74,23 @@ def reproduce(
     out = Path(out_dir) if out_dir is not None else Path(f"reproduce-{experiment}")
     study = Study(base=base, conditions=tuple(conditions), seeds=tuple(range(seeds)))
     run_study(study, out, backend=backend, n_workers=n_workers, scheduler=scheduler, progress=progress)
-    return make_report(out, title=f"{experiment}: {seeds} seed(s), {base.n_steps} time steps")
+    return make_report(out)
 
 
 def make_report(out_dir: str | Path, title: str | None = None) -> dict[str, Path]:
-    """Figures and statistics of a study folder, from its saved results only."""
+    """Figures and statistics of a study folder, from its saved results only: the same figures
+    ``reproduce`` wrote (titles come from :func:`study_title` unless ``title`` is given)."""
     out = Path(out_dir)
     study = Study.load(out)
     frame = load_study(out)
     if frame.empty:
         raise StorageError(f"{out} holds no finished run yet.")
     figs = out / FIGURES
-    figs.mkdir(exist_ok=True)
-    title = title or f"{len(study.seeds)} seed(s), {study.base.n_steps} time steps"
+    try:
+        figs.mkdir(exist_ok=True)
+    except OSError as e:
+        raise StorageError(f"Cannot create {figs}: {e.strerror or e}.") from e
+    title = title or study_title(study)
     written: dict[str, Path] = {}
     written["curves"] = _atomic(figs / "curves.png", lambda p: plots.plot_curves(frame, p, title, "movements" if study.base.paradigm == "episodic" else "micro-actions"))
     written["arm"] = _atomic(figs / "arm.png", lambda p: plots.plot_arm(study.base, p))
@@ -91,4 +122,4 @@ def final_summary(out_dir: str | Path) -> pd.DataFrame:
     return last.groupby(["metric", "condition"])["value"].agg(["mean", "std", "count"]).reset_index()
 
 
-__all__ = ["reproduce", "make_report", "write_stats", "final_summary", "RunResult"]
+__all__ = ["reproduce", "make_report", "write_stats", "final_summary", "study_title", "matching_preset", "RunResult"]
