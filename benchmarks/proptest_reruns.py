@@ -1,17 +1,17 @@
-"""Rerun the whole Rust property suite (crates/saggriac-core/tests/properties.rs) many times,
+"""Rerun the whole Rust property suite (crates/saggriac-core/tests/properties_*.rs) many times,
 each run with its own proptest seed, to measure how often it fails.
 
     nice -n 10 python benchmarks/proptest_reruns.py [--runs 1000] [--jobs 1] [--seed 0]
 
-The default test command uses one fixed seed (see `DEFAULT_SEED` in properties.rs), so it runs
+The default test command uses one fixed seed (see `DEFAULT_SEED` in tests/common/mod.rs), so it runs
 the same cases every time; this script asks for other seeds through PROPTEST_RNG_SEED. It builds
-the `properties` test binary once (`cargo test --release --no-run`), then runs it --runs times,
+the `properties_*` test binaries once (`cargo test --release --no-run`), then runs it --runs times,
 up to --jobs at once (each run single-threaded), and prints the number of runs, the failures
 with their seeds and failing tests, and the wall time. The seeds are drawn from --seed, so a
 campaign can be repeated exactly. Failures are not written to proptest-regressions/ (parallel
 runs would race on the file); replay a printed seed with
 
-    PROPTEST_RNG_SEED=<seed> cargo test -p saggriac-core --release --test properties
+    PROPTEST_RNG_SEED=<seed> cargo test -p saggriac-core --release --test 'properties_*'
 
 which records the case there (commit it so that it is replayed first from then on).
 """
@@ -35,34 +35,40 @@ ROOT = Path(__file__).resolve().parent.parent
 CRATE = ROOT / "crates" / "saggriac-core"
 
 
-def build() -> str:
-    """Build the property-test binary in release mode and return its path."""
-    cmd = ["cargo", "test", "--release", "-p", "saggriac-core", "--test", "properties", "--no-run", "--message-format=json"]
+def build() -> list[str]:
+    """Build the property-test binaries (one per component) in release mode and return their paths."""
+    cmd = ["cargo", "test", "--release", "-p", "saggriac-core", "--test", "properties_*", "--no-run", "--message-format=json"]
     out = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True)
     if out.returncode:
         sys.exit(f"building the property tests failed ({' '.join(cmd)}):\n{out.stderr[-3000:]}")
+    found = []
     for line in out.stdout.splitlines():
         try:
             msg = json.loads(line)
         except json.JSONDecodeError:
             continue
-        if msg.get("reason") == "compiler-artifact" and msg.get("target", {}).get("name") == "properties" and msg.get("executable"):
-            return msg["executable"]
-    sys.exit("cargo built the property tests but did not name the test executable")
+        if msg.get("reason") == "compiler-artifact" and msg.get("target", {}).get("name", "").startswith("properties_") and msg.get("executable"):
+            found.append(msg["executable"])
+    if not found:
+        sys.exit("cargo built the property tests but did not name the test executables")
+    return found
 
 
-def run_once(binary: str, seed: int, test_threads: int, timeout: float) -> tuple[int, bool, list[str], float]:
-    """One run of the whole suite with proptest seed `seed`: (seed, passed, failing tests, seconds)."""
+def run_once(binaries: list[str], seed: int, test_threads: int, timeout: float) -> tuple[int, bool, list[str], float]:
+    """One run of the whole suite (every binary) with proptest seed `seed`: (seed, passed, failing tests, seconds)."""
     env = {**os.environ, "PROPTEST_RNG_SEED": str(seed), "PROPTEST_DISABLE_FAILURE_PERSISTENCE": "1"}
     t0 = time.perf_counter()
-    try:
-        out = subprocess.run([binary, f"--test-threads={test_threads}"], cwd=CRATE, env=env, capture_output=True, text=True, timeout=timeout)
-    except subprocess.TimeoutExpired:
-        return seed, False, [f"timeout after {timeout:.0f} s"], time.perf_counter() - t0
-    failed = re.findall(r"^test (\S+) \.\.\. FAILED$", out.stdout, flags=re.MULTILINE)
-    if out.returncode and not failed:
-        failed = [f"exit code {out.returncode}"]
-    return seed, out.returncode == 0, failed, time.perf_counter() - t0
+    failed: list[str] = []
+    for binary in binaries:
+        try:
+            out = subprocess.run([binary, f"--test-threads={test_threads}"], cwd=CRATE, env=env, capture_output=True, text=True, timeout=timeout)
+        except subprocess.TimeoutExpired:
+            return seed, False, [*failed, f"{Path(binary).name}: timeout after {timeout:.0f} s"], time.perf_counter() - t0
+        these = re.findall(r"^test (\S+) \.\.\. FAILED$", out.stdout, flags=re.MULTILINE)
+        if out.returncode and not these:
+            these = [f"{Path(binary).name}: exit code {out.returncode}"]
+        failed += these
+    return seed, not failed, failed, time.perf_counter() - t0
 
 
 def main() -> None:
@@ -90,11 +96,11 @@ def main() -> None:
 
     t_build = time.perf_counter()
     built = build()
-    print(f"built {built} in {time.perf_counter() - t_build:.0f} s", flush=True)
+    print(f"built {len(built)} property-test binaries in {time.perf_counter() - t_build:.0f} s", flush=True)
     # Run a private copy, so that rebuilding the crate during a long campaign does not swap the
     # binary under it.
     workdir = tempfile.mkdtemp(prefix="proptest-reruns-")
-    binary = shutil.copy2(built, Path(workdir) / "properties")
+    binary = [shutil.copy2(b, Path(workdir) / Path(b).name) for b in built]
 
     t0 = time.perf_counter()
     done, failures = 0, []
