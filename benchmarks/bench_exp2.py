@@ -1,6 +1,6 @@
 """End-to-end speed of one exp2 run (the paper's second experiment), one core.
 
-    python benchmarks/bench_exp2.py [--steps 200000] [--seed 0] [--knn-index kdtree] [--set KEY=VALUE ...]
+    python benchmarks/bench_exp2.py [--steps 200000] [--seed 0] [--knn-index blocks] [--set KEY=VALUE ...]
 
 Prints micro-actions per second, where the time goes (kNN, local fits, region tree and goal
 selection, evaluation), the learning curve it produced and the final errors. A benchmark, not a
@@ -22,7 +22,7 @@ def main() -> None:
     p.add_argument("--preset", default="exp2")
     p.add_argument("--steps", type=int, default=None)
     p.add_argument("--seed", type=int, default=0)
-    p.add_argument("--knn-index", default="kdtree", choices=["kdtree", "kdtree_crate", "brute_force", "blocks"])
+    p.add_argument("--knn-index", default="blocks", choices=["blocks", "brute_force"])
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
     args = p.parse_args()
     overrides = _overrides(args.set)

@@ -19,7 +19,7 @@ from saggriac.errors import ParameterError, SaggriacError, StorageError
         ({"joint_limit": 4.0}, "The 'joint_limit' parameter of Config must be a float in (0, 3.141592653589793]. Got 4 instead."),
         ({"n_joints": "many"}, "The 'n_joints' parameter of Config must be an int >= 1. Got 'many' instead."),
         ({"condition": "best"}, "The 'condition' parameter of Config must be one of 'sagg_riac', 'sagg_random', 'actuator_random', 'actuator_riac'. Got 'best' instead."),
-        ({"knn_index": "hnsw"}, "The 'knn_index' parameter of Config must be one of 'kdtree', 'kdtree_crate', 'brute_force', 'blocks'. Got 'hnsw' instead."),
+        ({"knn_index": "hnsw"}, "The 'knn_index' parameter of Config must be one of 'blocks', 'brute_force'. Got 'hnsw' instead."),
         ({"n_evals": 0}, "The 'n_evals' parameter of Config must be an int >= 1. Got 0 instead."),
     ],
 )

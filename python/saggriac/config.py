@@ -11,6 +11,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import sys
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -26,6 +27,9 @@ else:  # pragma: no cover - exercised on 3.10 only
     import tomli as tomllib
 
 CONDITIONS = ("sagg_riac", "sagg_random", "actuator_random", "actuator_riac")
+
+
+_REMOVED_INDEXES = ("kdtree", "kdtree_crate")
 
 
 @dataclass(frozen=True)
@@ -93,7 +97,7 @@ class Config:
     episodic_refine: bool = False
     episodic_k: int = 20
     # Implementation.
-    knn_index: str = "kdtree"
+    knn_index: str = "blocks"
     warm_start_recent: int = 8
 
     def __post_init__(self) -> None:
@@ -103,6 +107,11 @@ class Config:
                 raise ParameterError(f"The '{f.name}' parameter of Config must be given a value (default {f.default!r}). Got None instead.", f.name, "None")
             # numpy scalars become the Python values they stand for (JSON, TOML and the core take those).
             object.__setattr__(self, f.name, _plain(getattr(self, f.name)))
+        # The k-d trees of saggriac 0.1 were removed: every index returns the same neighbours, so
+        # a run recorded with one is the run the block index gives, bit for bit.
+        if self.knn_index in _REMOVED_INDEXES:
+            warnings.warn(f"knn_index={self.knn_index!r} was removed in saggriac 0.2; 'blocks' returns the same neighbours and is used instead.", DeprecationWarning, stacklevel=3)
+            object.__setattr__(self, "knn_index", "blocks")
         # Lists from TOML or JSON become tuples so configs stay hashable and comparable.
         for name in ("link_lengths", "goal_low", "goal_high", "eval_schedule"):
             val = getattr(self, name)

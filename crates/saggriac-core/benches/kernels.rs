@@ -4,9 +4,9 @@
 //!   that returns to the zero rest pose every few hundred steps, storing the rest pose a few
 //!   times at each return, so the data hold many exact duplicates). Queries walk along a
 //!   stretch of the stored trajectory, in order, as the learner's queries do. Variants: the
-//!   full scan, the `kdtree`-crate index (`KdTreeIndex`) searched cold, the same index
-//!   warm-started along the query trajectory (`WarmStart`), and the memory's default index
-//!   (`IndexKind::KdTree`, whatever type backs it), cold and warm.
+//!   full scan, our k-d tree (`kd_tree.rs`, the episodic memory's index) searched cold, and
+//!   the memory's default index (`IndexKind::Blocks`, whatever type backs it), cold and
+//!   warm-started along the query trajectory (`WarmStart`).
 //! * `local_model`: `LocalModel::fit` + `inverse` with k = 45 neighbours of a 15-joint arm.
 //! * `region_tree`: `RegionTree::add` of 2-D goals with heterogeneous competence.
 //! * `arm`: `Arm::forward` of a 15-joint arm.
@@ -22,7 +22,8 @@ use criterion::{criterion_group, criterion_main, BatchSize, Criterion, Throughpu
 use saggriac_core::arm::{Arm, ArmConfig};
 use saggriac_core::local_model::{LocalModel, LocalModelConfig};
 use saggriac_core::memory::{IndexKind, SensorimotorMemory};
-use saggriac_core::neighbours::{BruteForce, KdTreeIndex, Neighbour, NeighbourIndex, WarmStart};
+use saggriac_core::kd_tree::KdTree;
+use saggriac_core::neighbours::{BruteForce, Neighbour, NeighbourIndex, WarmStart};
 use saggriac_core::region_tree::{RegionTree, RegionTreeConfig};
 use saggriac_core::rng::{index, rng_from_seed, uniform, CoreRng};
 
@@ -95,8 +96,8 @@ fn bench_knn(c: &mut Criterion, n: usize) {
     let pts = arm_walk(n, 42);
     let queries = queries_along(&pts, N_QUERIES, 43);
     let mut bf = BruteForce::new(DIM);
-    let mut kd = KdTreeIndex::new(DIM);
-    let mut mem = SensorimotorMemory::new(DIM, 2, IndexKind::KdTree);
+    let mut kd = KdTree::new(DIM);
+    let mut mem = SensorimotorMemory::new(DIM, 2, IndexKind::Blocks);
     let zeros = [0.0; DIM];
     for p in pts.chunks_exact(DIM) {
         bf.add(p);
@@ -118,19 +119,10 @@ fn bench_knn(c: &mut Criterion, n: usize) {
             black_box(out.len())
         })
     });
-    group.bench_function("kdtree_crate_cold", |b| {
+    group.bench_function("kdtree_cold", |b| {
         let mut qs = QueryCycle::new(&queries);
         b.iter(|| {
             kd.knn(black_box(qs.next(None)), K, &mut out);
-            black_box(out.len())
-        })
-    });
-    group.bench_function("kdtree_crate_warm", |b| {
-        let mut qs = QueryCycle::new(&queries);
-        let mut ws = WarmStart::new(8);
-        b.iter(|| {
-            let q = qs.next(Some(&mut ws));
-            ws.knn(&kd, &pts, black_box(q), K, &mut out);
             black_box(out.len())
         })
     });

@@ -75,7 +75,7 @@ fn main() {
     st.sort_by(|a, b| a.total_cmp(b));
     println!("query step quantiles 10/50/90: {:.3} {:.3} {:.3}", st[st.len() / 10], st[st.len() / 2], st[9 * st.len() / 10]);
     // Candidate-ball size for an anchor every query, for several margins (sampled).
-    let pts: Vec<&[f64]> = (0..mem.len()).map(|i| mem.theta(i)).collect();
+    let pts: Vec<Vec<f64>> = (0..mem.len()).map(|i| mem.theta(i)).collect();
     for delta in [0.05, 0.1, 0.2, 0.4] {
         let mut sizes = Vec::new();
         let mut runs = Vec::new();

@@ -1,12 +1,12 @@
-//! The k-d tree and the block index answering the same recorded evaluation queries of an exp2
-//! memory (warm-started, as the evaluation asks them), checked equal, timed side by side.
+//! The block index and the brute-force reference answering the same recorded evaluation queries
+//! of an exp2 memory (warm-started, as the evaluation asks them), checked equal, timed side by
+//! side ("blocks" as the fourth argument: the block index alone, for profiling).
 //!
-//!     cargo run --release -p saggriac-core --example index_probe -- [steps] [condition] [repeats]
+//!     cargo run --release -p saggriac-core --example index_probe -- [steps] [condition] [repeats] [blocks]
 use saggriac_core::arm::Arm;
 use saggriac_core::block_index::BlockIndex;
-use saggriac_core::kd_tree::KdTree;
 use saggriac_core::local_model::LocalModel;
-use saggriac_core::neighbours::{Neighbour, NeighbourIndex, WarmStart};
+use saggriac_core::neighbours::{BruteForce, Neighbour, NeighbourIndex, PointIndex, WarmStart};
 use saggriac_core::task_space::desired_step;
 use saggriac_core::{config::Condition, Learner, RunConfig};
 
@@ -15,6 +15,7 @@ fn main() {
     let steps: u64 = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(200_000);
     let cond = Condition::parse(args.get(2).map(|s| s.as_str()).unwrap_or("actuator_random")).unwrap();
     let repeats: usize = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(3);
+        let blocks_only = args.get(4).map(|s| s == "blocks").unwrap_or(false);
     let mut cfg = RunConfig { n_steps: steps, condition: cond, ..RunConfig::default() };
     cfg.goal_low = vec![0.0, -150.0];
     cfg.goal_high = vec![150.0, 150.0];
@@ -58,13 +59,14 @@ fn main() {
         }
     }
     let [thetas, ..] = mem.arrays();
-    let mut tree = KdTree::new(n);
+    let thetas = &thetas;
+    let mut tree = BruteForce::new(n);
     let mut blocks = BlockIndex::new(n);
     for p in thetas.chunks_exact(n) {
         tree.add(p);
         blocks.add(p);
     }
-    let replay = |index: &dyn NeighbourIndex, answers: &mut Vec<Vec<Neighbour>>| {
+    let replay = |index: &dyn PointIndex, answers: &mut Vec<Vec<Neighbour>>| {
         let mut ws = WarmStart::new(cfg.warm_start_recent);
         let mut out = Vec::new();
         answers.clear();
@@ -73,7 +75,7 @@ fn main() {
             if *fresh {
                 ws.clear();
             }
-            ws.knn(index, thetas, q, k, &mut out);
+            ws.knn(index, q, k, &mut out);
             answers.push(out.clone());
         }
         t0.elapsed().as_secs_f64() / queries.len() as f64 * 1e6
@@ -81,8 +83,14 @@ fn main() {
     let (mut a, mut b) = (Vec::new(), Vec::new());
     let mut times = (Vec::new(), Vec::new());
     for _ in 0..repeats {
-        times.0.push(replay(&tree, &mut a));
+        if !blocks_only {
+            times.0.push(replay(&tree, &mut a));
+        }
         times.1.push(replay(&blocks, &mut b));
+    }
+    if blocks_only {
+        println!("{} samples, {} queries: blocks {:.1} us per query", mem.len(), queries.len(), times.1.iter().cloned().fold(f64::INFINITY, f64::min));
+        return;
     }
     assert_eq!(a, b, "the indexes disagree");
     let med = |v: &mut Vec<f64>| {
@@ -90,6 +98,6 @@ fn main() {
         v[v.len() / 2]
     };
     let (t, bl) = (med(&mut times.0), med(&mut times.1));
-    println!("{} samples, {} queries, condition {}: k-d tree {t:.1} us, blocks {bl:.1} us per query ({:.2}x); same answers", mem.len(), queries.len(), cond.name(), t / bl);
+    println!("{} samples, {} queries, condition {}: brute force {t:.1} us, blocks {bl:.1} us per query ({:.2}x); same answers", mem.len(), queries.len(), cond.name(), t / bl);
     println!("block index: {:.1} bytes per point", blocks.bytes_per_point());
 }

@@ -1,4 +1,4 @@
-//! Bytes per stored sample of the sensorimotor memory (arrays + k-d tree), from the process's
+//! Bytes per stored sample of the sensorimotor memory (arrays + block index), from the process's
 //! resident memory: `cargo run --release --example memory_probe -- [samples] [joints]`.
 use saggriac_core::memory::{IndexKind, SensorimotorMemory};
 use saggriac_core::rng::{rng_from_seed, uniform};
@@ -15,7 +15,7 @@ fn main() {
     let n: usize = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(15);
     let mut rng = rng_from_seed(1);
     let before = rss_bytes();
-    let mut mem = SensorimotorMemory::new(n, 2, IndexKind::KdTree);
+    let mut mem = SensorimotorMemory::new(n, 2, IndexKind::Blocks);
     // A random walk with returns to rest, like the learner's trajectories.
     let mut theta = vec![0.0; n];
     let mut d = vec![0.0; n];
@@ -32,7 +32,7 @@ fn main() {
     let after = rss_bytes();
     let per = (after - before) as f64 / n_samples as f64;
     println!(
-        "{n_samples} samples, {n} joints: resident memory +{:.1} MB, {per:.0} bytes per sample ({} in the sample arrays, the rest in the k-d tree and allocator slack); inserts {:.2} us each",
+        "{n_samples} samples, {n} joints: resident memory +{:.1} MB, {per:.0} bytes per sample ({} of payload; the rest is the index's boxes, spare room and allocator overhead); inserts {:.2} us each",
         (after - before) as f64 / 1e6,
         mem.sample_bytes(),
         secs / n_samples as f64 * 1e6

@@ -6,8 +6,10 @@
 //! kept in blocks of `BLOCK`, dimension-major within a block (so distances run in SIMD lanes),
 //! under a hierarchy of bounding boxes over insertion order: one per block, one per `FANOUT`
 //! blocks, one per `FANOUT` of those, and so on (append-only: an insert widens one box per
-//! level). A query descends it depth first, opening only boxes whose lower bound does not
-//! exceed the k-th distance so far, and ranks the points of open blocks by (distance, id).
+//! level). The `FANOUT` children of a box are stored together in a row, dimension-major. A query
+//! goes down level by level: the rows of the boxes it could not skip are bounded `BATCH` at a
+//! time (independent sums in SIMD lanes), and the points of the blocks it could not skip are
+//! ranked. A query with nothing to bound it yet first descends to the nearest blocks.
 //!
 //! Exactness: the bound of a box is `sum_d gap_d^2`, summed in the same order as `dist_sq`, with
 //! `gap_d` the distance from the query to the box along dimension d. For a point inside the box
@@ -16,24 +18,34 @@
 //! strictly above the k-th distance found so far, which never falls below the final one: every
 //! point at or inside the final k-th distance is ranked, ties included. Boxes are stored in f32,
 //! rounded outward, so they still contain their points.
+//!
+//! Storage is `Chunked`, so a clone is a cheap snapshot that later inserts do not change.
 
-use crate::kd_tree::distances;
-use crate::neighbours::{Neighbour, NeighbourIndex};
+use crate::chunked::Chunked;
+use crate::neighbours::{distances, Neighbour, NeighbourIndex, PointIndex, TopK};
 
 /// Samples per block (the unit whose distances are computed together).
 const BLOCK: usize = 16;
-/// Boxes per box of the level above: level 0 boxes one block, level i boxes FANOUT^i blocks.
+/// Blocks per group, and boxes per row of boxes.
 const FANOUT: usize = 8;
+/// Rows of boxes whose bounds are computed together.
+const BATCH: usize = 4;
+/// Blocks per chunk of storage (1,024 samples).
+const CHUNK_BLOCKS: usize = 64;
 
 #[derive(Debug, Clone)]
 pub struct BlockIndex {
     dim: usize,
     len: usize,
-    /// Block b holds its points at `coords[b * dim * BLOCK + d * BLOCK + j]`.
-    coords: Vec<f64>,
-    /// `boxes[level]`: box i of that level (over blocks i * FANOUT^level ..): lows at
-    /// `[i * 2 * dim..][..dim]`, highs right after. The top level has at most FANOUT boxes.
-    boxes: Vec<Vec<f32>>,
+    /// Row b is block b: coordinate d of its point j at `d * BLOCK + j`.
+    coords: Chunked<f64>,
+    /// `boxes[level]`, row r: boxes r * FANOUT .. of that level (box i of level l covers blocks
+    /// i * FANOUT^l ..), dimension-major: the low of box c along d at `d * FANOUT + c`, the highs
+    /// after all lows. Row r holds the children of box r of the level above; the top level has
+    /// a single row.
+    boxes: Vec<Chunked<f32>>,
+    /// A row of empty boxes (pads the last batch).
+    empty: Vec<f32>,
 }
 
 /// The largest f32 <= v and the smallest f32 >= v (v finite).
@@ -60,174 +72,150 @@ fn step_down(f: f32) -> f32 {
     -step_up(-f)
 }
 
-/// Lower bound of the squared distance from q to any point of the box (lows, then highs).
-#[inline]
-fn box_bound(q: &[f64], bx: &[f32]) -> f64 {
+type Bounds = [[f64; FANOUT]; BATCH];
+
+/// Lower bounds of the squared distance from q to each box of `BATCH` rows of boxes.
+/// `x > 0 ? x : 0` rather than `max`, which keeps NaN rules out of the way of vectorisation
+/// (nothing here is NaN: the memory refuses non-finite samples and queries are finite).
+#[inline(always)]
+fn bounds_generic(q: &[f64], rows: &[&[f32]; BATCH], out: &mut Bounds) {
     let dim = q.len();
-    let (lo, hi) = bx.split_at(dim);
-    let mut s = 0.0;
-    for d in 0..dim {
-        let (l, h, x) = (lo[d] as f64, hi[d] as f64, q[d]);
-        // One of the two terms is zero (l <= h), so gap is l - x, x - h or 0, exactly.
-        let gap = (l - x).max(0.0) + (x - h).max(0.0);
-        s += gap * gap;
-    }
-    s
-}
-
-/// Whether the box's lower bound is <= limit. The partial sums only grow, so the sum stops as
-/// soon as it passes the limit (the same sums as `box_bound`, so the same answer).
-#[inline]
-fn box_within(q: &[f64], bx: &[f32], limit: f64) -> bool {
-    let dim = q.len();
-    let (lo, hi) = bx.split_at(dim);
-    let mut s = 0.0;
-    for d in 0..dim {
-        let (l, h, x) = (lo[d] as f64, hi[d] as f64, q[d]);
-        let gap = (l - x).max(0.0) + (x - h).max(0.0);
-        s += gap * gap;
-        if s > limit {
-            return false;
-        }
-    }
-    true
-}
-
-fn widen(bx: &mut [f32], dim: usize, p: &[f64]) {
-    for (d, &v) in p.iter().enumerate() {
-        let (down, up) = outward(v);
-        if down < bx[d] {
-            bx[d] = down;
-        }
-        if up > bx[dim + d] {
-            bx[dim + d] = up;
-        }
-    }
-}
-
-fn empty_box(dim: usize) -> impl Iterator<Item = f32> {
-    std::iter::repeat_n(f32::INFINITY, dim).chain(std::iter::repeat_n(f32::NEG_INFINITY, dim))
-}
-
-/// The k best so far, sorted by (distance, id), within the radius.
-struct TopK<'a> {
-    out: &'a mut Vec<Neighbour>,
-    k: usize,
-    radius_sq: f64,
-}
-
-impl TopK<'_> {
-    /// Distance a point must not exceed to matter (the k-th so far, or the radius).
-    #[inline]
-    fn bound(&self) -> f64 {
-        if self.out.len() < self.k {
-            self.radius_sq
-        } else {
-            self.out[self.k - 1].dist_sq
-        }
-    }
-    #[inline]
-    fn offer(&mut self, id: u32, d: f64) {
-        if d > self.bound() {
-            return;
-        }
-        let full = self.out.len() >= self.k;
-        if full {
-            let w = self.out[self.k - 1];
-            if d == w.dist_sq && id > w.id {
-                return;
+    let mut acc = [[0.0; FANOUT]; BATCH];
+    for (d, &x) in q.iter().enumerate() {
+        for (a, row) in acc.iter_mut().zip(rows) {
+            let l = &row[d * FANOUT..(d + 1) * FANOUT];
+            let h = &row[(dim + d) * FANOUT..(dim + d + 1) * FANOUT];
+            for c in 0..FANOUT {
+                let below = l[c] as f64 - x;
+                let above = x - h[c] as f64;
+                // At most one of the two is positive (l <= h): the gap is exact.
+                let gap = if below > 0.0 { below } else { 0.0 } + if above > 0.0 { above } else { 0.0 };
+                a[c] += gap * gap;
             }
         }
-        let pos = self.out.partition_point(|n| n.dist_sq < d || (n.dist_sq == d && n.id < id));
-        if full {
-            self.out.pop();
+    }
+    *out = acc;
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn bounds_avx2(q: &[f64], rows: &[&[f32]; BATCH], out: &mut Bounds) {
+    // Same code in 4-wide lanes; no FMA is enabled, so the bounds are bit-identical.
+    bounds_generic(q, rows, out)
+}
+
+#[inline]
+fn bounds(q: &[f64], rows: &[&[f32]; BATCH], out: &mut Bounds) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the CPU supports AVX2, checked just above.
+            return unsafe { bounds_avx2(q, rows, out) };
         }
-        self.out.insert(pos, Neighbour { id, dist_sq: d });
+    }
+    bounds_generic(q, rows, out)
+}
+
+fn empty_row(dim: usize) -> Vec<f32> {
+    let mut row = vec![f32::INFINITY; 2 * dim * FANOUT];
+    row[dim * FANOUT..].iter_mut().for_each(|v| *v = f32::NEG_INFINITY);
+    row
+}
+
+/// Widen box `lane` of a row of boxes to hold `p`.
+fn widen(row: &mut [f32], lane: usize, p: &[f64]) {
+    let dim = p.len();
+    for (d, &v) in p.iter().enumerate() {
+        let (down, up) = outward(v);
+        let (lo, hi) = (d * FANOUT + lane, (dim + d) * FANOUT + lane);
+        if down < row[lo] {
+            row[lo] = down;
+        }
+        if up > row[hi] {
+            row[hi] = up;
+        }
     }
 }
 
 impl BlockIndex {
     pub fn new(dim: usize) -> Self {
-        BlockIndex { dim, len: 0, coords: Vec::new(), boxes: vec![Vec::new()] }
+        BlockIndex { dim, len: 0, coords: Chunked::new(dim * BLOCK, CHUNK_BLOCKS), boxes: vec![Self::level(dim)], empty: empty_row(dim) }
+    }
+
+    fn level(dim: usize) -> Chunked<f32> {
+        Chunked::new(2 * dim * FANOUT, CHUNK_BLOCKS / FANOUT)
+    }
+
+    fn n_blocks(&self) -> usize {
+        self.len.div_ceil(BLOCK)
+    }
+
+    /// Boxes on `level`: one per FANOUT^level blocks.
+    fn n_boxes(&self, level: usize) -> usize {
+        self.n_blocks().div_ceil(FANOUT.pow(level as u32))
     }
 
     /// The coordinates of point `id`, gathered into `out`.
     pub fn point(&self, id: usize, out: &mut [f64]) {
-        let (b, j) = (id / BLOCK, id % BLOCK);
-        let base = b * self.dim * BLOCK;
+        let block = self.coords.row(id / BLOCK);
+        let j = id % BLOCK;
         for (d, o) in out.iter_mut().enumerate().take(self.dim) {
-            *o = self.coords[base + d * BLOCK + j];
+            *o = block[d * BLOCK + j];
         }
     }
 
-    /// Bytes held per stored point (coordinates and boxes), for the memory benchmark.
+    /// Bytes held per stored point (coordinates and boxes).
     pub fn bytes_per_point(&self) -> f64 {
-        let bytes = self.coords.capacity() * 8 + self.boxes.iter().map(|b| b.capacity() * 4).sum::<usize>();
+        let bytes = self.coords.bytes() + self.boxes.iter().map(|b| b.bytes()).sum::<usize>();
         bytes as f64 / self.len.max(1) as f64
-    }
-
-    fn n_boxes(&self, level: usize) -> usize {
-        self.boxes[level].len() / (2 * self.dim)
-    }
-
-    #[inline]
-    fn bound(&self, level: usize, i: usize, q: &[f64]) -> f64 {
-        box_bound(q, &self.boxes[level][i * 2 * self.dim..(i + 1) * 2 * self.dim])
-    }
-
-    #[inline]
-    fn within(&self, level: usize, i: usize, q: &[f64], limit: f64) -> bool {
-        box_within(q, &self.boxes[level][i * 2 * self.dim..(i + 1) * 2 * self.dim], limit)
     }
 
     fn visit_block(&self, b: usize, q: &[f64], best: &mut TopK<'_>, acc: &mut [f64; BLOCK]) {
         let first = b * BLOCK;
         let count = (self.len - first).min(BLOCK);
-        distances(q, &self.coords[b * self.dim * BLOCK..(b + 1) * self.dim * BLOCK], BLOCK, count, acc);
+        distances(q, self.coords.row(b), BLOCK, count, acc);
         for (j, &d) in acc.iter().enumerate().take(count) {
             best.offer((first + j) as u32, d);
         }
     }
 
-    /// Depth first through box `i` of `level`, in insertion order, opening only boxes whose
-    /// bound does not exceed the k-th distance so far; `skip` is a level-1 box already done.
-    fn search(&self, level: usize, i: usize, q: &[f64], best: &mut TopK<'_>, acc: &mut [f64; BLOCK], skip: Option<usize>) {
-        if level == 0 {
-            return self.visit_block(i, q, best, acc);
-        }
-        if level == 1 && skip == Some(i) {
-            return;
-        }
-        let last = ((i + 1) * FANOUT).min(self.n_boxes(level - 1));
-        for c in i * FANOUT..last {
-            if self.within(level - 1, c, q, best.bound()) {
-                self.search(level - 1, c, q, best, acc, skip);
+    /// Bound the boxes of `rows` of `level` (at most BATCH rows), BATCH rows at a time; the
+    /// boxes within the k-th distance so far are visited (blocks, on level 0) or pushed to `next`.
+    fn open(&self, level: usize, rows: &[usize], q: &[f64], best: &mut TopK<'_>, acc: &mut [f64; BLOCK], next: &mut Vec<usize>) {
+        let boxes = &self.boxes[level];
+        let batch: [&[f32]; BATCH] = std::array::from_fn(|i| rows.get(i).map_or(&self.empty[..], |&r| boxes.row(r)));
+        let mut b = [[0.0; FANOUT]; BATCH];
+        bounds(q, &batch, &mut b);
+        let n = self.n_boxes(level);
+        for (&r, lanes) in rows.iter().zip(&b) {
+            for (c, &lb) in lanes.iter().enumerate() {
+                let i = r * FANOUT + c;
+                if i < n && lb <= best.bound() {
+                    if level == 0 {
+                        self.visit_block(i, q, best, acc);
+                    } else {
+                        next.push(i);
+                    }
+                }
             }
         }
     }
 
-    /// Without k points in hand the bound is only the radius: first take every point of the
-    /// level-1 box reached by always descending into the child of smallest bound.
-    fn seed(&self, q: &[f64], best: &mut TopK<'_>, acc: &mut [f64; BLOCK]) -> Option<usize> {
-        let top = self.boxes.len() - 1;
-        if top == 0 {
-            return None;
+    /// Down from the top, always into the nearest box, to a row of blocks; visits them and
+    /// returns that row (of level 0).
+    fn seed(&self, q: &[f64], best: &mut TopK<'_>, acc: &mut [f64; BLOCK]) -> usize {
+        let mut row = 0;
+        for level in (1..self.boxes.len()).rev() {
+            let mut b = [[0.0; FANOUT]; BATCH];
+            let mut batch = [&self.empty[..]; BATCH];
+            batch[0] = self.boxes[level].row(row);
+            bounds(q, &batch, &mut b);
+            let n = (self.n_boxes(level) - row * FANOUT).min(FANOUT);
+            let c = (0..n).min_by(|&x, &y| b[0][x].total_cmp(&b[0][y])).unwrap_or(0);
+            row = row * FANOUT + c;
         }
-        let nearest = |level: usize, from: usize, to: usize| (from..to).map(|c| (self.bound(level, c, q), c)).min_by(|a, b| a.0.total_cmp(&b.0));
-        let (mut lb, mut i) = nearest(top, 0, self.n_boxes(top))?;
-        for level in (1..top).rev() {
-            (lb, i) = nearest(level, i * FANOUT, ((i + 1) * FANOUT).min(self.n_boxes(level)))?;
-        }
-        if lb > best.bound() {
-            return None;
-        }
-        let last = ((i + 1) * FANOUT).min(self.n_boxes(0));
-        for b in i * FANOUT..last {
-            if self.within(0, b, q, best.bound()) {
-                self.visit_block(b, q, best, acc);
-            }
-        }
-        Some(i)
+        self.open(0, &[row], q, best, acc, &mut Vec::new());
+        row
     }
 }
 
@@ -244,58 +232,80 @@ impl NeighbourIndex for BlockIndex {
         let dim = self.dim;
         let (b, j) = (self.len / BLOCK, self.len % BLOCK);
         if j == 0 {
-            self.coords.resize(self.coords.len() + dim * BLOCK, 0.0);
-            // A new block: a new box on every level whose span it starts.
+            self.coords.push(&vec![0.0; dim * BLOCK]);
+            // A new block: a new box on every level whose span it starts, in a new row when it
+            // is the first of its row.
             let mut span = 1;
             for level in 0..self.boxes.len() {
-                if b % span == 0 {
-                    self.boxes[level].extend(empty_box(dim));
+                if b % (span * FANOUT) == 0 {
+                    self.boxes[level].push(&self.empty);
                 }
                 span *= FANOUT;
             }
-            // The top level outgrew its fan-out: a level above it, boxing all of it.
+            // The top level outgrew its single row: a level above, boxing each of its rows.
             let top = self.boxes.len() - 1;
-            if self.n_boxes(top) > FANOUT {
-                let mut above: Vec<f32> = Vec::new();
-                for chunk in self.boxes[top].chunks(2 * dim * FANOUT) {
-                    let mut bx: Vec<f32> = empty_box(dim).collect();
-                    for child in chunk.chunks_exact(2 * dim) {
+            if self.boxes[top].len() > 1 {
+                let mut row = self.empty.clone();
+                for g in 0..self.boxes[top].len() {
+                    let child = self.boxes[top].row(g);
+                    for c in 0..FANOUT {
                         for d in 0..dim {
-                            bx[d] = bx[d].min(child[d]);
-                            bx[dim + d] = bx[dim + d].max(child[dim + d]);
+                            let (lo, hi) = (d * FANOUT, (dim + d) * FANOUT);
+                            row[lo + g] = row[lo + g].min(child[lo + c]);
+                            row[hi + g] = row[hi + g].max(child[hi + c]);
                         }
                     }
-                    above.extend(bx);
                 }
+                let mut above = Self::level(dim);
+                above.push(&row);
                 self.boxes.push(above);
             }
         }
-        let base = b * dim * BLOCK;
+        let block = self.coords.last_mut();
         for (d, &v) in point.iter().enumerate() {
-            self.coords[base + d * BLOCK + j] = v;
+            block[d * BLOCK + j] = v;
         }
         let mut i = b;
         for level in self.boxes.iter_mut() {
-            widen(&mut level[i * 2 * dim..(i + 1) * 2 * dim], dim, point);
+            widen(level.last_mut(), i % FANOUT, point);
             i /= FANOUT;
         }
         self.len += 1;
     }
 
     fn knn_within(&self, query: &[f64], k: usize, radius_sq: f64, out: &mut Vec<Neighbour>) {
-        out.clear();
         if k == 0 || self.len == 0 {
+            out.clear();
             return;
         }
-        let mut best = TopK { out, k, radius_sq };
+        let mut best = TopK::new(out, k, radius_sq);
         let mut acc = [0.0; BLOCK];
-        let seeded = if best.out.len() < k { self.seed(query, &mut best, &mut acc) } else { None };
-        let top = self.boxes.len() - 1;
-        for i in 0..self.n_boxes(top) {
-            if self.within(top, i, query, best.bound()) {
-                self.search(top, i, query, &mut best, &mut acc, seeded);
+        // Nothing bounds the search yet: the nearest blocks first give it a k-th distance.
+        let seeded = (best.bound() == f64::INFINITY).then(|| self.seed(query, &mut best, &mut acc));
+        let (mut rows, mut next) = (vec![0usize], Vec::new());
+        for level in (0..self.boxes.len()).rev() {
+            if level == 0 {
+                rows.retain(|&r| Some(r) != seeded);
             }
+            for batch in rows.chunks(BATCH) {
+                self.open(level, batch, query, &mut best, &mut acc, &mut next);
+            }
+            std::mem::swap(&mut rows, &mut next);
+            next.clear();
         }
+    }
+}
+
+impl PointIndex for BlockIndex {
+    fn point(&self, id: usize, out: &mut [f64]) {
+        BlockIndex::point(self, id, out)
+    }
+
+    fn dist_sq_to(&self, id: usize, query: &[f64]) -> f64 {
+        let block = self.coords.row(id / BLOCK);
+        let j = id % BLOCK;
+        // Summed in dimension order from 0, as `dist_sq` sums: the same bits.
+        query.iter().enumerate().map(|(d, q)| (q - block[d * BLOCK + j]) * (q - block[d * BLOCK + j])).sum()
     }
 }
 
@@ -373,7 +383,7 @@ mod tests {
     #[test]
     fn radius_and_growth_match_brute_force() {
         let dim = 15;
-        // 9,000 points: 563 blocks under four levels of boxes, each level growing in turn.
+        // 9,000 points: 563 blocks under four levels of boxes, queried as rows and levels begin.
         let pts = trajectory(9000, dim, 0.05, 700, 21);
         let mut idx = BlockIndex::new(dim);
         let mut bf = BruteForce::new(dim);
@@ -382,7 +392,7 @@ mod tests {
         for (i, p) in pts.chunks_exact(dim).enumerate() {
             idx.add(p);
             bf.add(p);
-            if i % 211 == 0 || i < 40 || (i + 1) % (BLOCK * FANOUT * FANOUT) == 0 {
+            if i % 211 == 0 || i < 40 || (i + 1) % (BLOCK * FANOUT * FANOUT) == 0 || (i + 1) % (BLOCK * FANOUT) == 1 {
                 let q: Vec<f64> = (0..dim).map(|_| uniform(&mut r, -0.8, 0.8)).collect();
                 for &radius in &[0.0, 0.05, 0.5, 4.0, f64::INFINITY] {
                     bf.knn_within(&q, 45, radius, &mut a);

@@ -7,7 +7,8 @@
 use nalgebra::DMatrix;
 
 pub use crate::config::low_level::EpisodicConfig;
-use crate::kd_tree::{distances, KdTree};
+use crate::kd_tree::KdTree;
+use crate::neighbours::distances;
 use crate::local_model::pinv_apply_wide;
 use crate::neighbours::{dist_sq, Neighbour, NeighbourIndex};
 use crate::task_space::{point, sub, Point};

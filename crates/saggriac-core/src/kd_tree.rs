@@ -1,4 +1,6 @@
-//! Our own exact, incremental k-d tree for the sensorimotor memory.
+//! Our own exact, incremental k-d tree, for the episodic memory (unordered movements in a few
+//! dimensions, where boxes over insertion order do not prune; see `block_index.rs` for the
+//! micro-action memory).
 //!
 //! Why not only the `kdtree` crate: its search allocates a vector at every node it visits and
 //! keeps a heap of nodes, which dominated our profiles (see benchmarks/). This tree keeps each
@@ -6,7 +8,7 @@
 //! radius (the warm start), and orders by (distance, id) so it returns exactly what the
 //! brute-force reference returns, ties included.
 
-use crate::neighbours::{Neighbour, NeighbourIndex};
+use crate::neighbours::{distances, Neighbour, NeighbourIndex, TopK};
 
 const BUCKET: usize = 48;
 
@@ -49,39 +51,6 @@ enum Node {
     Inner { dim: usize, value: f64, left: usize, right: usize },
 }
 
-/// Squared distances from q to the first `len` points of a dimension-major block, summed over
-/// dimensions in order, exactly as `neighbours::dist_sq` sums them (same bits).
-#[inline(always)]
-fn block_dist_sq(q: &[f64], coords: &[f64], cap: usize, len: usize, acc: &mut [f64]) {
-    let acc = &mut acc[..len];
-    acc.iter_mut().for_each(|a| *a = 0.0);
-    for (d, &qd) in q.iter().enumerate() {
-        let row = &coords[d * cap..d * cap + len];
-        for (a, c) in acc.iter_mut().zip(row) {
-            let e = qd - c;
-            *a += e * e;
-        }
-    }
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-unsafe fn block_dist_sq_avx2(q: &[f64], coords: &[f64], cap: usize, len: usize, acc: &mut [f64]) {
-    // Same code compiled for 4-wide lanes; no FMA is enabled, so results are bit-identical.
-    block_dist_sq(q, coords, cap, len, acc)
-}
-
-pub(crate) fn distances(q: &[f64], coords: &[f64], cap: usize, len: usize, acc: &mut [f64]) {
-    #[cfg(target_arch = "x86_64")]
-    {
-        if std::arch::is_x86_feature_detected!("avx2") {
-            // SAFETY: the CPU supports AVX2, checked just above.
-            return unsafe { block_dist_sq_avx2(q, coords, cap, len, acc) };
-        }
-    }
-    block_dist_sq(q, coords, cap, len, acc)
-}
-
 #[derive(Debug, Clone)]
 pub struct KdTree {
     dim: usize,
@@ -93,44 +62,6 @@ pub struct KdTree {
     /// comes later badly, so the tree is rebuilt balanced each time its size doubles
     /// (amortised O(log n) per insertion).
     built_at: usize,
-}
-
-/// The k best so far, kept sorted by (distance, id); k is small (tens), so insertion into a
-/// sorted array beats a heap.
-struct Best<'a> {
-    out: &'a mut Vec<Neighbour>,
-    k: usize,
-    radius_sq: f64,
-    acc: Vec<f64>,
-}
-
-impl Best<'_> {
-    #[inline]
-    fn worst(&self) -> f64 {
-        if self.out.len() < self.k {
-            self.radius_sq
-        } else {
-            self.out[self.k - 1].dist_sq
-        }
-    }
-    #[inline]
-    fn offer(&mut self, id: u32, d: f64) {
-        if d > self.radius_sq {
-            return;
-        }
-        let full = self.out.len() >= self.k;
-        if full {
-            let w = &self.out[self.k - 1];
-            if d > w.dist_sq || (d == w.dist_sq && id > w.id) {
-                return;
-            }
-        }
-        let pos = self.out.partition_point(|n| n.dist_sq < d || (n.dist_sq == d && n.id < id));
-        if full {
-            self.out.pop();
-        }
-        self.out.insert(pos, Neighbour { id, dist_sq: d });
-    }
 }
 
 impl KdTree {
@@ -294,31 +225,28 @@ impl KdTree {
         self.nodes[node] = Node::Inner { dim, value, left, right };
     }
 
-    fn search(&self, node: usize, q: &[f64], best: &mut Best<'_>) {
+    fn search(&self, node: usize, q: &[f64], best: &mut TopK<'_>, acc: &mut Vec<f64>) {
         match &self.nodes[node] {
             Node::Leaf(leaf) => {
                 let len = leaf.ids.len();
-                if best.acc.len() < len {
-                    best.acc.resize(len, 0.0);
+                if acc.len() < len {
+                    acc.resize(len, 0.0);
                 }
-                distances(q, &leaf.coords, leaf.cap, len, &mut best.acc);
-                for j in 0..len {
-                    let dsq = best.acc[j];
-                    if dsq <= best.worst() {
-                        best.offer(leaf.ids[j], dsq);
-                    }
+                distances(q, &leaf.coords, leaf.cap, len, acc);
+                for (j, &dsq) in acc.iter().enumerate().take(len) {
+                    best.offer(leaf.ids[j], dsq);
                 }
             }
             Node::Inner { dim, value, left, right } => {
                 let (near, far) = if q[*dim] < *value { (*left, *right) } else { (*right, *left) };
-                if self.box_within(near, q, best.worst()) {
-                    self.search(near, q, best);
+                if self.box_within(near, q, best.bound()) {
+                    self.search(near, q, best, acc);
                 }
                 // The far side lies beyond the cut plane: a one-coordinate test first, the tight
                 // box only if the plane is close enough.
                 let plane = q[*dim] - *value;
-                if plane * plane <= best.worst() && self.box_within(far, q, best.worst()) {
-                    self.search(far, q, best);
+                if plane * plane <= best.bound() && self.box_within(far, q, best.bound()) {
+                    self.search(far, q, best, acc);
                 }
             }
         }
@@ -362,9 +290,10 @@ impl NeighbourIndex for KdTree {
         if k == 0 || self.len == 0 {
             return;
         }
-        let mut best = Best { out, k, radius_sq, acc: vec![0.0; 2 * BUCKET] };
+        let mut best = TopK::new(out, k, radius_sq);
+        let mut acc = vec![0.0; 2 * BUCKET];
         if self.box_within(0, query, radius_sq) {
-            self.search(0, query, &mut best);
+            self.search(0, query, &mut best, &mut acc);
         }
     }
 }
@@ -372,7 +301,7 @@ impl NeighbourIndex for KdTree {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::neighbours::reference::{assert_matches_brute, assert_warm_start_exact};
+    use crate::neighbours::reference::assert_matches_brute;
     use crate::rng::{rng_from_seed, uniform};
 
     fn compare(points: &[f64], dim: usize, queries: &[f64], k: usize) {
@@ -418,8 +347,4 @@ mod tests {
         }
     }
 
-    #[test]
-    fn warm_start_on_our_tree_is_exact() {
-        assert_warm_start_exact(&mut KdTree::new(15), 6000, 250, 45, 8);
-    }
 }

@@ -11,6 +11,7 @@ pub mod ask_tell;
 pub mod block_index;
 pub mod body;
 pub mod checkpoint;
+pub mod chunked;
 pub mod competence;
 pub mod config;
 pub mod episodic_memory;

@@ -118,7 +118,7 @@ impl LocalModel {
                 *o += x / k;
             }
         }
-        let radius = neighbours.iter().map(|nb| crate::neighbours::dist_sq(mem.theta(nb.id as usize), &centre)).fold(0.0, f64::max).sqrt();
+        let radius = neighbours.iter().map(|nb| crate::neighbours::dist_sq(&mem.theta(nb.id as usize), &centre)).fold(0.0, f64::max).sqrt();
         let mut d: Vec<f64> = theta.iter().zip(&centre).map(|(t, c)| t - c).collect();
         let norm = d.iter().map(|v| v * v).sum::<f64>().sqrt();
         if norm > radius && norm > 0.0 {

@@ -1,31 +1,55 @@
 //! Sensorimotor memory: every executed micro-action (theta, dtheta, dx) with the end-effector
-//! position x before it, plus the neighbour index over theta that the local models query.
+//! position x before it. The configurations theta live in the neighbour index itself (the block
+//! index keeps them in its blocks), so each is stored once. A clone is a snapshot: the storage is
+//! chunked and shared, so an evaluation can read the memory as it was while learning goes on.
 
 use crate::block_index::BlockIndex;
+use crate::chunked::Chunked;
 pub use crate::config::model::IndexKind;
-use crate::kd_tree::KdTree;
-use crate::neighbours::{BruteForce, KdTreeIndex, Neighbour, NeighbourIndex, WarmStart};
+use crate::neighbours::{BruteForce, Neighbour, PointIndex, WarmStart};
 
+/// Samples per chunk of the dtheta, dx and x arrays.
+const CHUNK: usize = 1024;
+
+#[derive(Debug, Clone)]
+enum Index {
+    Blocks(BlockIndex),
+    BruteForce(BruteForce),
+}
+
+impl Index {
+    fn get(&self) -> &dyn PointIndex {
+        match self {
+            Index::Blocks(b) => b,
+            Index::BruteForce(b) => b,
+        }
+    }
+    fn get_mut(&mut self) -> &mut dyn PointIndex {
+        match self {
+            Index::Blocks(b) => b,
+            Index::BruteForce(b) => b,
+        }
+    }
+}
+
+#[derive(Debug, Clone)]
 pub struct SensorimotorMemory {
     n: usize,
     m: usize,
-    theta: Vec<f64>,
-    dtheta: Vec<f64>,
-    dx: Vec<f64>,
-    x: Vec<f64>,
-    index: Box<dyn NeighbourIndex>,
+    index: Index,
+    dtheta: Chunked<f64>,
+    dx: Chunked<f64>,
+    x: Chunked<f64>,
     rejected: u64,
 }
 
 impl SensorimotorMemory {
     pub fn new(n: usize, m: usize, kind: IndexKind) -> Self {
-        let index: Box<dyn NeighbourIndex> = match kind {
-            IndexKind::KdTree => Box::new(KdTree::new(n)),
-            IndexKind::KdTreeCrate => Box::new(KdTreeIndex::new(n)),
-            IndexKind::BruteForce => Box::new(BruteForce::new(n)),
-            IndexKind::Blocks => Box::new(BlockIndex::new(n)),
+        let index = match kind {
+            IndexKind::Blocks => Index::Blocks(BlockIndex::new(n)),
+            IndexKind::BruteForce => Index::BruteForce(BruteForce::new(n)),
         };
-        SensorimotorMemory { n, m, theta: Vec::new(), dtheta: Vec::new(), dx: Vec::new(), x: Vec::new(), index, rejected: 0 }
+        SensorimotorMemory { n, m, index, dtheta: Chunked::new(n, CHUNK), dx: Chunked::new(m, CHUNK), x: Chunked::new(m, CHUNK), rejected: 0 }
     }
 
     pub fn n_joints(&self) -> usize {
@@ -35,14 +59,18 @@ impl SensorimotorMemory {
         self.m
     }
     pub fn len(&self) -> usize {
-        self.index.len()
+        self.dx.len()
     }
     pub fn is_empty(&self) -> bool {
         self.len() == 0
     }
     /// Every stored sample as (theta, dtheta, dx, x) arrays, row by row (for checkpoints).
-    pub fn arrays(&self) -> [&[f64]; 4] {
-        [&self.theta, &self.dtheta, &self.dx, &self.x]
+    pub fn arrays(&self) -> [Vec<f64>; 4] {
+        let mut theta = vec![0.0; self.len() * self.n];
+        for (i, row) in theta.chunks_exact_mut(self.n.max(1)).enumerate().take(self.len()) {
+            self.index.get().point(i, row);
+        }
+        [theta, self.dtheta.to_vec(), self.dx.to_vec(), self.x.to_vec()]
     }
     pub(crate) fn set_rejected(&mut self, n: u64) {
         self.rejected = n;
@@ -61,38 +89,45 @@ impl SensorimotorMemory {
             self.rejected += 1;
             return false;
         }
-        self.theta.extend_from_slice(theta);
-        self.dtheta.extend_from_slice(dtheta);
-        self.dx.extend_from_slice(dx);
-        self.x.extend_from_slice(x);
-        self.index.add(theta);
+        self.index.get_mut().add(theta);
+        self.dtheta.push(dtheta);
+        self.dx.push(dx);
+        self.x.push(x);
         true
     }
 
-    pub fn theta(&self, i: usize) -> &[f64] {
-        &self.theta[i * self.n..(i + 1) * self.n]
+    /// Configuration of sample `i`, written into `out`.
+    pub fn theta_into(&self, i: usize, out: &mut [f64]) {
+        self.index.get().point(i, out)
+    }
+    /// Configuration of sample `i` (allocates; `theta_into` does not).
+    pub fn theta(&self, i: usize) -> Vec<f64> {
+        let mut t = vec![0.0; self.n];
+        self.theta_into(i, &mut t);
+        t
     }
     pub fn dtheta(&self, i: usize) -> &[f64] {
-        &self.dtheta[i * self.n..(i + 1) * self.n]
+        self.dtheta.row(i)
     }
     pub fn dx(&self, i: usize) -> &[f64] {
-        &self.dx[i * self.m..(i + 1) * self.m]
+        self.dx.row(i)
     }
     pub fn x(&self, i: usize) -> &[f64] {
-        &self.x[i * self.m..(i + 1) * self.m]
+        self.x.row(i)
     }
 
     /// Exact k nearest stored configurations, cold search.
     pub fn knn(&self, query: &[f64], k: usize, out: &mut Vec<Neighbour>) {
-        self.index.knn(query, k, out)
+        self.index.get().knn(query, k, out)
     }
 
     /// Exact k nearest stored configurations, warm-started from `ws` (see `WarmStart`).
     pub fn knn_warm(&self, ws: &mut WarmStart, query: &[f64], k: usize, out: &mut Vec<Neighbour>) {
-        ws.knn(self.index.as_ref(), &self.theta, query, k, out)
+        ws.knn(self.index.get(), query, k, out)
     }
 
-    /// Bytes held per stored sample by the arrays of this struct (the index adds its own).
+    /// Bytes of payload per stored sample (theta, dtheta, dx and x as f64; the index's boxes
+    /// and the last chunk's spare room come on top).
     pub fn sample_bytes(&self) -> usize {
         (2 * self.n + 2 * self.m) * std::mem::size_of::<f64>()
     }

@@ -2,8 +2,6 @@
 //! the index can change without touching the learner. Ties are broken by insertion id so that
 //! every implementation returns the same answer as the brute-force reference.
 
-use kdtree::KdTree;
-
 /// One neighbour: the id of the stored point (its insertion order) and its squared distance.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Neighbour {
@@ -23,6 +21,84 @@ pub fn dist_sq(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| (x - y) * (x - y)).sum()
 }
 
+/// Squared distances from q to the first `len` points of a dimension-major block (coordinate d
+/// of point j at `d * cap + j`), summed over dimensions in order, exactly as `dist_sq` sums
+/// them (same bits).
+#[inline(always)]
+fn block_dist_sq(q: &[f64], coords: &[f64], cap: usize, len: usize, acc: &mut [f64]) {
+    let acc = &mut acc[..len];
+    acc.iter_mut().for_each(|a| *a = 0.0);
+    for (d, &qd) in q.iter().enumerate() {
+        let row = &coords[d * cap..d * cap + len];
+        for (a, c) in acc.iter_mut().zip(row) {
+            let e = qd - c;
+            *a += e * e;
+        }
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn block_dist_sq_avx2(q: &[f64], coords: &[f64], cap: usize, len: usize, acc: &mut [f64]) {
+    // Same code compiled for 4-wide lanes; no FMA is enabled, so results are bit-identical.
+    block_dist_sq(q, coords, cap, len, acc)
+}
+
+/// `block_dist_sq` in AVX2 lanes where the CPU has them.
+#[inline]
+pub(crate) fn distances(q: &[f64], coords: &[f64], cap: usize, len: usize, acc: &mut [f64]) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the CPU supports AVX2, checked just above.
+            return unsafe { block_dist_sq_avx2(q, coords, cap, len, acc) };
+        }
+    }
+    block_dist_sq(q, coords, cap, len, acc)
+}
+
+/// The k best so far, sorted by (distance, id), within the radius; k is small (tens), so
+/// insertion into a sorted array beats a heap.
+pub(crate) struct TopK<'a> {
+    out: &'a mut Vec<Neighbour>,
+    k: usize,
+    radius_sq: f64,
+}
+
+impl<'a> TopK<'a> {
+    pub(crate) fn new(out: &'a mut Vec<Neighbour>, k: usize, radius_sq: f64) -> Self {
+        out.clear();
+        TopK { out, k, radius_sq }
+    }
+    /// Distance a point must not exceed to matter (the k-th so far, or the radius).
+    #[inline]
+    pub(crate) fn bound(&self) -> f64 {
+        if self.out.len() < self.k {
+            self.radius_sq
+        } else {
+            self.out[self.k - 1].dist_sq
+        }
+    }
+    #[inline]
+    pub(crate) fn offer(&mut self, id: u32, d: f64) {
+        if d > self.bound() {
+            return;
+        }
+        let full = self.out.len() >= self.k;
+        if full {
+            let w = self.out[self.k - 1];
+            if d == w.dist_sq && id > w.id {
+                return;
+            }
+        }
+        let pos = self.out.partition_point(|n| n.dist_sq < d || (n.dist_sq == d && n.id < id));
+        if full {
+            self.out.pop();
+        }
+        self.out.insert(pos, Neighbour { id, dist_sq: d });
+    }
+}
+
 /// An incremental, exact neighbour index. Points get ids 0, 1, 2, ... in insertion order.
 pub trait NeighbourIndex: Send + Sync {
     fn dim(&self) -> usize;
@@ -38,6 +114,15 @@ pub trait NeighbourIndex: Send + Sync {
     fn knn(&self, query: &[f64], k: usize, out: &mut Vec<Neighbour>) {
         self.knn_within(query, k, f64::INFINITY, out)
     }
+}
+
+/// An index that is also where its points' coordinates live (the memory keeps theta only in
+/// its index), so they can be read back by id.
+pub trait PointIndex: NeighbourIndex {
+    /// The coordinates of point `id`, written into `out`.
+    fn point(&self, id: usize, out: &mut [f64]);
+    /// `dist_sq(query, point id)`, with the same bits.
+    fn dist_sq_to(&self, id: usize, query: &[f64]) -> f64;
 }
 
 /// Full scan: the reference every other index is tested against, and the fastest choice for a
@@ -84,62 +169,12 @@ impl NeighbourIndex for BruteForce {
     }
 }
 
-/// Exact k-d tree from the `kdtree` crate (runtime dimension, incremental insertion, copes with
-/// the many identical rest poses).
-pub struct KdTreeIndex {
-    dim: usize,
-    tree: KdTree<f64, u32, Box<[f64]>>,
-}
-
-impl KdTreeIndex {
-    pub fn new(dim: usize) -> Self {
-        KdTreeIndex { dim, tree: KdTree::with_capacity(dim, 32) }
+impl PointIndex for BruteForce {
+    fn point(&self, id: usize, out: &mut [f64]) {
+        out.copy_from_slice(&self.data[id * self.dim..(id + 1) * self.dim]);
     }
-}
-
-impl NeighbourIndex for KdTreeIndex {
-    fn dim(&self) -> usize {
-        self.dim
-    }
-    fn len(&self) -> usize {
-        self.tree.size()
-    }
-    fn add(&mut self, point: &[f64]) {
-        let id = self.tree.size() as u32;
-        // Only non-finite coordinates or a wrong dimension can fail; the memory rejects both first.
-        self.tree.add(point.to_vec().into_boxed_slice(), id).expect("finite point of the right dimension");
-    }
-    fn knn_within(&self, query: &[f64], k: usize, radius_sq: f64, out: &mut Vec<Neighbour>) {
-        out.clear();
-        if k == 0 || self.tree.size() == 0 {
-            return;
-        }
-        let radius = if radius_sq.is_finite() { Some(radius_sq) } else { None };
-        let dist = |a: &[f64], b: &[f64]| dist_sq(a, b);
-        // Ask for one more than needed: if the extra one is strictly farther, the k-th distance
-        // has no tie outside the answer and the crate's arbitrary tie order cannot matter.
-        let found = self.tree.nearest_within_radius(query, k + 1, radius, &dist).expect("query of the right dimension");
-        out.extend(found.iter().map(|(d, &id)| Neighbour { id, dist_sq: *d }));
-        if out.len() <= k {
-            out.sort_unstable_by(order);
-            return;
-        }
-        let kth = out[k - 1].dist_sq;
-        if out[k].dist_sq > kth {
-            out.truncate(k);
-            out.sort_unstable_by(order);
-            return;
-        }
-        // A tie straddles the cut: gather every point at exactly the k-th distance and keep the
-        // lowest ids, as the brute-force reference does.
-        out.retain(|n| n.dist_sq < kth);
-        let mut scratch = Vec::new();
-        let ties = self.tree.within(query, kth, &dist).expect("query of the right dimension");
-        scratch.extend(ties.into_iter().filter(|(d, _)| *d == kth).map(|(d, &id)| Neighbour { id, dist_sq: d }));
-        scratch.sort_unstable_by(order);
-        let need = k - out.len();
-        out.extend(scratch.iter().take(need).copied());
-        out.sort_unstable_by(order);
+    fn dist_sq_to(&self, id: usize, query: &[f64]) -> f64 {
+        dist_sq(query, &self.data[id * self.dim..(id + 1) * self.dim])
     }
 }
 
@@ -165,10 +200,8 @@ impl WarmStart {
         self.previous.clear();
     }
 
-    /// The exact k nearest neighbours of `query` among the points of `index`, whose coordinates
-    /// are also stored row by row in `points` (id i at `points[i*dim..(i+1)*dim]`).
-    pub fn knn(&mut self, index: &dyn NeighbourIndex, points: &[f64], query: &[f64], k: usize, out: &mut Vec<Neighbour>) {
-        let dim = index.dim();
+    /// The exact k nearest neighbours of `query` among the points of `index`.
+    pub fn knn<I: PointIndex + ?Sized>(&mut self, index: &I, query: &[f64], k: usize, out: &mut Vec<Neighbour>) {
         let n = index.len();
         self.candidates.clear();
         let first_recent = n.saturating_sub(self.recent);
@@ -176,11 +209,11 @@ impl WarmStart {
             let id = id as usize;
             // Recent ids are added below; skipping them here keeps candidates distinct.
             if id < first_recent {
-                self.candidates.push(dist_sq(query, &points[id * dim..(id + 1) * dim]));
+                self.candidates.push(index.dist_sq_to(id, query));
             }
         }
         for id in first_recent..n {
-            self.candidates.push(dist_sq(query, &points[id * dim..(id + 1) * dim]));
+            self.candidates.push(index.dist_sq_to(id, query));
         }
         let radius = if k > 0 && self.candidates.len() >= k {
             let (_, kth, _) = self.candidates.select_nth_unstable_by(k - 1, |a, b| a.total_cmp(b));
@@ -222,10 +255,9 @@ pub(crate) mod reference {
 
     /// Drive a warm-started search along a random walk with resets to zero (the arm's pattern)
     /// and compare each answer with a full scan.
-    pub fn assert_warm_start_exact(index: &mut dyn NeighbourIndex, steps: usize, reset_every: usize, k: usize, seed: u64) {
+    pub fn assert_warm_start_exact<I: PointIndex + ?Sized>(index: &mut I, steps: usize, reset_every: usize, k: usize, seed: u64) {
         let dim = index.dim();
         let mut bf = BruteForce::new(dim);
-        let mut pts = Vec::new();
         let mut r = rng_from_seed(seed);
         let mut theta = vec![0.0; dim];
         let mut ws = WarmStart::new(8);
@@ -237,11 +269,10 @@ pub(crate) mod reference {
             }
             theta.iter_mut().for_each(|t| *t += uniform(&mut r, -0.02, 0.02));
             bf.knn(&theta, k, &mut a);
-            ws.knn(index, &pts, &theta, k, &mut b);
+            ws.knn(index, &theta, k, &mut b);
             assert_eq!(a, b, "step {step}");
             bf.add(&theta);
             index.add(&theta);
-            pts.extend_from_slice(&theta);
         }
     }
 }
@@ -250,6 +281,7 @@ pub(crate) mod reference {
 mod tests {
     use super::reference::{assert_matches_brute, assert_warm_start_exact};
     use super::*;
+    use crate::block_index::BlockIndex;
     use crate::rng::{rng_from_seed, uniform};
 
     fn random_points(n: usize, dim: usize, seed: u64) -> Vec<f64> {
@@ -258,11 +290,11 @@ mod tests {
     }
 
     fn check_against_brute(points: &[f64], dim: usize, queries: &[f64], k: usize) {
-        assert_matches_brute(&mut KdTreeIndex::new(dim), points, queries, k);
+        assert_matches_brute(&mut BlockIndex::new(dim), points, queries, k);
     }
 
     #[test]
-    fn kdtree_matches_brute_force_random() {
+    fn block_index_matches_brute_force_random() {
         let dim = 15;
         let pts = random_points(3000, dim, 1);
         let qs = random_points(50, dim, 2);
@@ -270,7 +302,7 @@ mod tests {
     }
 
     #[test]
-    fn kdtree_matches_brute_force_with_duplicates() {
+    fn block_index_matches_brute_force_with_duplicates() {
         // Many identical rest poses plus a trajectory leaving them, like the arm's data.
         let dim = 15;
         let mut pts = vec![0.0; 500 * dim];
@@ -291,12 +323,12 @@ mod tests {
 
     #[test]
     fn warm_start_is_exact_along_a_trajectory() {
-        assert_warm_start_exact(&mut KdTreeIndex::new(15), 4000, 300, 20, 5);
+        assert_warm_start_exact(&mut BlockIndex::new(15), 4000, 300, 20, 5);
     }
 
     #[test]
     fn fewer_points_than_k() {
-        let mut kd = KdTreeIndex::new(2);
+        let mut kd = BlockIndex::new(2);
         kd.add(&[0.0, 0.0]);
         kd.add(&[1.0, 0.0]);
         let mut out = Vec::new();

@@ -90,7 +90,7 @@ fn memory_bits(l: &Learner) -> Vec<u64> {
     let m = l.memory();
     let mut out = Vec::new();
     for i in 0..m.len() {
-        for part in [m.theta(i), m.dtheta(i), m.dx(i), m.x(i)] {
+        for part in [&m.theta(i)[..], m.dtheta(i), m.dx(i), m.x(i)] {
             out.extend(part.iter().map(|v| v.to_bits()));
         }
     }
@@ -217,8 +217,8 @@ fn exact_neighbour_search_variants_learn_the_same() {
     // Warm-started and cold searches, over the default index or the full scan, are all exact
     // and break ties by id, so they must drive the arm through the very same trajectory.
     let reference = light_reference();
-    assert_eq!((reference.config().index, reference.config().warm_start_recent), (IndexKind::KdTree, 8));
-    for (index, warm) in [(IndexKind::KdTree, 0), (IndexKind::KdTree, 1), (IndexKind::BruteForce, 8), (IndexKind::BruteForce, 0)] {
+    assert_eq!((reference.config().index, reference.config().warm_start_recent), (IndexKind::Blocks, 8));
+    for (index, warm) in [(IndexKind::Blocks, 0), (IndexKind::Blocks, 1), (IndexKind::BruteForce, 8), (IndexKind::BruteForce, 0)] {
         let mut cfg = light_config(vec![N_STEPS]);
         cfg.index = index;
         cfg.warm_start_recent = warm;

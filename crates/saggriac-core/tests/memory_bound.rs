@@ -1,6 +1,6 @@
 //! The memory bound of docs/performance.md, checked in CI on a smaller memory (its own test
-//! binary, so no other test allocates meanwhile): at n = 15 a stored sample, arrays and k-d
-//! tree together, takes at most 600 bytes of resident memory. benchmarks/bench_memory.py checks
+//! binary, so no other test allocates meanwhile): at n = 15 a stored sample, arrays and the block
+//! index together, takes at most 300 bytes of resident memory. benchmarks/bench_memory.py checks
 //! it at 1,000,000 samples.
 
 use saggriac_core::memory::{IndexKind, SensorimotorMemory};
@@ -19,7 +19,7 @@ fn bytes_per_sample_stay_within_the_bound() {
         return;
     };
     let (n, samples) = (15, 300_000);
-    let mut mem = SensorimotorMemory::new(n, 2, IndexKind::KdTree);
+    let mut mem = SensorimotorMemory::new(n, 2, IndexKind::Blocks);
     let mut rng = rng_from_seed(3);
     let mut theta = vec![0.0; n];
     let mut d = vec![0.0; n];
@@ -32,7 +32,7 @@ fn bytes_per_sample_stay_within_the_bound() {
         theta.iter_mut().zip(&d).for_each(|(t, v)| *t += v);
     }
     let per = (rss_bytes().unwrap() - before) as f64 / samples as f64;
-    assert!(per <= 600.0, "{per:.0} bytes per sample, above the bound of 600");
+    assert!(per <= 300.0, "{per:.0} bytes per sample, above the bound of 300");
     assert!(per >= mem.sample_bytes() as f64, "{per:.0} bytes per sample cannot be below the arrays' {}", mem.sample_bytes());
     assert_eq!(mem.len(), samples);
 }

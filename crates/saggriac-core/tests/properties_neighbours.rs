@@ -10,7 +10,9 @@ use proptest::prelude::*;
 
 use common::cases;
 use saggriac_core::memory::{IndexKind, SensorimotorMemory};
-use saggriac_core::neighbours::{BruteForce, KdTreeIndex, Neighbour, NeighbourIndex, WarmStart};
+use saggriac_core::block_index::BlockIndex;
+use saggriac_core::kd_tree::KdTree;
+use saggriac_core::neighbours::{BruteForce, Neighbour, NeighbourIndex, WarmStart};
 use saggriac_core::rng::{index, rng_from_seed, uniform, unit};
 
 #[derive(Debug, Clone, Copy)]
@@ -73,15 +75,16 @@ fn key(v: &[Neighbour]) -> Vec<(u32, u64)> {
     v.iter().map(|n| (n.id, n.dist_sq.to_bits())).collect()
 }
 
+/// The arm's 15 joints, the task spaces (1-3), and any other size up to 100 joints.
 fn dims() -> impl Strategy<Value = usize> {
-    prop_oneof![Just(1usize), Just(2), Just(15)]
+    prop_oneof![Just(1usize), Just(2), Just(3), Just(15), 4usize..=100]
 }
 
 proptest! {
     #![proptest_config(cases(128))]
 
     #[test]
-    fn kdtree_equals_brute_force(
+    fn indexes_equal_brute_force(
         dim in dims(),
         kind in cloud(),
         n in prop_oneof![4 => 0usize..300, 1 => 1000usize..1400],
@@ -90,16 +93,19 @@ proptest! {
     ) {
         let pts = make_cloud(kind, n, dim, seed);
         let mut bf = BruteForce::new(dim);
-        let mut kd = KdTreeIndex::new(dim);
-        // The memory's default index, whatever type backs it.
-        let mut mem = SensorimotorMemory::new(dim, 1, IndexKind::KdTree);
+        // The episodic memory's k-d tree, the block index, and the memory's default index.
+        let mut kd = KdTree::new(dim);
+        let mut blocks = BlockIndex::new(dim);
+        let mut mem = SensorimotorMemory::new(dim, 1, IndexKind::Blocks);
         let zeros = vec![0.0; dim];
         for p in pts.chunks_exact(dim) {
             bf.add(p);
             kd.add(p);
+            blocks.add(p);
             prop_assert!(mem.add(p, &zeros, &[0.0], &[0.0]));
         }
         prop_assert_eq!(kd.len(), n);
+        prop_assert_eq!(blocks.len(), n);
         prop_assert_eq!(mem.len(), n);
         let (mut a, mut b) = (Vec::new(), Vec::new());
         let mut r = rng_from_seed(seed ^ 0xabc);
@@ -109,7 +115,9 @@ proptest! {
                 kd.knn(&q, kk, &mut b);
                 prop_assert_eq!(a.len(), kk.min(n));
                 prop_assert!(a.windows(2).all(|w| (w[0].dist_sq, w[0].id) < (w[1].dist_sq, w[1].id)), "brute force not sorted by (distance, id)");
-                prop_assert_eq!(key(&a), key(&b), "knn k={} q={:?}", kk, q);
+                prop_assert_eq!(key(&a), key(&b), "k-d tree knn k={} q={:?}", kk, q);
+                blocks.knn(&q, kk, &mut b);
+                prop_assert_eq!(key(&a), key(&b), "block index knn k={} q={:?}", kk, q);
                 mem.knn(&q, kk, &mut b);
                 prop_assert_eq!(key(&a), key(&b), "memory knn k={} q={:?}", kk, q);
             }
@@ -123,7 +131,9 @@ proptest! {
             bf.knn_within(&q, k, radius, &mut a);
             kd.knn_within(&q, k, radius, &mut b);
             prop_assert!(a.iter().all(|nb| nb.dist_sq <= radius));
-            prop_assert_eq!(key(&a), key(&b), "knn_within k={} radius={} q={:?}", k, radius, q);
+            prop_assert_eq!(key(&a), key(&b), "k-d tree knn_within k={} radius={} q={:?}", k, radius, q);
+            blocks.knn_within(&q, k, radius, &mut b);
+            prop_assert_eq!(key(&a), key(&b), "block index knn_within k={} radius={} q={:?}", k, radius, q);
         }
     }
 
@@ -146,13 +156,12 @@ proptest! {
     ) {
         let mut r = rng_from_seed(seed);
         let mut bf = BruteForce::new(dim);
-        let mut kd = KdTreeIndex::new(dim);
-        let mut pts: Vec<f64> = Vec::new();
-        // Warm start over the k-d tree, and over the brute-force index itself.
-        let mut ws_kd = WarmStart::new(recent);
+        let mut blocks = BlockIndex::new(dim);
+        // Warm start over the block index, and over the brute-force index itself.
+        let mut ws_blocks = WarmStart::new(recent);
         let mut ws_bf = WarmStart::new(recent);
         // And over the memory's default index.
-        let mut mem = SensorimotorMemory::new(dim, 1, IndexKind::KdTree);
+        let mut mem = SensorimotorMemory::new(dim, 1, IndexKind::Blocks);
         let mut ws_mem = WarmStart::new(recent);
         let zeros = vec![0.0; dim];
         let mut theta = vec![0.0; dim];
@@ -161,7 +170,7 @@ proptest! {
             if step % reset_every == 0 {
                 theta.iter_mut().for_each(|t| *t = 0.0);
                 if clear_on_reset {
-                    ws_kd.clear();
+                    ws_blocks.clear();
                     ws_bf.clear();
                     ws_mem.clear();
                 }
@@ -173,17 +182,16 @@ proptest! {
                 theta.iter_mut().for_each(|t| *t += uniform(&mut r, -step_size, step_size));
             }
             bf.knn(&theta, k, &mut a);
-            ws_kd.knn(&kd, &pts, &theta, k, &mut b);
-            ws_bf.knn(&bf, &pts, &theta, k, &mut c);
+            ws_blocks.knn(&blocks, &theta, k, &mut b);
+            ws_bf.knn(&bf, &theta, k, &mut c);
             prop_assert_eq!(a.len(), k.min(step));
-            prop_assert_eq!(key(&a), key(&b), "warm start over the k-d tree, step {}", step);
+            prop_assert_eq!(key(&a), key(&b), "warm start over the block index, step {}", step);
             prop_assert_eq!(key(&a), key(&c), "warm start over brute force, step {}", step);
             mem.knn_warm(&mut ws_mem, &theta, k, &mut c);
             prop_assert_eq!(key(&a), key(&c), "warm start over the memory's index, step {}", step);
             mem.add(&theta, &zeros, &[0.0], &[0.0]);
             bf.add(&theta);
-            kd.add(&theta);
-            pts.extend_from_slice(&theta);
+            blocks.add(&theta);
         }
     }
 }

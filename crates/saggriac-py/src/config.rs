@@ -118,7 +118,7 @@ pub fn run_config_from_dict(d: &Bound<'_, PyDict>) -> PyResult<RunConfig> {
     c.eval.timeout_min = get(d, "eval_timeout_min", c.eval.timeout_min, "an int >= 1")?;
     c.eval.schedule = get(d, "eval_schedule", c.eval.schedule, "a list of ints >= 0")?;
     let index: String = get(d, "knn_index", c.index.name().to_string(), "a str")?;
-    c.index = IndexKind::parse(&index).ok_or_else(|| to_py(py, invalid("Config", "knn_index", "one of 'kdtree', 'kdtree_crate', 'brute_force', 'blocks'", format!("'{index}'"))))?;
+    c.index = IndexKind::parse(&index).ok_or_else(|| to_py(py, invalid("Config", "knn_index", "one of 'blocks', 'brute_force'", format!("'{index}'"))))?;
     c.warm_start_recent = get(d, "warm_start_recent", c.warm_start_recent, "an int >= 0")?;
     c.babble_step = get(d, "babble_step", c.babble_step, "a float")?;
     c.actuator_reset_every = get(d, "actuator_reset_every", c.actuator_reset_every, "an int >= 0")?;

@@ -127,7 +127,7 @@ impl Default for RunConfig {
             modes: ModeProbabilities::default(),
             reset_every: 2,
             eval: EvalConfig::default(),
-            index: IndexKind::KdTree,
+            index: IndexKind::Blocks,
             warm_start_recent: 8,
             babble_step: 0.01,
             actuator_reset_every: 0,

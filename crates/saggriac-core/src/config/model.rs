@@ -37,34 +37,27 @@ impl LocalModelConfig {
 /// Smallest relative cutoff of the pseudo-inverse (see `local_model::pinv_apply_wide`).
 pub const MIN_RCOND: f64 = 1e-6;
 
-/// Which exact neighbour index backs the memory.
+/// Which exact neighbour index backs the memory (both give the same answers, bit for bit).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum IndexKind {
-    /// Our k-d tree (`kd_tree.rs`), the default.
-    KdTree,
-    /// The `kdtree` crate, kept as a second exact implementation to compare against.
-    KdTreeCrate,
-    BruteForce,
-    /// Boxes over runs of consecutive samples (`block_index.rs`).
+    /// Boxes over runs of consecutive samples (`block_index.rs`), the default.
     Blocks,
+    /// A full scan: the reference the block index is tested against.
+    BruteForce,
 }
 
 impl IndexKind {
     pub fn parse(s: &str) -> Option<Self> {
         match s {
-            "kdtree" => Some(IndexKind::KdTree),
-            "kdtree_crate" => Some(IndexKind::KdTreeCrate),
-            "brute_force" => Some(IndexKind::BruteForce),
             "blocks" => Some(IndexKind::Blocks),
+            "brute_force" => Some(IndexKind::BruteForce),
             _ => None,
         }
     }
     pub fn name(&self) -> &'static str {
         match self {
-            IndexKind::KdTree => "kdtree",
-            IndexKind::KdTreeCrate => "kdtree_crate",
-            IndexKind::BruteForce => "brute_force",
             IndexKind::Blocks => "blocks",
+            IndexKind::BruteForce => "brute_force",
         }
     }
 }
