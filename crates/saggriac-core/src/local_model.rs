@@ -18,22 +18,32 @@ pub enum FitFailure {
     Degenerate,
 }
 
+/// Columns of the Gram matrix accumulated together by `fit`: enough independent sums to keep
+/// the floating-point units busy, few enough to stay in registers.
+const LANES: usize = 8;
+
 /// Workspace for local fits; reused across calls so the hot loop does not allocate matrices.
 pub struct LocalModel {
     pub cfg: LocalModelConfig,
     n: usize,
     m: usize,
-    gram: DMatrix<f64>,
-    rhs: DMatrix<f64>,
+    /// n x n, column-major, lower triangle: the regularised Gram matrix, then its Cholesky factor.
+    gram: Vec<f64>,
+    /// n x m, column-major: the right-hand side, then J^T.
+    rhs: Vec<f64>,
     /// The current Jacobian estimate (m x n).
     jac: DMatrix<f64>,
-    gram_buf: Vec<f64>,
-    rhs_buf: Vec<f64>,
+    /// Per neighbour, its weighted joint motion w dtheta (n values).
+    wd: Vec<f64>,
+    /// Per neighbour, dtheta then dx, padded to `stride` values (plus `LANES` at the end).
+    rows: Vec<f64>,
+    stride: usize,
 }
 
 impl LocalModel {
     pub fn new(n: usize, m: usize, cfg: LocalModelConfig) -> Self {
-        LocalModel { cfg, n, m, gram: DMatrix::zeros(n, n), rhs: DMatrix::zeros(n, m), jac: DMatrix::zeros(m, n), gram_buf: vec![0.0; n * n], rhs_buf: vec![0.0; n * m] }
+        let stride = (n + m).div_ceil(LANES) * LANES;
+        LocalModel { cfg, n, m, gram: vec![0.0; n * n], rhs: vec![0.0; n * m], jac: DMatrix::zeros(m, n), wd: Vec::new(), rows: Vec::new(), stride }
     }
 
     pub fn jacobian(&self) -> &DMatrix<f64> {
@@ -45,55 +55,68 @@ impl LocalModel {
         if neighbours.len() < self.cfg.k_neighbours.min(mem.len()).max(1) || mem.len() < self.cfg.k_neighbours {
             return Err(FitFailure::NotEnoughData);
         }
-        let (n, m) = (self.n, self.m);
-        // Accumulate in flat buffers (upper triangle of the Gram matrix): this loop runs at every
-        // reaching step, and plain slices let the compiler drop bounds checks and vectorise.
-        self.gram_buf.iter_mut().for_each(|v| *v = 0.0);
-        self.rhs_buf.iter_mut().for_each(|v| *v = 0.0);
+        let (n, m, stride) = (self.n, self.m, self.stride);
+        let (k, width) = (neighbours.len(), n + m);
         // Gaussian weights with a bandwidth set by the median neighbour: the Jacobian changes
         // across the neighbourhood, so the closest samples should dominate.
         let h2 = neighbours[neighbours.len() / 2].dist_sq.max(1e-300) * self.cfg.bandwidth;
-        let mut wd = vec![0.0; n];
-        for nb in neighbours {
+        self.wd.resize(k * n, 0.0);
+        self.rows.resize(k * stride + LANES, 0.0);
+        for (i, nb) in neighbours.iter().enumerate() {
             let w = if self.cfg.bandwidth > 0.0 { (-nb.dist_sq / h2).exp() } else { 1.0 };
             let dth = mem.dtheta(nb.id as usize);
-            let dx = mem.dx(nb.id as usize);
-            for (o, d) in wd.iter_mut().zip(dth) {
+            for (o, d) in self.wd[i * n..(i + 1) * n].iter_mut().zip(dth) {
                 *o = w * d;
             }
-            for a in 0..n {
-                let da = wd[a];
-                let row = &mut self.gram_buf[a * n..(a + 1) * n];
-                for (g, d) in row[a..].iter_mut().zip(&dth[a..]) {
-                    *g += da * d;
+            let row = &mut self.rows[i * stride..i * stride + width];
+            row[..n].copy_from_slice(dth);
+            row[n..].copy_from_slice(mem.dx(nb.id as usize));
+        }
+        // Entry (a, b) of [Gram | rhs] is sum_i wd_i[a] * row_i[b], summed over the neighbours
+        // in order from 0.0 as a plain running sum would; each sum is kept in a register across
+        // the neighbours instead of being loaded and stored per neighbour. Rows b >= a of column
+        // a of `gram` form the lower triangle, which is all the Cholesky factorisation reads.
+        for a in 0..n {
+            for b0 in (a..width).step_by(LANES) {
+                let mut acc = [0.0f64; LANES];
+                for (row, &da) in self.rows[b0..].chunks(stride).zip(self.wd[a..].iter().step_by(n)) {
+                    let r: &[f64; LANES] = row[..LANES].try_into().unwrap();
+                    for (s, x) in acc.iter_mut().zip(r) {
+                        *s += da * x;
+                    }
                 }
-                let r = &mut self.rhs_buf[a * m..(a + 1) * m];
-                for (o, x) in r.iter_mut().zip(dx) {
-                    *o += da * x;
+                for (b, &v) in (b0..width.min(b0 + LANES)).zip(&acc) {
+                    if b < n {
+                        self.gram[a * n + b] = v;
+                    } else {
+                        self.rhs[(b - n) * n + a] = v;
+                    }
                 }
             }
         }
-        let trace: f64 = (0..n).map(|a| self.gram_buf[a * n + a]).sum();
+        let trace: f64 = (0..n).map(|a| self.gram[a * n + a]).sum();
         if !(trace.is_finite() && trace > 0.0) {
             return Err(FitFailure::Degenerate);
         }
         let lambda = self.cfg.ridge * trace / n as f64;
+        // Off the diagonal the old code added 0.0, a no-op: a sum started at +0.0 is never -0.0.
         for a in 0..n {
-            for b in a..n {
-                let v = self.gram_buf[a * n + b] + if a == b { lambda } else { 0.0 };
-                self.gram[(a, b)] = v;
-                self.gram[(b, a)] = v;
-            }
-            for j in 0..m {
-                self.rhs[(a, j)] = self.rhs_buf[a * m + j];
-            }
+            self.gram[a * n + a] += lambda;
         }
-        let chol = self.gram.clone().cholesky().ok_or(FitFailure::Degenerate)?;
-        let jt = chol.solve(&self.rhs);
-        if !jt.iter().all(|v| v.is_finite()) {
+        if !cholesky_in_place(&mut self.gram, n) {
             return Err(FitFailure::Degenerate);
         }
-        self.jac.copy_from(&jt.transpose());
+        for b in self.rhs.chunks_exact_mut(n) {
+            cholesky_solve_in_place(&self.gram, n, b);
+        }
+        if !self.rhs.iter().all(|v| v.is_finite()) {
+            return Err(FitFailure::Degenerate);
+        }
+        for (a, col) in self.jac.as_mut_slice().chunks_exact_mut(m).enumerate() {
+            for (j, v) in col.iter_mut().enumerate() {
+                *v = self.rhs[j * n + a];
+            }
+        }
         Ok(())
     }
 
@@ -108,7 +131,15 @@ impl LocalModel {
     /// meaningless, so it extrapolates no further than the data extends.
     pub fn predict_x(&self, mem: &SensorimotorMemory, neighbours: &[Neighbour], theta: &[f64], out: &mut [f64]) {
         let k = neighbours.len().max(1) as f64;
-        let mut centre = vec![0.0; self.n];
+        let n = self.n;
+        // Scratch for the centroid and d on the stack for arms of up to 32 joints.
+        let (mut small, mut large) = ([0.0; 64], Vec::new());
+        let (centre, d) = if n <= 32 {
+            small[..2 * n].split_at_mut(n)
+        } else {
+            large.resize(2 * n, 0.0);
+            large.split_at_mut(n)
+        };
         out.iter_mut().for_each(|v| *v = 0.0);
         for nb in neighbours {
             for (c, t) in centre.iter_mut().zip(mem.theta(nb.id as usize)) {
@@ -118,8 +149,10 @@ impl LocalModel {
                 *o += x / k;
             }
         }
-        let radius = neighbours.iter().map(|nb| crate::neighbours::dist_sq(mem.theta(nb.id as usize), &centre)).fold(0.0, f64::max).sqrt();
-        let mut d: Vec<f64> = theta.iter().zip(&centre).map(|(t, c)| t - c).collect();
+        let radius = neighbours.iter().map(|nb| crate::neighbours::dist_sq(mem.theta(nb.id as usize), centre)).fold(0.0, f64::max).sqrt();
+        for ((o, t), c) in d.iter_mut().zip(theta).zip(&*centre) {
+            *o = t - c;
+        }
         let norm = d.iter().map(|v| v * v).sum::<f64>().sqrt();
         if norm > radius && norm > 0.0 {
             d.iter_mut().for_each(|v| *v *= radius / norm);
@@ -128,6 +161,70 @@ impl LocalModel {
             *o += (0..self.n).map(|a| self.jac[(j, a)] * d[a]).sum::<f64>();
         }
     }
+}
+
+/// `Cholesky::new` of nalgebra 0.35 on the lower triangle of the column-major n x n `g`, the
+/// same operations in the same order, without its per-column views: false where nalgebra
+/// returns None (a zero, negative or NaN pivot).
+fn cholesky_in_place(g: &mut [f64], n: usize) -> bool {
+    for j in 0..n {
+        let (left, right) = g.split_at_mut(j * n);
+        let col_j = &mut right[j..n];
+        for k in 0..j {
+            // nalgebra's axpy: y = (f * x) * 1 + 1 * y, which is y + f * x bit for bit.
+            let f = -left[k * n + j];
+            for (y, x) in col_j.iter_mut().zip(&left[k * n + j..(k + 1) * n]) {
+                *y += f * x;
+            }
+        }
+        let diag = col_j[0];
+        if diag <= 0.0 || diag.is_nan() {
+            return false;
+        }
+        let denom = diag.sqrt();
+        col_j[0] = denom;
+        for v in &mut col_j[1..] {
+            *v /= denom;
+        }
+    }
+    true
+}
+
+/// nalgebra 0.35's `Cholesky::solve_mut` for one column `b`, given the factor from
+/// `cholesky_in_place`: forward substitution, then back substitution with its dot product.
+fn cholesky_solve_in_place(l: &[f64], n: usize, b: &mut [f64]) {
+    for i in 0..n {
+        let coeff = b[i] / l[i * n + i];
+        b[i] = coeff;
+        for (y, x) in b[i + 1..].iter_mut().zip(&l[i * n + i + 1..(i + 1) * n]) {
+            *y += -coeff * x;
+        }
+    }
+    for i in (0..n).rev() {
+        let dot = nalgebra_dot(&l[i * n + i + 1..(i + 1) * n], &b[i + 1..n]);
+        b[i] = (b[i] - dot) / l[i * n + i];
+    }
+}
+
+/// The dot product of two dynamically sized vectors as nalgebra 0.35 sums it (`dotx`): eight
+/// running sums over blocks of eight, combined pairwise into a total, then the remainder.
+fn nalgebra_dot(a: &[f64], b: &[f64]) -> f64 {
+    let mut acc = [0.0f64; 8];
+    let blocks = a.len() / 8;
+    for (x, y) in a.chunks_exact(8).zip(b.chunks_exact(8)) {
+        for t in 0..8 {
+            acc[t] += x[t] * y[t];
+        }
+    }
+    let mut res = 0.0;
+    res += acc[0] + acc[4];
+    res += acc[1] + acc[5];
+    res += acc[2] + acc[6];
+    res += acc[3] + acc[7];
+    for (x, y) in a[blocks * 8..].iter().zip(&b[blocks * 8..]) {
+        res += x * y;
+    }
+    res
 }
 
 /// J+ dx for a wide J (m x n, m <= n) through the symmetric eigen-decomposition of the small
@@ -143,7 +240,13 @@ pub fn pinv_apply_wide(j: &DMatrix<f64>, dx: &[f64], rcond: f64, dtheta: &mut [f
         return pinv_apply_svd(j, dx, rcond, dtheta);
     }
     let rcond = rcond.max(MIN_RCOND);
-    let jjt = j * j.transpose();
+    let jjt = if m <= 5 {
+        // What nalgebra's gemm computes for a product this small (it calls matrixmultiply only
+        // above 5 rows), without building J^T: sum_l J[r,l] J[c,l], from the l = 0 term on.
+        DMatrix::from_fn(m, m, |r, c| (1..n).fold(j[(r, 0)] * j[(c, 0)], |s, l| j[(r, l)] * j[(c, l)] + s))
+    } else {
+        j * j.transpose()
+    };
     if !jjt.iter().all(|v| v.is_finite()) {
         return Err(FitFailure::Degenerate);
     }
@@ -154,7 +257,13 @@ pub fn pinv_apply_wide(j: &DMatrix<f64>, dx: &[f64], rcond: f64, dtheta: &mut [f
     }
     let cut = rcond * rcond * smax2;
     // y = U S^-2 U^T dx, then dtheta = J^T y.
-    let mut y = vec![0.0; m];
+    let (mut y_small, mut y_large) = ([0.0; 4], Vec::new());
+    let y: &mut [f64] = if m <= 4 {
+        &mut y_small[..m]
+    } else {
+        y_large.resize(m, 0.0);
+        &mut y_large
+    };
     for c in 0..m {
         let s2 = eig.eigenvalues[c];
         if s2 <= cut {
@@ -299,5 +408,202 @@ mod tests {
         assert_eq!(small.fit(&mem, &nb), Err(FitFailure::NotEnoughData));
         assert!(!mem.add(&[f64::NAN; 3], &[0.0; 3], &[0.0; 2], &[0.0; 2]));
         assert_eq!((mem.len(), mem.rejected()), (5, 1));
+    }
+
+    /// The fit and pseudo-inverse as they were before the allocation-free rewrite, kept to check
+    /// that the rewrite gives the same bits.
+    mod before {
+        use super::super::*;
+
+        pub fn fit(cfg: &LocalModelConfig, n: usize, m: usize, mem: &SensorimotorMemory, neighbours: &[Neighbour]) -> Result<DMatrix<f64>, FitFailure> {
+            if neighbours.len() < cfg.k_neighbours.min(mem.len()).max(1) || mem.len() < cfg.k_neighbours {
+                return Err(FitFailure::NotEnoughData);
+            }
+            let mut gram_buf = vec![0.0; n * n];
+            let mut rhs_buf = vec![0.0; n * m];
+            let h2 = neighbours[neighbours.len() / 2].dist_sq.max(1e-300) * cfg.bandwidth;
+            let mut wd = vec![0.0; n];
+            for nb in neighbours {
+                let w = if cfg.bandwidth > 0.0 { (-nb.dist_sq / h2).exp() } else { 1.0 };
+                let dth = mem.dtheta(nb.id as usize);
+                let dx = mem.dx(nb.id as usize);
+                for (o, d) in wd.iter_mut().zip(dth) {
+                    *o = w * d;
+                }
+                for a in 0..n {
+                    let da = wd[a];
+                    let row = &mut gram_buf[a * n..(a + 1) * n];
+                    for (g, d) in row[a..].iter_mut().zip(&dth[a..]) {
+                        *g += da * d;
+                    }
+                    let r = &mut rhs_buf[a * m..(a + 1) * m];
+                    for (o, x) in r.iter_mut().zip(dx) {
+                        *o += da * x;
+                    }
+                }
+            }
+            let trace: f64 = (0..n).map(|a| gram_buf[a * n + a]).sum();
+            if !(trace.is_finite() && trace > 0.0) {
+                return Err(FitFailure::Degenerate);
+            }
+            let lambda = cfg.ridge * trace / n as f64;
+            let (mut gram, mut rhs) = (DMatrix::zeros(n, n), DMatrix::zeros(n, m));
+            for a in 0..n {
+                for b in a..n {
+                    let v = gram_buf[a * n + b] + if a == b { lambda } else { 0.0 };
+                    gram[(a, b)] = v;
+                    gram[(b, a)] = v;
+                }
+                for j in 0..m {
+                    rhs[(a, j)] = rhs_buf[a * m + j];
+                }
+            }
+            let chol = gram.clone().cholesky().ok_or(FitFailure::Degenerate)?;
+            let jt = chol.solve(&rhs);
+            if !jt.iter().all(|v| v.is_finite()) {
+                return Err(FitFailure::Degenerate);
+            }
+            Ok(jt.transpose())
+        }
+
+        /// `thetas` holds the stored configurations row by row (instead of `mem.theta`).
+        pub fn predict_x(jac: &DMatrix<f64>, n: usize, mem: &SensorimotorMemory, thetas: &[f64], neighbours: &[Neighbour], theta: &[f64], out: &mut [f64]) {
+            let stored = |i: u32| &thetas[i as usize * n..(i as usize + 1) * n];
+            let k = neighbours.len().max(1) as f64;
+            let mut centre = vec![0.0; n];
+            out.iter_mut().for_each(|v| *v = 0.0);
+            for nb in neighbours {
+                for (c, t) in centre.iter_mut().zip(stored(nb.id)) {
+                    *c += t / k;
+                }
+                for (o, x) in out.iter_mut().zip(mem.x(nb.id as usize)) {
+                    *o += x / k;
+                }
+            }
+            let radius = neighbours.iter().map(|nb| crate::neighbours::dist_sq(stored(nb.id), &centre)).fold(0.0, f64::max).sqrt();
+            let mut d: Vec<f64> = theta.iter().zip(&centre).map(|(t, c)| t - c).collect();
+            let norm = d.iter().map(|v| v * v).sum::<f64>().sqrt();
+            if norm > radius && norm > 0.0 {
+                d.iter_mut().for_each(|v| *v *= radius / norm);
+            }
+            for (j, o) in out.iter_mut().enumerate() {
+                *o += (0..n).map(|a| jac[(j, a)] * d[a]).sum::<f64>();
+            }
+        }
+
+        pub fn pinv_apply_wide(j: &DMatrix<f64>, dx: &[f64], rcond: f64, dtheta: &mut [f64]) -> Result<(), FitFailure> {
+            let m = j.nrows();
+            let rcond = rcond.max(MIN_RCOND);
+            let jjt = j * j.transpose();
+            if !jjt.iter().all(|v| v.is_finite()) {
+                return Err(FitFailure::Degenerate);
+            }
+            let eig = jjt.symmetric_eigen();
+            let smax2 = eig.eigenvalues.iter().cloned().fold(0.0f64, f64::max);
+            if !(smax2.is_finite() && smax2 > 0.0) {
+                return Err(FitFailure::Degenerate);
+            }
+            let cut = rcond * rcond * smax2;
+            let mut y = vec![0.0; m];
+            for c in 0..m {
+                let s2 = eig.eigenvalues[c];
+                if s2 <= cut {
+                    continue;
+                }
+                let u = eig.eigenvectors.column(c);
+                let proj: f64 = (0..m).map(|r| u[r] * dx[r]).sum::<f64>() / s2;
+                for r in 0..m {
+                    y[r] += u[r] * proj;
+                }
+            }
+            for (a, out) in dtheta.iter_mut().enumerate() {
+                *out = (0..m).map(|r| j[(r, a)] * y[r]).sum();
+            }
+            if !dtheta.iter().all(|v| v.is_finite()) {
+                return Err(FitFailure::Degenerate);
+            }
+            Ok(())
+        }
+    }
+
+    fn same_bits(a: &[f64], b: &[f64]) -> bool {
+        a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits())
+    }
+
+    /// A value of a sample: mostly uniform at `scale`, sometimes an exact (signed) zero, a tiny or
+    /// a repeated value, so that sums of zeros and ties happen.
+    fn sample_value(r: &mut crate::rng::CoreRng, scale: f64) -> f64 {
+        match crate::rng::index(r, 20) {
+            0 => 0.0,
+            1 => -0.0,
+            2 => 1e-160 * uniform(r, -1.0, 1.0),
+            3 => scale,
+            _ => uniform(r, -scale, scale),
+        }
+    }
+
+    #[test]
+    fn fit_and_inverse_give_the_same_bits_as_before() {
+        let cases: usize = std::env::var("SAGGRIAC_FIT_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(3000);
+        let mut r = rng_from_seed(77);
+        let shapes = [(15, 2), (15, 3), (6, 2), (7, 7), (3, 1), (1, 1), (9, 6)];
+        let (mut compared, mut fitted) = (0usize, 0usize);
+        for &(n, m) in &shapes {
+            let mut mem = SensorimotorMemory::new(n, m, IndexKind::BruteForce);
+            let mut thetas = Vec::new();
+            for i in 0..300 {
+                let th: Vec<f64> = (0..n).map(|_| uniform(&mut r, -1.0, 1.0)).collect();
+                // Some samples without joint motion, as a blocked arm stores.
+                let scale = if i % 17 == 0 { 0.0 } else { 0.05 };
+                let d: Vec<f64> = (0..n).map(|_| sample_value(&mut r, scale)).collect();
+                let dx: Vec<f64> = (0..m).map(|_| sample_value(&mut r, 2.0)).collect();
+                let x: Vec<f64> = (0..m).map(|_| sample_value(&mut r, 30.0)).collect();
+                assert!(mem.add(&th, &d, &dx, &x));
+                thetas.extend_from_slice(&th);
+            }
+            let mut models: Vec<(LocalModelConfig, LocalModel)> = [(45, 1e-3, 1.0), (10, 1e-9, 0.0), (3, 0.0, 2.0), (60, 1e-1, 0.5)]
+                .iter()
+                .map(|&(k, ridge, bandwidth)| {
+                    let cfg = LocalModelConfig { k_neighbours: k, ridge, pinv_rcond: 1e-2, bandwidth };
+                    (cfg.clone(), LocalModel::new(n, m, cfg))
+                })
+                .collect();
+            let mut nb = Vec::new();
+            for c in 0..cases / shapes.len() {
+                let (cfg, model) = &mut models[c % 4];
+                let k = cfg.k_neighbours + crate::rng::index(&mut r, 4);
+                if c % 3 == 0 {
+                    // Arbitrary ids with duplicates and unsorted distances.
+                    nb = (0..k).map(|_| Neighbour { id: crate::rng::index(&mut r, mem.len()) as u32, dist_sq: sample_value(&mut r, 3.0).abs() }).collect();
+                } else {
+                    let q: Vec<f64> = (0..n).map(|_| uniform(&mut r, -1.0, 1.0)).collect();
+                    mem.knn(&q, k, &mut nb);
+                }
+                let new = model.fit(&mem, &nb).map(|_| model.jacobian().clone());
+                let old = before::fit(cfg, n, m, &mem, &nb);
+                match (&new, &old) {
+                    (Ok(a), Ok(b)) => assert!(same_bits(a.as_slice(), b.as_slice()), "J differs for n {n} m {m} case {c}"),
+                    _ => assert_eq!(new.as_ref().err(), old.as_ref().err(), "n {n} m {m} case {c}"),
+                }
+                compared += 1;
+                let Ok(j) = old else { continue };
+                fitted += 1;
+                // Near the neighbours (inside their radius) and far away (shortened).
+                let spread = [0.01, 10.0][c % 2];
+                let near = nb[0].id as usize * n;
+                let theta: Vec<f64> = thetas[near..near + n].iter().map(|t| t + uniform(&mut r, -spread, spread)).collect();
+                let (mut pa, mut pb) = (vec![0.0; m], vec![0.0; m]);
+                model.predict_x(&mem, &nb, &theta, &mut pa);
+                before::predict_x(&j, n, &mem, &thetas, &nb, &theta, &mut pb);
+                assert!(same_bits(&pa, &pb), "prediction differs for n {n} m {m} case {c}");
+                let dx: Vec<f64> = (0..m).map(|_| sample_value(&mut r, 1.0)).collect();
+                let (mut a, mut b) = (vec![0.0; n], vec![0.0; n]);
+                let rcond = [1e-2, 1e-6, 0.5][c % 3];
+                let (ra, rb) = (pinv_apply_wide(&j, &dx, rcond, &mut a), before::pinv_apply_wide(&j, &dx, rcond, &mut b));
+                assert_eq!(ra, rb);
+                assert!(ra.is_err() || same_bits(&a, &b), "pinv differs for n {n} m {m} case {c}");
+            }
+        }
+        assert!(fitted > compared / 2, "{fitted} of {compared} fits succeeded");
     }
 }
