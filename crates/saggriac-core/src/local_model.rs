@@ -131,15 +131,7 @@ impl LocalModel {
     /// meaningless, so it extrapolates no further than the data extends.
     pub fn predict_x(&self, mem: &SensorimotorMemory, neighbours: &[Neighbour], theta: &[f64], out: &mut [f64]) {
         let k = neighbours.len().max(1) as f64;
-        let n = self.n;
-        // Scratch for the centroid and d on the stack for arms of up to 32 joints.
-        let (mut small, mut large) = ([0.0; 64], Vec::new());
-        let (centre, d) = if n <= 32 {
-            small[..2 * n].split_at_mut(n)
-        } else {
-            large.resize(2 * n, 0.0);
-            large.split_at_mut(n)
-        };
+        let mut centre = vec![0.0; self.n];
         out.iter_mut().for_each(|v| *v = 0.0);
         for nb in neighbours {
             for (c, t) in centre.iter_mut().zip(mem.theta(nb.id as usize)) {
@@ -149,10 +141,8 @@ impl LocalModel {
                 *o += x / k;
             }
         }
-        let radius = neighbours.iter().map(|nb| crate::neighbours::dist_sq(mem.theta(nb.id as usize), centre)).fold(0.0, f64::max).sqrt();
-        for ((o, t), c) in d.iter_mut().zip(theta).zip(&*centre) {
-            *o = t - c;
-        }
+        let radius = neighbours.iter().map(|nb| crate::neighbours::dist_sq(mem.theta(nb.id as usize), &centre)).fold(0.0, f64::max).sqrt();
+        let mut d: Vec<f64> = theta.iter().zip(&centre).map(|(t, c)| t - c).collect();
         let norm = d.iter().map(|v| v * v).sum::<f64>().sqrt();
         if norm > radius && norm > 0.0 {
             d.iter_mut().for_each(|v| *v *= radius / norm);
@@ -240,13 +230,7 @@ pub fn pinv_apply_wide(j: &DMatrix<f64>, dx: &[f64], rcond: f64, dtheta: &mut [f
         return pinv_apply_svd(j, dx, rcond, dtheta);
     }
     let rcond = rcond.max(MIN_RCOND);
-    let jjt = if m <= 5 {
-        // What nalgebra's gemm computes for a product this small (it calls matrixmultiply only
-        // above 5 rows), without building J^T: sum_l J[r,l] J[c,l], from the l = 0 term on.
-        DMatrix::from_fn(m, m, |r, c| (1..n).fold(j[(r, 0)] * j[(c, 0)], |s, l| j[(r, l)] * j[(c, l)] + s))
-    } else {
-        j * j.transpose()
-    };
+    let jjt = j * j.transpose();
     if !jjt.iter().all(|v| v.is_finite()) {
         return Err(FitFailure::Degenerate);
     }
@@ -257,13 +241,7 @@ pub fn pinv_apply_wide(j: &DMatrix<f64>, dx: &[f64], rcond: f64, dtheta: &mut [f
     }
     let cut = rcond * rcond * smax2;
     // y = U S^-2 U^T dx, then dtheta = J^T y.
-    let (mut y_small, mut y_large) = ([0.0; 4], Vec::new());
-    let y: &mut [f64] = if m <= 4 {
-        &mut y_small[..m]
-    } else {
-        y_large.resize(m, 0.0);
-        &mut y_large
-    };
+    let mut y = vec![0.0; m];
     for c in 0..m {
         let s2 = eig.eigenvalues[c];
         if s2 <= cut {
