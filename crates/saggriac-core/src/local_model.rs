@@ -18,22 +18,32 @@ pub enum FitFailure {
     Degenerate,
 }
 
+/// Columns of the Gram matrix accumulated together by `fit`: enough independent sums to keep
+/// the floating-point units busy, few enough to stay in registers.
+const LANES: usize = 8;
+
 /// Workspace for local fits; reused across calls so the hot loop does not allocate matrices.
 pub struct LocalModel {
     pub cfg: LocalModelConfig,
     n: usize,
     m: usize,
-    gram: DMatrix<f64>,
-    rhs: DMatrix<f64>,
+    /// n x n, column-major, lower triangle: the regularised Gram matrix, then its Cholesky factor.
+    gram: Vec<f64>,
+    /// n x m, column-major: the right-hand side, then J^T.
+    rhs: Vec<f64>,
     /// The current Jacobian estimate (m x n).
     jac: DMatrix<f64>,
-    gram_buf: Vec<f64>,
-    rhs_buf: Vec<f64>,
+    /// Per neighbour, its weighted joint motion w dtheta (n values).
+    wd: Vec<f64>,
+    /// Per neighbour, dtheta then dx, padded to `stride` values (plus `LANES` at the end).
+    rows: Vec<f64>,
+    stride: usize,
 }
 
 impl LocalModel {
     pub fn new(n: usize, m: usize, cfg: LocalModelConfig) -> Self {
-        LocalModel { cfg, n, m, gram: DMatrix::zeros(n, n), rhs: DMatrix::zeros(n, m), jac: DMatrix::zeros(m, n), gram_buf: vec![0.0; n * n], rhs_buf: vec![0.0; n * m] }
+        let stride = (n + m).div_ceil(LANES) * LANES;
+        LocalModel { cfg, n, m, gram: vec![0.0; n * n], rhs: vec![0.0; n * m], jac: DMatrix::zeros(m, n), wd: Vec::new(), rows: Vec::new(), stride }
     }
 
     pub fn jacobian(&self) -> &DMatrix<f64> {
@@ -45,55 +55,68 @@ impl LocalModel {
         if neighbours.len() < self.cfg.k_neighbours.min(mem.len()).max(1) || mem.len() < self.cfg.k_neighbours {
             return Err(FitFailure::NotEnoughData);
         }
-        let (n, m) = (self.n, self.m);
-        // Accumulate in flat buffers (upper triangle of the Gram matrix): this loop runs at every
-        // reaching step, and plain slices let the compiler drop bounds checks and vectorise.
-        self.gram_buf.iter_mut().for_each(|v| *v = 0.0);
-        self.rhs_buf.iter_mut().for_each(|v| *v = 0.0);
+        let (n, m, stride) = (self.n, self.m, self.stride);
+        let (k, width) = (neighbours.len(), n + m);
         // Gaussian weights with a bandwidth set by the median neighbour: the Jacobian changes
         // across the neighbourhood, so the closest samples should dominate.
         let h2 = neighbours[neighbours.len() / 2].dist_sq.max(1e-300) * self.cfg.bandwidth;
-        let mut wd = vec![0.0; n];
-        for nb in neighbours {
+        self.wd.resize(k * n, 0.0);
+        self.rows.resize(k * stride + LANES, 0.0);
+        for (i, nb) in neighbours.iter().enumerate() {
             let w = if self.cfg.bandwidth > 0.0 { (-nb.dist_sq / h2).exp() } else { 1.0 };
             let dth = mem.dtheta(nb.id as usize);
-            let dx = mem.dx(nb.id as usize);
-            for (o, d) in wd.iter_mut().zip(dth) {
+            for (o, d) in self.wd[i * n..(i + 1) * n].iter_mut().zip(dth) {
                 *o = w * d;
             }
-            for a in 0..n {
-                let da = wd[a];
-                let row = &mut self.gram_buf[a * n..(a + 1) * n];
-                for (g, d) in row[a..].iter_mut().zip(&dth[a..]) {
-                    *g += da * d;
+            let row = &mut self.rows[i * stride..i * stride + width];
+            row[..n].copy_from_slice(dth);
+            row[n..].copy_from_slice(mem.dx(nb.id as usize));
+        }
+        // Entry (a, b) of [Gram | rhs] is sum_i wd_i[a] * row_i[b], summed over the neighbours
+        // in order from 0.0 as a plain running sum would; each sum is kept in a register across
+        // the neighbours instead of being loaded and stored per neighbour. Rows b >= a of column
+        // a of `gram` form the lower triangle, which is all the Cholesky factorisation reads.
+        for a in 0..n {
+            for b0 in (a..width).step_by(LANES) {
+                let mut acc = [0.0f64; LANES];
+                for (row, &da) in self.rows[b0..].chunks(stride).zip(self.wd[a..].iter().step_by(n)) {
+                    let r: &[f64; LANES] = row[..LANES].try_into().unwrap();
+                    for (s, x) in acc.iter_mut().zip(r) {
+                        *s += da * x;
+                    }
                 }
-                let r = &mut self.rhs_buf[a * m..(a + 1) * m];
-                for (o, x) in r.iter_mut().zip(dx) {
-                    *o += da * x;
+                for (b, &v) in (b0..width.min(b0 + LANES)).zip(&acc) {
+                    if b < n {
+                        self.gram[a * n + b] = v;
+                    } else {
+                        self.rhs[(b - n) * n + a] = v;
+                    }
                 }
             }
         }
-        let trace: f64 = (0..n).map(|a| self.gram_buf[a * n + a]).sum();
+        let trace: f64 = (0..n).map(|a| self.gram[a * n + a]).sum();
         if !(trace.is_finite() && trace > 0.0) {
             return Err(FitFailure::Degenerate);
         }
         let lambda = self.cfg.ridge * trace / n as f64;
+        // Off the diagonal the old code added 0.0, a no-op: a sum started at +0.0 is never -0.0.
         for a in 0..n {
-            for b in a..n {
-                let v = self.gram_buf[a * n + b] + if a == b { lambda } else { 0.0 };
-                self.gram[(a, b)] = v;
-                self.gram[(b, a)] = v;
-            }
-            for j in 0..m {
-                self.rhs[(a, j)] = self.rhs_buf[a * m + j];
-            }
+            self.gram[a * n + a] += lambda;
         }
-        let chol = self.gram.clone().cholesky().ok_or(FitFailure::Degenerate)?;
-        let jt = chol.solve(&self.rhs);
-        if !jt.iter().all(|v| v.is_finite()) {
+        if !cholesky_in_place(&mut self.gram, n) {
             return Err(FitFailure::Degenerate);
         }
-        self.jac.copy_from(&jt.transpose());
+        for b in self.rhs.chunks_exact_mut(n) {
+            cholesky_solve_in_place(&self.gram, n, b);
+        }
+        if !self.rhs.iter().all(|v| v.is_finite()) {
+            return Err(FitFailure::Degenerate);
+        }
+        for (a, col) in self.jac.as_mut_slice().chunks_exact_mut(m).enumerate() {
+            for (j, v) in col.iter_mut().enumerate() {
+                *v = self.rhs[j * n + a];
+            }
+        }
         Ok(())
     }
 
@@ -128,6 +151,70 @@ impl LocalModel {
             *o += (0..self.n).map(|a| self.jac[(j, a)] * d[a]).sum::<f64>();
         }
     }
+}
+
+/// `Cholesky::new` of nalgebra 0.35 on the lower triangle of the column-major n x n `g`, the
+/// same operations in the same order, without its per-column views: false where nalgebra
+/// returns None (a zero, negative or NaN pivot).
+fn cholesky_in_place(g: &mut [f64], n: usize) -> bool {
+    for j in 0..n {
+        let (left, right) = g.split_at_mut(j * n);
+        let col_j = &mut right[j..n];
+        for k in 0..j {
+            // nalgebra's axpy: y = (f * x) * 1 + 1 * y, which is y + f * x bit for bit.
+            let f = -left[k * n + j];
+            for (y, x) in col_j.iter_mut().zip(&left[k * n + j..(k + 1) * n]) {
+                *y += f * x;
+            }
+        }
+        let diag = col_j[0];
+        if diag <= 0.0 || diag.is_nan() {
+            return false;
+        }
+        let denom = diag.sqrt();
+        col_j[0] = denom;
+        for v in &mut col_j[1..] {
+            *v /= denom;
+        }
+    }
+    true
+}
+
+/// nalgebra 0.35's `Cholesky::solve_mut` for one column `b`, given the factor from
+/// `cholesky_in_place`: forward substitution, then back substitution with its dot product.
+fn cholesky_solve_in_place(l: &[f64], n: usize, b: &mut [f64]) {
+    for i in 0..n {
+        let coeff = b[i] / l[i * n + i];
+        b[i] = coeff;
+        for (y, x) in b[i + 1..].iter_mut().zip(&l[i * n + i + 1..(i + 1) * n]) {
+            *y += -coeff * x;
+        }
+    }
+    for i in (0..n).rev() {
+        let dot = nalgebra_dot(&l[i * n + i + 1..(i + 1) * n], &b[i + 1..n]);
+        b[i] = (b[i] - dot) / l[i * n + i];
+    }
+}
+
+/// The dot product of two dynamically sized vectors as nalgebra 0.35 sums it (`dotx`): eight
+/// running sums over blocks of eight, combined pairwise into a total, then the remainder.
+fn nalgebra_dot(a: &[f64], b: &[f64]) -> f64 {
+    let mut acc = [0.0f64; 8];
+    let blocks = a.len() / 8;
+    for (x, y) in a.chunks_exact(8).zip(b.chunks_exact(8)) {
+        for t in 0..8 {
+            acc[t] += x[t] * y[t];
+        }
+    }
+    let mut res = 0.0;
+    res += acc[0] + acc[4];
+    res += acc[1] + acc[5];
+    res += acc[2] + acc[6];
+    res += acc[3] + acc[7];
+    for (x, y) in a[blocks * 8..].iter().zip(&b[blocks * 8..]) {
+        res += x * y;
+    }
+    res
 }
 
 /// J+ dx for a wide J (m x n, m <= n) through the symmetric eigen-decomposition of the small
