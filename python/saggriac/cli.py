@@ -50,7 +50,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
         given = [flag for flag, v in flags if v is not None and v is not False and v != []]
         if given:
             raise SaggriacError(f"--resume continues a run with the configuration, seed and target it was started with; drop {', '.join(given)}.")
-        res = _saved_or_recovered(lambda: resume(args.resume, progress=not args.no_progress), Path(args.resume))
+        res = _saved_or_recovered(lambda: resume(args.resume, progress=not args.no_progress, threads=args.threads), Path(args.resume))
         print(f"resumed at step {res.manifest['resumed_at_step']}")
         _print_run(res, res.config, res.seed, res.path)
         return 0
@@ -70,7 +70,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
     if args.out is not None:
         as_path(args.out, "--out", "saggriac run")
     try:
-        res = _saved_or_recovered(lambda: run(cfg, seed=seed, out_dir=out, progress=not args.no_progress, overwrite=args.overwrite, checkpoint_every=args.checkpoint_every), out)
+        res = _saved_or_recovered(lambda: run(cfg, seed=seed, out_dir=out, progress=not args.no_progress, overwrite=args.overwrite, checkpoint_every=args.checkpoint_every, threads=args.threads), out)
     except RunExistsError:
         if args.out is not None:
             raise SaggriacError(f"{out} already holds a finished run; pass --overwrite to replace it, or choose another --out.") from None
@@ -200,6 +200,7 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("--no-progress", action="store_true", help="no progress bar")
     r.add_argument("--checkpoint-every", type=int, metavar="N", help="save the whole run state at the first evaluation after every N steps, next to the run directory")
     r.add_argument("--resume", metavar="DIR", help="continue the interrupted run that was to be written to DIR, from its checkpoint")
+    r.add_argument("--threads", type=int, metavar="N", help="threads for the evaluations, which run while learning goes on (default: all cores; results do not depend on it)")
     r.set_defaults(func=_cmd_run)
 
     rp = sub.add_parser("reproduce", help="run one of the paper's experiments (4 conditions x seeds) with figures and statistics")

@@ -10,6 +10,8 @@ from __future__ import annotations
 import os
 from typing import TYPE_CHECKING
 
+import numpy as np
+
 from .errors import ParameterError
 
 if TYPE_CHECKING:
@@ -43,10 +45,11 @@ def machine_memory() -> tuple[int | None, int | None]:
 
 
 def bytes_per_sample(cfg: Config) -> int:
-    """One stored micro-action: theta, dtheta (n each), the task-space change and position (m
-    each), the index's share, and ACTUATOR-RIAC's second index over (theta, dtheta)."""
+    """One stored micro-action: theta (kept in the block index), dtheta (n each), the task-space
+    change and position (m each), the index's boxes (n bytes is above their share), slack, and
+    ACTUATOR-RIAC's second index over (theta, dtheta)."""
     n, m = cfg.joints, len(cfg.goal_low)
-    per = 8 * (3 * n + 2 * m) + 128
+    per = 8 * (2 * n + 2 * m) + n + 64
     if cfg.condition == "actuator_riac":
         per += 16 * n + 64
     return per
@@ -88,3 +91,20 @@ def check_run_fits(cfg: Config) -> int:
             repr(cfg.n_steps),
         )
     return need
+
+
+def usable_cores() -> int:
+    """Cores this process may run on (its CPU affinity where the system tells it)."""
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except (AttributeError, OSError):
+        return max(1, os.cpu_count() or 1)
+
+
+def check_threads(threads: object, owner: str) -> int:
+    """The number of threads a run's evaluations may use: None means every usable core."""
+    if threads is None:
+        return usable_cores()
+    if isinstance(threads, bool) or not isinstance(threads, (int, np.integer)) or not 1 <= int(threads) <= 1024:
+        raise ParameterError(f"The 'threads' parameter of {owner} must be an int in [1, 1024] or None (every core). Got {threads!r} instead.", "threads", repr(threads))
+    return int(threads)

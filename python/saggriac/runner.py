@@ -20,7 +20,7 @@ from .config import Config
 from .errors import ParameterError, StorageError
 from .result import RunResult
 from .seeding import check_seed, derive_seeds, environment_seed
-from .resources import check_run_fits
+from .resources import check_run_fits, check_threads
 from .storage import MIN_FREE_BYTES, as_path, check_output_dir, replace_dir, sibling, target_lock, write_run
 
 CHECKPOINT_FILES = frozenset({"state.bin", "checkpoint.json"})
@@ -54,6 +54,7 @@ def run(
     environment: Environment | None = None,
     goal_selector: GoalSelectorProtocol | None = None,
     checkpoint_every: int | None = None,
+    threads: int | None = None,
 ) -> RunResult:
     """Run one learner for ``config.n_steps`` time steps (micro-actions, or movements when episodic) and return its result.
 
@@ -64,12 +65,18 @@ def run(
     ``checkpoint_every=N`` (with ``out_dir``) saves the learner's whole state at the first
     evaluation at or after every N steps, atomically, next to ``out_dir``; ``resume(out_dir)``
     continues an interrupted run from there to the same result, bit for bit.
+
+    ``threads`` evaluations may use, learning's included (default: every core this process may
+    use). Evaluations then run while learning goes on; the results are the same bits whatever
+    the number. Runs with motor or sensor noise, a user's environment, or the episodic paradigm
+    evaluate in the learning thread.
     """
     if config is None:
         config = Config()
     if not isinstance(config, Config):
         raise ParameterError(f"The 'config' parameter of run must be a saggriac.Config. Got {type(config).__name__} instead.", "config", repr(config))
     seed = check_seed(seed)
+    threads = check_threads(threads, "run")
     out = as_path(out_dir, "out_dir", "run") if out_dir is not None else None
     if checkpoint_every is not None:
         _check_checkpointing(checkpoint_every, out, environment, goal_selector)
@@ -98,6 +105,7 @@ def run(
     # Built before the target is locked (and its parent made): a refused environment or
     # selector leaves nothing on disk.
     learner = _core.Learner(config.core_dict(), learner_seed, eval_seed, env_seed=environment_seed(seed), **extra)
+    learner.set_threads(threads)
     with _holding(out, overwrite):
         return _drive(learner, config, info, out, progress, checkpoint_every, extras)
 
@@ -207,10 +215,11 @@ def _drive(learner: Any, config: Config, info: dict[str, Any], out: Path | None,
     return result
 
 
-def resume(out_dir: str | Path, progress: bool = False) -> RunResult:
+def resume(out_dir: str | Path, progress: bool = False, threads: int | None = None) -> RunResult:
     """Continue the interrupted run whose checkpoint sits next to ``out_dir`` (written by
     ``run(..., out_dir=..., checkpoint_every=N)``), to the same result the run would have given
-    without the interruption, and write it to ``out_dir``."""
+    without the interruption, and write it to ``out_dir``. ``threads`` as for ``run``."""
+    threads = check_threads(threads, "resume")
     out = as_path(out_dir, "out_dir", "resume")
     ck = checkpoint_dir(out)
     try:
@@ -232,5 +241,6 @@ def resume(out_dir: str | Path, progress: bool = False) -> RunResult:
             raise StorageError(f"The checkpoint {ck} is damaged: checkpoint.json cannot be read ({e}). Start the run over: run it again without --resume.") from None
         check_output_dir(out, info["overwrite"], MIN_FREE_BYTES)
         learner = _core.Learner.restore(config.core_dict(), (ck / "state.bin").read_bytes())
+        learner.set_threads(threads)
         info["resumed_at"] = learner.steps
         return _drive(learner, config, info, out, progress, every, {})

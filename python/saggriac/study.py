@@ -198,7 +198,8 @@ def run_task(task: Task, out_root: str | os.PathLike) -> str:
     out = Path(out_root) / task.path
     # Idempotent, so a scheduler that retries a task whose result was already written is harmless.
     if not (out / MANIFEST).exists():
-        run(Config(**task.config), seed=task.seed, out_dir=out, progress=False)
+        # One thread per run: the study's workers already use every core.
+        run(Config(**task.config), seed=task.seed, out_dir=out, progress=False, threads=1)
     return str(out)
 
 

@@ -20,8 +20,13 @@ fn main() {
     if let Some(c) = args.get(4) {
         cfg.condition = Condition::parse(c).expect("condition");
     }
+    let mut threads = 1;
     for kv in args.iter().skip(5) {
         let (k, v) = kv.split_once('=').expect("key=value");
+        if k == "threads" {
+            threads = v.parse().expect("a number of threads");
+            continue;
+        }
         if k == "index" {
             cfg.index = saggriac_core::memory::IndexKind::parse(v).expect("index kind");
             continue;
@@ -44,6 +49,7 @@ fn main() {
     }
     cfg.eval.schedule = (0..=20).map(|i| i * cfg.n_steps / 20).collect();
     let mut l = Learner::new(cfg, seed, seed + 1000).expect("valid config");
+    l.set_threads(threads);
     let t = std::time::Instant::now();
     l.run(&mut |m| {
         println!("step {:>7} samples {:>7} goals {:>5} regions {:>4} reach {:>8.3} pred {:>8.3}", m.step, m.n_samples, m.n_goals, m.n_regions, m.reach_error, m.pred_error);

@@ -24,6 +24,12 @@ pub trait Body: Send + Sync {
     fn scratch(&self) -> Option<Box<dyn Body>> {
         None
     }
+    /// Whether `reset` brings the body back to a state that does not depend on what it did
+    /// before (no noise generator running on, say). Then evaluations can run on copies of it
+    /// on other threads, with the same results.
+    fn forgets_on_reset(&self) -> bool {
+        false
+    }
     /// Change one link's length during a run (re-adaptation studies). False if the body cannot.
     fn set_link_length(&mut self, _link: usize, _length: f64) -> bool {
         false
@@ -66,6 +72,10 @@ impl Body for Arm {
     }
     fn scratch(&self) -> Option<Box<dyn Body>> {
         Some(Box::new(self.clone()))
+    }
+    fn forgets_on_reset(&self) -> bool {
+        // Noise draws advance the arm's generator: the next evaluation depends on this one's.
+        self.config().motor_noise == 0.0 && self.config().sensor_noise == 0.0
     }
     fn set_link_length(&mut self, link: usize, length: f64) -> bool {
         Arm::set_link_length(self, link, length);

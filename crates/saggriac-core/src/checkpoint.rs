@@ -113,10 +113,10 @@ impl Learner {
         if let (Some(sc), Some(st)) = (p.evaluator.scratch.as_mut(), &s.scratch) {
             sc.load(st);
         }
-        p.evaluator.tests.true_x = s.true_x;
+        std::sync::Arc::make_mut(&mut p.evaluator.tests).true_x = s.true_x;
         p.evaluator.next_eval = s.next_eval;
         p.rng = s.rng;
-        p.recorder = Recorder { metrics: s.metrics, goals: s.goals, attempts: s.attempts, counters: s.counters, timers: s.timers, steps: s.steps, goals_done: s.goals_done, reported: s.reported };
+        p.recorder = Recorder { metrics: s.metrics, goals: s.goals, attempts: s.attempts, counters: s.counters, timers: s.timers, steps: s.steps, goals_done: s.goals_done, reported: s.reported, pending: Vec::new() };
         l.low_level.restore_progress(s.babble_steps);
         Ok(l)
     }

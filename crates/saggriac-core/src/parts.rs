@@ -173,27 +173,53 @@ impl Parts {
         }
     }
 
-    /// Run every evaluation scheduled at or before the current time step.
+    /// Run every evaluation scheduled at or before the current time step (on another thread
+    /// when the evaluator can: its row is filled in when it is done).
     pub fn evaluate_due(&mut self) {
         while self.evaluator.due(self.recorder.steps) {
-            self.evaluate_now();
+            if self.evaluator.can_run_elsewhere(&self.model.view()) {
+                let index = self.recorder.metrics.len();
+                self.recorder.metrics.push(self.row(f64::NAN, f64::NAN));
+                self.recorder.pending.push(index);
+                self.evaluator.start(index, self.model.view());
+            } else {
+                self.evaluate_now();
+            }
         }
     }
 
-    /// Run one evaluation now and record it.
+    /// Fill in the rows of the evaluations finished on other threads; with `wait`, of all.
+    pub(crate) fn collect_evaluations(&mut self, wait: bool) {
+        for f in self.evaluator.finished(wait) {
+            let row = &mut self.recorder.metrics[f.index];
+            row.reach_error = f.result.mean_reach();
+            row.pred_error = f.result.mean_pred();
+            self.recorder.counters.test_steps += f.result.test_steps;
+            self.recorder.timers.evaluation += f.seconds;
+            self.recorder.pending.retain(|&i| i != f.index);
+        }
+    }
+
+    /// The metric row of an evaluation now, with its errors.
+    fn row(&self, reach_error: f64, pred_error: f64) -> MetricRow {
+        MetricRow {
+            step: self.recorder.steps,
+            n_samples: self.model.len() as u64,
+            reach_error,
+            pred_error,
+            n_goals: self.recorder.goals_done,
+            n_regions: self.selector.tree().map(|t| t.leaves().len() as u64).unwrap_or(1),
+        }
+    }
+
+    /// Run one evaluation now, in this thread, and record it (after those still running).
     pub fn evaluate_now(&mut self) -> MetricRow {
+        self.collect_evaluations(true);
         let t0 = Instant::now();
         let r = self.evaluator.evaluate(self.model.view(), self.body.as_mut());
         self.recorder.timers.evaluation += t0.elapsed().as_secs_f64();
         self.recorder.counters.test_steps += r.test_steps;
-        let row = MetricRow {
-            step: self.recorder.steps,
-            n_samples: self.model.len() as u64,
-            reach_error: r.mean_reach(),
-            pred_error: r.mean_pred(),
-            n_goals: self.recorder.goals_done,
-            n_regions: self.selector.tree().map(|t| t.leaves().len() as u64).unwrap_or(1),
-        };
+        let row = self.row(r.mean_reach(), r.mean_pred());
         self.recorder.metrics.push(row.clone());
         row
     }

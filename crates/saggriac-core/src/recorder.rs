@@ -80,6 +80,8 @@ pub struct Recorder {
     pub(crate) goals_done: u64,
     /// Metric rows already shown to the caller of `run`.
     pub(crate) reported: usize,
+    /// Metric rows whose evaluation is still running on another thread.
+    pub(crate) pending: Vec<usize>,
 }
 
 impl Recorder {
@@ -99,10 +101,12 @@ impl Recorder {
         self.goals_done += 1;
     }
 
-    /// Show `on_eval` every metric row it has not seen yet; false if it asked to stop.
+    /// Show `on_eval`, in order, every finished metric row it has not seen yet; false if it
+    /// asked to stop.
     pub fn report(&mut self, on_eval: &mut dyn FnMut(&MetricRow) -> bool) -> bool {
         let mut keep_going = true;
-        while self.reported < self.metrics.len() {
+        let finished = self.pending.iter().copied().min().unwrap_or(self.metrics.len());
+        while self.reported < finished {
             keep_going &= on_eval(&self.metrics[self.reported]);
             self.reported += 1;
         }

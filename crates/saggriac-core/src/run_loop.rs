@@ -75,6 +75,12 @@ impl Learner {
                 }
                 self.iteration();
             }
+            self.parts.collect_evaluations(false);
+            completed = self.parts.recorder.report(on_eval);
+        }
+        // Nothing runs on after a return: a checkpoint taken now holds every row.
+        self.parts.collect_evaluations(true);
+        if completed {
             completed = self.parts.recorder.report(on_eval);
         }
         self.parts.recorder.timers.total += t0.elapsed().as_secs_f64();
@@ -223,6 +229,12 @@ impl Learner {
     pub fn failed(&self) -> bool {
         self.parts.failed()
     }
+    /// Let evaluations use `threads` threads, this one included (default 1: every evaluation in
+    /// this thread). Results do not depend on it.
+    pub fn set_threads(&mut self, threads: usize) {
+        self.parts.evaluator.set_threads(threads);
+    }
+
     /// Run one evaluation now and record it.
     pub fn evaluate_now(&mut self) -> MetricRow {
         self.parts.evaluate_now()

@@ -388,3 +388,65 @@ fn a_checkpoint_with_any_flipped_byte_is_refused() {
         }
     }
 }
+
+/// `cfg` run with evaluations on `threads` threads.
+fn run_on_threads(cfg: RunConfig, threads: usize, seed: u64) -> Learner {
+    let mut l = Learner::new(cfg, seed, seed + 1).expect("valid config");
+    l.set_threads(threads);
+    assert!(l.run(&mut |_| true), "the run must complete");
+    l
+}
+
+#[test]
+fn evaluations_on_other_threads_give_the_same_run() {
+    let schedule: Vec<u64> = (0..=N_STEPS).step_by(250).collect();
+    let mut changed = small_config(Condition::SaggRiac, schedule.clone());
+    changed.body_change = Some(saggriac_core::config::BodyChange { step: 1234, link: 3, length: 6.0 });
+    let mut noisy = small_config(Condition::SaggRiac, schedule.clone());
+    noisy.arm.motor_noise = 0.01;
+    let cases = [
+        (small_config(Condition::SaggRiac, schedule.clone()), true),
+        (small_config(Condition::ActuatorRandom, schedule.clone()), true),
+        (small_config(Condition::ActuatorRiac, schedule.clone()), true),
+        (changed, true),
+        // The arm's noise generator runs on between evaluations: they stay in this thread.
+        (noisy, false),
+    ];
+    for (cfg, elsewhere) in cases {
+        let one = run_on_threads(cfg.clone(), 1, 21);
+        assert_eq!(one.parts().evaluator().evaluations_elsewhere(), 0);
+        for threads in [2, 3] {
+            let many = run_on_threads(cfg.clone(), threads, 21);
+            let what = format!("{:?} on {threads} threads", cfg.condition);
+            assert_eq!(many.parts().evaluator().evaluations_elsewhere() > 0, elsewhere, "{what}");
+            assert_eq!(metrics(&many), metrics(&one), "{what}: metrics differ");
+            assert!(many.metrics().iter().all(|m| m.reach_error.is_finite() && m.pred_error.is_finite()), "{what}: a row was not filled in");
+            assert_same_training(&many, &one, &what);
+            assert_eq!(many.counters().test_steps, one.counters().test_steps, "{what}: test steps differ");
+        }
+    }
+}
+
+#[test]
+fn checkpoints_between_threaded_evaluations_change_nothing() {
+    let cfg = small_config(Condition::ActuatorRandom, (0..=N_STEPS).step_by(300).collect());
+    let reference = run_on_threads(cfg.clone(), 1, 5);
+    let mut l = Learner::new(cfg.clone(), 5, 6).unwrap();
+    l.set_threads(2);
+    let mut restores = 0;
+    let mut seen = Vec::new();
+    while !l.run(&mut |row| {
+        seen.push(row.step);
+        false
+    }) {
+        let bytes = l.checkpoint().expect("built-in parts can be saved");
+        l = Learner::restore(cfg.clone(), &bytes).expect("a fresh checkpoint restores");
+        l.set_threads(2);
+        restores += 1;
+    }
+    assert!(restores > 2);
+    // Every row was shown once, in order, and the run is the uninterrupted one.
+    assert_eq!(seen, reference.metrics().iter().map(|m| m.step).collect::<Vec<_>>());
+    assert_eq!(metrics(&l), metrics(&reference));
+    assert_same_training(&l, &reference, "checkpointed on 2 threads");
+}

@@ -89,6 +89,12 @@ impl PyLearner {
         }
     }
 
+    /// Let evaluations use `threads` threads, this one included (1: all in the learner's
+    /// thread). Results do not depend on it.
+    fn set_threads(&mut self, threads: usize) {
+        self.inner.set_threads(threads);
+    }
+
     /// The learner's whole state as bytes (between goal attempts, e.g. after run() was stopped).
     fn checkpoint<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyBytes>> {
         let bytes = wrap(py, self.inner.checkpoint())?;

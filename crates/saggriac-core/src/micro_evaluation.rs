@@ -1,0 +1,128 @@
+//! One evaluation of the micro-action paradigm, as a function of what it reads: the memory (a
+//! snapshot), a body to run the test reaches on, the test sets and the parameters. The
+//! evaluator calls it in the learner's thread or hands it to `evaluation_pool`.
+
+use crate::body::Body;
+use crate::config::evaluation::EvalConfig;
+use crate::config::LocalModelConfig;
+use crate::local_model::LocalModel;
+use crate::memory::SensorimotorMemory;
+use crate::neighbours::{Neighbour, WarmStart};
+use crate::task_space::{desired_step, distance, Point, MAX_TASK_DIM};
+use crate::test_set::{EvalResult, TestSet};
+
+/// What a micro-action evaluation needs besides the memory, the body and the tests: the same
+/// for every evaluation of a run, so a worker thread gets a copy.
+#[derive(Debug, Clone)]
+pub(crate) struct MicroParams {
+    pub cfg: EvalConfig,
+    pub local: LocalModelConfig,
+    pub v: f64,
+    pub warm_start_recent: usize,
+}
+
+/// The scratch state a micro-action evaluation works in. Nothing in it carries over from one
+/// evaluation to the next (the warm start is cleared before each test reach, and a local model
+/// is read only after a fit that overwrote it), so a fresh one gives the same results.
+pub(crate) struct MicroScratch {
+    model: LocalModel,
+    warm: WarmStart,
+    neighbours: Vec<Neighbour>,
+    /// Seconds spent in neighbour search and in local fits.
+    pub time_knn: f64,
+    pub time_fit: f64,
+}
+
+impl MicroScratch {
+    pub fn new(p: &MicroParams, n_joints: usize, task_dim: usize) -> Self {
+        MicroScratch { model: LocalModel::new(n_joints, task_dim, p.local.clone()), warm: WarmStart::new(p.warm_start_recent), neighbours: Vec::new(), time_knn: 0.0, time_fit: 0.0 }
+    }
+}
+
+/// Micro-actions: closed-loop test reaches with the inverse model (on `arm`, from rest), forward
+/// predictions by the local model.
+pub(crate) fn evaluate_micro(p: &MicroParams, tests: &TestSet, memory: &SensorimotorMemory, arm: &mut dyn Body, s: &mut MicroScratch) -> EvalResult {
+    let mut reach_errors = Vec::with_capacity(tests.goals.len());
+    let mut test_steps = 0;
+    arm.reset();
+    for (i, &g) in tests.goals.iter().enumerate() {
+        // Even tests start from rest, odd ones from where the previous test ended.
+        if i % 2 == 0 {
+            arm.reset();
+        }
+        s.warm.clear();
+        let (err, steps) = test_reach(p, memory, arm, g, s);
+        reach_errors.push(err);
+        test_steps += steps;
+    }
+    let k = p.local.k_neighbours;
+    let m = memory.task_dim();
+    let mut pred_errors = Vec::with_capacity(tests.configs.len());
+    let mut xp = [0.0; MAX_TASK_DIM];
+    for (c, xt) in tests.configs.iter().zip(&tests.true_x) {
+        let t0 = std::time::Instant::now();
+        memory.knn(c, k, &mut s.neighbours);
+        s.time_knn += t0.elapsed().as_secs_f64();
+        let ok = memory.len() >= k && s.model.fit(memory, &s.neighbours).is_ok();
+        if ok {
+            s.model.predict_x(memory, &s.neighbours, c, &mut xp[..m]);
+        } else if let Some(nb) = s.neighbours.first() {
+            // No fit possible: the nearest sample's position is the prediction.
+            xp[..m].copy_from_slice(memory.x(nb.id as usize));
+        } else {
+            xp = [0.0; MAX_TASK_DIM];
+        }
+        pred_errors.push(distance(&xp, xt));
+    }
+    EvalResult { reach_errors, pred_errors, test_steps }
+}
+
+/// Closed-loop reach with the learnt inverse model only: no exploration, no storing.
+fn test_reach(p: &MicroParams, memory: &SensorimotorMemory, arm: &mut dyn Body, goal: Point, s: &mut MicroScratch) -> (f64, u64) {
+    let dist = |x: Point| distance(&goal, &x);
+    let d0 = dist(arm.position());
+    let timeout = (p.cfg.timeout_factor * d0 / p.v).ceil() as usize + p.cfg.timeout_min;
+    let k = p.local.k_neighbours;
+    let mut best = d0;
+    let mut since_best = 0;
+    let mut steps = 0;
+    let mut dtheta = vec![0.0; arm.n_joints()];
+    if memory.len() < k {
+        return (d0, 0);
+    }
+    for _ in 0..timeout {
+        let x = arm.position();
+        if dist(x) <= p.cfg.tolerance {
+            break;
+        }
+        let dx = desired_step(&x, &goal, p.v);
+        let theta = arm.theta().to_vec();
+        let t0 = std::time::Instant::now();
+        if p.warm_start_recent > 0 {
+            memory.knn_warm(&mut s.warm, &theta, k, &mut s.neighbours);
+        } else {
+            memory.knn(&theta, k, &mut s.neighbours);
+        }
+        let t1 = std::time::Instant::now();
+        let fitted = s.model.fit(memory, &s.neighbours).and_then(|_| s.model.inverse(&dx[..memory.task_dim()], &mut dtheta));
+        let t2 = std::time::Instant::now();
+        s.time_knn += (t1 - t0).as_secs_f64();
+        s.time_fit += (t2 - t1).as_secs_f64();
+        if fitted.is_err() {
+            break;
+        }
+        arm.step(&mut dtheta);
+        steps += 1;
+        let d = dist(arm.position());
+        if d < best {
+            best = d;
+            since_best = 0;
+        } else {
+            since_best += 1;
+            if since_best >= p.cfg.patience {
+                break;
+            }
+        }
+    }
+    (dist(arm.position()), steps)
+}
