@@ -11,25 +11,27 @@
 //! time (independent sums in SIMD lanes), and the points of the blocks it could not skip are
 //! ranked. A query with nothing to bound it yet first descends to the nearest blocks.
 //!
-//! Exactness: the bound of a box is `sum_d gap_d^2`, summed in the same order as `dist_sq`, with
-//! `gap_d` the distance from the query to the box along dimension d. For a point inside the box
-//! every computed `|q_d - p_d|` is >= the computed gap (rounding is monotone), so the computed
-//! bound never exceeds the point's computed distance. A box is skipped only when its bound is
-//! strictly above the k-th distance found so far, which never falls below the final one: every
-//! point at or inside the final k-th distance is ranked, ties included. Boxes are stored in f32,
-//! rounded outward, so they still contain their points.
+//! Exactness: boxes are stored in f32, rounded outward, so they contain their points. The bound
+//! of a box is `sum_d gap_d^2` in f32 (eight lanes to a register), `gap_d` the distance from the
+//! f32-rounded query to the box along dimension d; `Query::limit(t)` is the largest such bound a
+//! box holding a point at computed distance <= t can get, rounding included (its comment gives
+//! the proof). A box is skipped only when its bound is above `limit` of the k-th distance found
+//! so far, which never falls below the final one: every point at or inside the final k-th
+//! distance is ranked with the f64 `dist_sq`, ties included.
 //!
 //! Storage is `Chunked`, so a clone is a cheap snapshot that later inserts do not change.
+
+mod bounds;
+#[cfg(test)]
+mod tests;
+
+use bounds::{bounds, outward, Query, BATCH, FANOUT};
 
 use crate::chunked::Chunked;
 use crate::neighbours::{distances, Neighbour, NeighbourIndex, PointIndex, TopK};
 
 /// Samples per block (the unit whose distances are computed together).
 const BLOCK: usize = 16;
-/// Blocks per group, and boxes per row of boxes.
-const FANOUT: usize = 8;
-/// Rows of boxes whose bounds are computed together.
-const BATCH: usize = 4;
 /// Blocks per chunk of storage (1,024 samples).
 const CHUNK_BLOCKS: usize = 64;
 
@@ -46,74 +48,6 @@ pub struct BlockIndex {
     boxes: Vec<Chunked<f32>>,
     /// A row of empty boxes (pads the last batch).
     empty: Vec<f32>,
-}
-
-/// The largest f32 <= v and the smallest f32 >= v (v finite).
-fn outward(v: f64) -> (f32, f32) {
-    let f = v as f32;
-    let fd = f as f64;
-    let below = if fd > v { step_down(f) } else { f };
-    let above = if fd < v { step_up(f) } else { f };
-    (below, above)
-}
-
-fn step_up(f: f32) -> f32 {
-    if f.is_nan() || f == f32::INFINITY {
-        return f;
-    }
-    if f == 0.0 {
-        return f32::from_bits(1);
-    }
-    let b = f.to_bits();
-    f32::from_bits(if f > 0.0 { b + 1 } else { b - 1 })
-}
-
-fn step_down(f: f32) -> f32 {
-    -step_up(-f)
-}
-
-type Bounds = [[f64; FANOUT]; BATCH];
-
-/// Lower bounds of the squared distance from q to each box of `BATCH` rows of boxes.
-/// `x > 0 ? x : 0` rather than `max`, which keeps NaN rules out of the way of vectorisation
-/// (nothing here is NaN: the memory refuses non-finite samples and queries are finite).
-#[inline(always)]
-fn bounds_generic(q: &[f64], rows: &[&[f32]; BATCH], out: &mut Bounds) {
-    let dim = q.len();
-    let mut acc = [[0.0; FANOUT]; BATCH];
-    for (d, &x) in q.iter().enumerate() {
-        for (a, row) in acc.iter_mut().zip(rows) {
-            let l = &row[d * FANOUT..(d + 1) * FANOUT];
-            let h = &row[(dim + d) * FANOUT..(dim + d + 1) * FANOUT];
-            for c in 0..FANOUT {
-                let below = l[c] as f64 - x;
-                let above = x - h[c] as f64;
-                // At most one of the two is positive (l <= h): the gap is exact.
-                let gap = if below > 0.0 { below } else { 0.0 } + if above > 0.0 { above } else { 0.0 };
-                a[c] += gap * gap;
-            }
-        }
-    }
-    *out = acc;
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-unsafe fn bounds_avx2(q: &[f64], rows: &[&[f32]; BATCH], out: &mut Bounds) {
-    // Same code in 4-wide lanes; no FMA is enabled, so the bounds are bit-identical.
-    bounds_generic(q, rows, out)
-}
-
-#[inline]
-fn bounds(q: &[f64], rows: &[&[f32]; BATCH], out: &mut Bounds) {
-    #[cfg(target_arch = "x86_64")]
-    {
-        if std::arch::is_x86_feature_detected!("avx2") {
-            // SAFETY: the CPU supports AVX2, checked just above.
-            return unsafe { bounds_avx2(q, rows, out) };
-        }
-    }
-    bounds_generic(q, rows, out)
 }
 
 fn empty_row(dim: usize) -> Vec<f32> {
@@ -174,28 +108,41 @@ impl BlockIndex {
         let first = b * BLOCK;
         let count = (self.len - first).min(BLOCK);
         distances(q, self.coords.row(b), BLOCK, count, acc);
+        // Most points are beyond the k-th distance: test them against it before offering.
+        let mut bound = best.bound();
         for (j, &d) in acc.iter().enumerate().take(count) {
-            best.offer((first + j) as u32, d);
+            if d <= bound {
+                best.offer((first + j) as u32, d);
+                bound = best.bound();
+            }
         }
     }
 
     /// Bound the boxes of `rows` of `level` (at most BATCH rows), BATCH rows at a time; the
     /// boxes within the k-th distance so far are visited (blocks, on level 0) or pushed to `next`.
-    fn open(&self, level: usize, rows: &[usize], q: &[f64], best: &mut TopK<'_>, acc: &mut [f64; BLOCK], next: &mut Vec<usize>) {
+    fn open(&self, level: usize, rows: &[usize], q: &Query<'_>, best: &mut TopK<'_>, acc: &mut [f64; BLOCK], next: &mut Vec<usize>) {
         let boxes = &self.boxes[level];
         let batch: [&[f32]; BATCH] = std::array::from_fn(|i| rows.get(i).map_or(&self.empty[..], |&r| boxes.row(r)));
         let mut b = [[0.0; FANOUT]; BATCH];
-        bounds(q, &batch, &mut b);
+        bounds(&q.q32, &batch, &mut b);
         let n = self.n_boxes(level);
+        let mut limit = q.limit(best.bound());
         for (&r, lanes) in rows.iter().zip(&b) {
-            for (c, &lb) in lanes.iter().enumerate() {
+            // The lanes to open, as bits (blocks are tested again as the limit falls).
+            let real = (n - r * FANOUT).min(FANOUT);
+            let mut open = lanes.iter().enumerate().fold(0u32, |m, (c, &lb)| m | (u32::from(lb <= limit) << c)) & ((1u32 << real) - 1);
+            while open != 0 {
+                let c = open.trailing_zeros() as usize;
+                open &= open - 1;
                 let i = r * FANOUT + c;
-                if i < n && lb <= best.bound() {
-                    if level == 0 {
-                        self.visit_block(i, q, best, acc);
-                    } else {
-                        next.push(i);
+                if level == 0 {
+                    if lanes[c] > limit {
+                        continue;
                     }
+                    self.visit_block(i, q.q, best, acc);
+                    limit = q.limit(best.bound());
+                } else {
+                    next.push(i);
                 }
             }
         }
@@ -203,13 +150,13 @@ impl BlockIndex {
 
     /// Down from the top, always into the nearest box, to a row of blocks; visits them and
     /// returns that row (of level 0).
-    fn seed(&self, q: &[f64], best: &mut TopK<'_>, acc: &mut [f64; BLOCK]) -> usize {
+    fn seed(&self, q: &Query<'_>, best: &mut TopK<'_>, acc: &mut [f64; BLOCK]) -> usize {
         let mut row = 0;
         for level in (1..self.boxes.len()).rev() {
             let mut b = [[0.0; FANOUT]; BATCH];
             let mut batch = [&self.empty[..]; BATCH];
             batch[0] = self.boxes[level].row(row);
-            bounds(q, &batch, &mut b);
+            bounds(&q.q32, &batch, &mut b);
             let n = (self.n_boxes(level) - row * FANOUT).min(FANOUT);
             let c = (0..n).min_by(|&x, &y| b[0][x].total_cmp(&b[0][y])).unwrap_or(0);
             row = row * FANOUT + c;
@@ -280,6 +227,7 @@ impl NeighbourIndex for BlockIndex {
         }
         let mut best = TopK::new(out, k, radius_sq);
         let mut acc = [0.0; BLOCK];
+        let query = &Query::new(query);
         // Nothing bounds the search yet: the nearest blocks first give it a k-th distance.
         let seeded = (best.bound() == f64::INFINITY).then(|| self.seed(query, &mut best, &mut acc));
         let (mut rows, mut next) = (vec![0usize], Vec::new());
@@ -309,100 +257,3 @@ impl PointIndex for BlockIndex {
     }
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::neighbours::reference::{assert_matches_brute, assert_warm_start_exact};
-    use crate::neighbours::BruteForce;
-    use crate::rng::{rng_from_seed, uniform};
-
-    fn trajectory(n: usize, dim: usize, step: f64, reset_every: usize, seed: u64) -> Vec<f64> {
-        let mut r = rng_from_seed(seed);
-        let mut t = vec![0.0; dim];
-        let mut pts = Vec::with_capacity(n * dim);
-        for i in 0..n {
-            if i % reset_every == 0 {
-                t.iter_mut().for_each(|v| *v = 0.0);
-            }
-            t.iter_mut().for_each(|v| *v += uniform(&mut r, -step, step));
-            pts.extend_from_slice(&t);
-        }
-        pts
-    }
-
-    #[test]
-    fn outward_rounding_contains_the_value() {
-        for &v in &[0.0, -0.0, 1e-40, -1e-40, 0.1, -0.1, 1.0 / 3.0, 1e30, -1e30, 1e300, -1e300, f64::MIN_POSITIVE] {
-            let (lo, hi) = outward(v);
-            assert!((lo as f64) <= v && v <= (hi as f64), "{v}: [{lo}, {hi}]");
-        }
-    }
-
-    #[test]
-    fn matches_brute_force_in_every_dimension_from_1_to_100() {
-        let mut r = rng_from_seed(3);
-        for dim in (1..=20).chain([31, 45, 64, 100]) {
-            let pts = trajectory(700, dim, 0.05, 230, dim as u64);
-            let qs: Vec<f64> = (0..12 * dim).map(|_| uniform(&mut r, -0.6, 0.6)).collect();
-            for &k in &[1usize, 45, 900] {
-                assert_matches_brute(&mut BlockIndex::new(dim), &pts, &qs, k);
-            }
-        }
-    }
-
-    #[test]
-    fn matches_brute_force_with_hundreds_of_identical_rest_poses_and_ties() {
-        let dim = 15;
-        let mut pts = vec![0.0; 600 * dim];
-        for i in 0..300 {
-            let mut p = vec![0.0; dim];
-            p[i % dim] = ((i / dim) % 3) as f64 * 0.5; // a grid: equal distances everywhere
-            pts.extend(p);
-        }
-        pts.extend(trajectory(2000, dim, 0.05, 500, 9));
-        pts.extend(vec![0.0; 300 * dim]);
-        let mut qs = vec![0.0; dim];
-        let mut q = vec![0.0; dim];
-        q[2] = 0.25;
-        qs.extend(q);
-        qs.extend_from_slice(&pts[1700 * dim..1701 * dim]);
-        let mut r = rng_from_seed(4);
-        qs.extend((0..20 * dim).map(|_| uniform(&mut r, -2.0, 2.0)));
-        for &k in &[1usize, 45, 599, 600, 601, 1300] {
-            assert_matches_brute(&mut BlockIndex::new(dim), &pts, &qs, k);
-        }
-    }
-
-    #[test]
-    fn warm_start_is_exact_along_a_growing_trajectory() {
-        for &dim in &[2usize, 15, 40] {
-            assert_warm_start_exact(&mut BlockIndex::new(dim), 3000, 250, 45, dim as u64);
-        }
-    }
-
-    #[test]
-    fn radius_and_growth_match_brute_force() {
-        let dim = 15;
-        // 9,000 points: 563 blocks under four levels of boxes, queried as rows and levels begin.
-        let pts = trajectory(9000, dim, 0.05, 700, 21);
-        let mut idx = BlockIndex::new(dim);
-        let mut bf = BruteForce::new(dim);
-        let mut r = rng_from_seed(5);
-        let (mut a, mut b) = (Vec::new(), Vec::new());
-        for (i, p) in pts.chunks_exact(dim).enumerate() {
-            idx.add(p);
-            bf.add(p);
-            if i % 211 == 0 || i < 40 || (i + 1) % (BLOCK * FANOUT * FANOUT) == 0 || (i + 1) % (BLOCK * FANOUT) == 1 {
-                let q: Vec<f64> = (0..dim).map(|_| uniform(&mut r, -0.8, 0.8)).collect();
-                for &radius in &[0.0, 0.05, 0.5, 4.0, f64::INFINITY] {
-                    bf.knn_within(&q, 45, radius, &mut a);
-                    idx.knn_within(&q, 45, radius, &mut b);
-                    assert_eq!(a, b, "after {} points, radius {radius}", i + 1);
-                }
-            }
-        }
-        let mut p = vec![0.0; dim];
-        idx.point(1234, &mut p);
-        assert_eq!(p, &pts[1234 * dim..1235 * dim]);
-    }
-}
