@@ -10,7 +10,7 @@ pub use crate::config::low_level::EpisodicConfig;
 use crate::kd_tree::KdTree;
 use crate::neighbours::distances;
 use crate::local_model::pinv_apply_wide;
-use crate::neighbours::{dist_sq, Neighbour, NeighbourIndex};
+use crate::neighbours::{dist_sq, merge_newer, Neighbour, NeighbourIndex};
 use crate::task_space::{point, sub, Point};
 
 /// Every movement's (theta, x), indexed by x (for the inverse model) and, when the learner
@@ -23,18 +23,6 @@ pub struct EpisodicMemory {
     xs: Vec<f64>,
     by_x: KdTree,
     by_theta: Option<KdTree>,
-}
-
-/// Merge sample `id` at squared distance `d` into `best`, the k (> 0) nearest so far sorted by
-/// (distance, id), every one of them older than `id`: a later id loses ties, so it must be
-/// strictly closer than the k-th to get in.
-fn merge_newer(best: &mut Vec<Neighbour>, k: usize, id: usize, d: f64) {
-    if best.len() == k && d >= best[k - 1].dist_sq {
-        return;
-    }
-    let pos = best.partition_point(|b| b.dist_sq <= d);
-    best.insert(pos, Neighbour { id: id as u32, dist_sq: d });
-    best.truncate(k);
 }
 
 impl EpisodicMemory {

@@ -10,6 +10,7 @@ use crate::body::Body;
 pub use crate::config::evaluation::EvalConfig;
 use crate::config::{EpisodicConfig, RunConfig};
 use crate::episodic_memory::EpisodicMemory;
+use crate::memory::SensorimotorMemory;
 use crate::evaluation_pool::{Finished, Job, Pool};
 use crate::micro_evaluation::{evaluate_micro, MicroParams, MicroScratch};
 use crate::neighbours::Neighbour;
@@ -25,6 +26,8 @@ pub struct Evaluator {
     /// they cover (the memory only grows, so each evaluation scans only the new samples).
     forward_cache: Vec<(Vec<Neighbour>, usize)>,
     scan_acc: Vec<f64>,
+    /// Micro-actions: the same for the local model's predictions.
+    predict_cache: Vec<(Vec<Neighbour>, usize)>,
     /// The body the test reaches run on, when the learner's body can make a copy.
     pub(crate) scratch: Option<Box<dyn Body>>,
     params: MicroParams,
@@ -56,6 +59,7 @@ impl Evaluator {
             tests: Arc::new(tests),
             forward_cache: Vec::new(),
             scan_acc: Vec::new(),
+            predict_cache: Vec::new(),
             scratch,
             micro: MicroScratch::new(&params, n_joints, task_dim),
             params,
@@ -92,11 +96,25 @@ impl Evaluator {
         self.threads > 1 && model.episodes().is_none() && self.scratch.as_ref().is_some_and(|b| b.forgets_on_reset())
     }
 
+    /// The exact neighbours of every test configuration in `memory`: only the samples stored
+    /// since the last evaluation are searched.
+    fn predict_neighbours(&mut self, memory: &SensorimotorMemory) -> Vec<Vec<Neighbour>> {
+        let t0 = std::time::Instant::now();
+        let k = self.params.local.k_neighbours;
+        self.predict_cache.resize(self.tests.configs.len(), (Vec::new(), 0));
+        for (c, (best, upto)) in self.tests.configs.iter().zip(self.predict_cache.iter_mut()) {
+            memory.knn_since(c, k, best, upto);
+        }
+        self.time_knn += t0.elapsed().as_secs_f64();
+        self.predict_cache.iter().map(|(nb, _)| nb.clone()).collect()
+    }
+
     /// Start evaluating `model` on another thread; its result comes back from `finished`.
     pub(crate) fn start(&mut self, index: usize, model: ModelView<'_>) {
         let body = self.scratch.as_ref().and_then(|b| b.scratch()).expect("a body that can be copied (see can_run_elsewhere)");
         let memory = model.samples();
-        let job = Job { index, memory: memory.clone(), body, tests: Arc::clone(&self.tests), params: self.params.clone(), n_joints: memory.n_joints(), task_dim: memory.task_dim() };
+        let predict_neighbours = self.predict_neighbours(memory);
+        let job = Job { index, memory: memory.clone(), body, tests: Arc::clone(&self.tests), params: self.params.clone(), predict_neighbours, n_joints: memory.n_joints(), task_dim: memory.task_dim() };
         let threads = self.threads;
         self.pool.get_or_insert_with(|| Pool::new(threads - 1)).submit(job);
         self.elsewhere += 1;
@@ -126,9 +144,10 @@ impl Evaluator {
             Some(mem) => self.evaluate_episodic(mem, body),
             None => {
                 let memory = model.samples();
+                let predict_neighbours = self.predict_neighbours(memory);
                 let r = self.on_body(body, |ev, arm| {
                     let tests = Arc::clone(&ev.tests);
-                    evaluate_micro(&ev.params, &tests, memory, arm, &mut ev.micro)
+                    evaluate_micro(&ev.params, &tests, memory, arm, &mut ev.micro, &predict_neighbours)
                 });
                 self.time_knn += std::mem::take(&mut self.micro.time_knn);
                 self.time_fit += std::mem::take(&mut self.micro.time_fit);

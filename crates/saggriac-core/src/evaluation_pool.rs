@@ -15,6 +15,7 @@ use crate::body::Body;
 use crate::micro_evaluation::{evaluate_micro, MicroParams, MicroScratch};
 use crate::test_set::{EvalResult, TestSet};
 use crate::memory::SensorimotorMemory;
+use crate::neighbours::Neighbour;
 
 /// One evaluation to run: everything it reads, owned.
 pub(crate) struct Job {
@@ -24,6 +25,8 @@ pub(crate) struct Job {
     pub body: Box<dyn Body>,
     pub tests: Arc<TestSet>,
     pub params: MicroParams,
+    /// The k nearest stored configurations of each test configuration.
+    pub predict_neighbours: Vec<Vec<Neighbour>>,
     pub n_joints: usize,
     pub task_dim: usize,
 }
@@ -41,7 +44,7 @@ pub(crate) struct Finished {
 fn run(mut job: Job) -> Finished {
     let t0 = Instant::now();
     let mut scratch = MicroScratch::new(&job.params, job.n_joints, job.task_dim);
-    let result = evaluate_micro(&job.params, &job.tests, &job.memory, job.body.as_mut(), &mut scratch);
+    let result = evaluate_micro(&job.params, &job.tests, &job.memory, job.body.as_mut(), &mut scratch, &job.predict_neighbours);
     Finished { index: job.index, result, seconds: t0.elapsed().as_secs_f64(), time_knn: scratch.time_knn, time_fit: scratch.time_fit }
 }
 

@@ -6,7 +6,7 @@
 use crate::block_index::BlockIndex;
 use crate::chunked::Chunked;
 pub use crate::config::model::IndexKind;
-use crate::neighbours::{BruteForce, Neighbour, PointIndex, WarmStart};
+use crate::neighbours::{merge_newer, BruteForce, Neighbour, PointIndex, WarmStart};
 
 /// Samples per chunk of the dtheta, dx and x arrays.
 const CHUNK: usize = 1024;
@@ -119,6 +119,17 @@ impl SensorimotorMemory {
     /// Exact k nearest stored configurations, cold search.
     pub fn knn(&self, query: &[f64], k: usize, out: &mut Vec<Neighbour>) {
         self.index.get().knn(query, k, out)
+    }
+
+    /// Exact k nearest stored configurations of a fixed query, kept up to date: `best` holds
+    /// the answer for the first `*upto` samples; those stored since are scanned and merged in
+    /// (distance, id) order, so the answer equals a full search. The memory only grows, so the
+    /// evaluation's fixed test configurations pay only for the new samples.
+    pub fn knn_since(&self, query: &[f64], k: usize, best: &mut Vec<Neighbour>, upto: &mut usize) {
+        if k > 0 {
+            self.index.get().scan_from(*upto, query, &mut |id, d| merge_newer(best, k, id, d));
+        }
+        *upto = self.len();
     }
 
     /// Exact k nearest stored configurations, warm-started from `ws` (see `WarmStart`).

@@ -40,8 +40,9 @@ impl MicroScratch {
 }
 
 /// Micro-actions: closed-loop test reaches with the inverse model (on `arm`, from rest), forward
-/// predictions by the local model.
-pub(crate) fn evaluate_micro(p: &MicroParams, tests: &TestSet, memory: &SensorimotorMemory, arm: &mut dyn Body, s: &mut MicroScratch) -> EvalResult {
+/// predictions by the local model fitted on `predict_neighbours[i]`, the exact k nearest stored
+/// configurations of test configuration i (kept up to date by the evaluator).
+pub(crate) fn evaluate_micro(p: &MicroParams, tests: &TestSet, memory: &SensorimotorMemory, arm: &mut dyn Body, s: &mut MicroScratch, predict_neighbours: &[Vec<Neighbour>]) -> EvalResult {
     let mut reach_errors = Vec::with_capacity(tests.goals.len());
     let mut test_steps = 0;
     arm.reset();
@@ -55,20 +56,16 @@ pub(crate) fn evaluate_micro(p: &MicroParams, tests: &TestSet, memory: &Sensorim
         reach_errors.push(err);
         test_steps += steps;
     }
-    let k = p.local.k_neighbours;
     let m = memory.task_dim();
     let mut pred_errors = Vec::with_capacity(tests.configs.len());
     let mut xp = [0.0; MAX_TASK_DIM];
-    for (c, xt) in tests.configs.iter().zip(&tests.true_x) {
-        let t0 = std::time::Instant::now();
-        memory.knn(c, k, &mut s.neighbours);
-        s.time_knn += t0.elapsed().as_secs_f64();
-        let ok = memory.len() >= k && s.model.fit(memory, &s.neighbours).is_ok();
+    for ((c, xt), nb) in tests.configs.iter().zip(&tests.true_x).zip(predict_neighbours) {
+        let ok = memory.len() >= p.local.k_neighbours && s.model.fit(memory, nb).is_ok();
         if ok {
-            s.model.predict_x(memory, &s.neighbours, c, &mut xp[..m]);
-        } else if let Some(nb) = s.neighbours.first() {
+            s.model.predict_x(memory, nb, c, &mut xp[..m]);
+        } else if let Some(first) = nb.first() {
             // No fit possible: the nearest sample's position is the prediction.
-            xp[..m].copy_from_slice(memory.x(nb.id as usize));
+            xp[..m].copy_from_slice(memory.x(first.id as usize));
         } else {
             xp = [0.0; MAX_TASK_DIM];
         }

@@ -99,6 +99,18 @@ impl<'a> TopK<'a> {
     }
 }
 
+/// Merge sample `id` at squared distance `d` into `best`, the k (> 0) nearest so far sorted by
+/// (distance, id), every one of them older than `id`: a later id loses ties, so it must be
+/// strictly closer than the k-th to get in.
+pub(crate) fn merge_newer(best: &mut Vec<Neighbour>, k: usize, id: usize, d: f64) {
+    if best.len() == k && d >= best[k - 1].dist_sq {
+        return;
+    }
+    let pos = best.partition_point(|b| b.dist_sq <= d);
+    best.insert(pos, Neighbour { id: id as u32, dist_sq: d });
+    best.truncate(k);
+}
+
 /// An incremental, exact neighbour index. Points get ids 0, 1, 2, ... in insertion order.
 pub trait NeighbourIndex: Send + Sync {
     fn dim(&self) -> usize;
@@ -123,6 +135,12 @@ pub trait PointIndex: NeighbourIndex {
     fn point(&self, id: usize, out: &mut [f64]);
     /// `dist_sq(query, point id)`, with the same bits.
     fn dist_sq_to(&self, id: usize, query: &[f64]) -> f64;
+    /// `visit(id, dist_sq(query, point id))` for every point from id `from` on, in id order.
+    fn scan_from(&self, from: usize, query: &[f64], visit: &mut dyn FnMut(usize, f64)) {
+        for id in from..self.len() {
+            visit(id, self.dist_sq_to(id, query));
+        }
+    }
 }
 
 /// Full scan: the reference every other index is tested against, and the fastest choice for a

@@ -163,6 +163,8 @@ proptest! {
         // And over the memory's default index.
         let mut mem = SensorimotorMemory::new(dim, 1, IndexKind::Blocks);
         let mut ws_mem = WarmStart::new(recent);
+        let fixed: Vec<f64> = (0..dim).map(|_| uniform(&mut r, -0.5, 0.5)).collect();
+        let mut since: (Vec<Neighbour>, usize) = (Vec::new(), 0);
         let zeros = vec![0.0; dim];
         let mut theta = vec![0.0; dim];
         let (mut a, mut b, mut c) = (Vec::new(), Vec::new(), Vec::new());
@@ -189,6 +191,12 @@ proptest! {
             prop_assert_eq!(key(&a), key(&c), "warm start over brute force, step {}", step);
             mem.knn_warm(&mut ws_mem, &theta, k, &mut c);
             prop_assert_eq!(key(&a), key(&c), "warm start over the memory's index, step {}", step);
+            // A fixed query kept up to date as the memory grows (the evaluation's predictions).
+            if step % 7 == 0 {
+                bf.knn(&fixed, k, &mut a);
+                mem.knn_since(&fixed, k, &mut since.0, &mut since.1);
+                prop_assert_eq!(key(&a), key(&since.0), "knn_since, step {}", step);
+            }
             mem.add(&theta, &zeros, &[0.0], &[0.0]);
             bf.add(&theta);
             blocks.add(&theta);

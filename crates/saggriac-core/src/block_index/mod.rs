@@ -249,6 +249,20 @@ impl PointIndex for BlockIndex {
         BlockIndex::point(self, id, out)
     }
 
+    fn scan_from(&self, from: usize, query: &[f64], visit: &mut dyn FnMut(usize, f64)) {
+        let mut acc = [0.0; BLOCK];
+        for b in from / BLOCK..self.len.div_ceil(BLOCK) {
+            let first = b * BLOCK;
+            let count = (self.len - first).min(BLOCK);
+            distances(query, self.coords.row(b), BLOCK, count, &mut acc);
+            for (j, &d) in acc.iter().enumerate().take(count) {
+                if first + j >= from {
+                    visit(first + j, d);
+                }
+            }
+        }
+    }
+
     fn dist_sq_to(&self, id: usize, query: &[f64]) -> f64 {
         let block = self.coords.row(id / BLOCK);
         let j = id % BLOCK;
