@@ -7,6 +7,7 @@
 use nalgebra::DMatrix;
 
 pub use crate::config::low_level::EpisodicConfig;
+use crate::block_index::BlockIndex;
 use crate::kd_tree::KdTree;
 use crate::neighbours::distances;
 use crate::local_model::pinv_apply_wide;
@@ -21,14 +22,18 @@ pub struct EpisodicMemory {
     m: usize,
     thetas: Vec<f64>,
     xs: Vec<f64>,
+    /// Reached positions, in a few dimensions: a k-d tree (examples/episodic_index_probe: 0.7 us
+    /// against 152 us for the block index, 1-NN among 50,000 unordered 2-D points).
     by_x: KdTree,
-    by_theta: Option<KdTree>,
+    /// Whole configurations, in n dimensions: the block index (590 us against 2,400 us for the
+    /// k-d tree, 20-NN among 50,000 unordered 15-D points).
+    by_theta: Option<BlockIndex>,
 }
 
 impl EpisodicMemory {
     /// Memory of movements of `n` joints reaching a `m`-D task space.
     pub fn new(n: usize, m: usize, index_theta: bool) -> Self {
-        EpisodicMemory { n, m, thetas: Vec::new(), xs: Vec::new(), by_x: KdTree::new(m), by_theta: index_theta.then(|| KdTree::new(n)) }
+        EpisodicMemory { n, m, thetas: Vec::new(), xs: Vec::new(), by_x: KdTree::new(m), by_theta: index_theta.then(|| BlockIndex::new(n)) }
     }
 
     fn knn_theta(&self, theta: &[f64], k: usize, out: &mut Vec<Neighbour>) {

@@ -233,8 +233,12 @@ impl KdTree {
                     acc.resize(len, 0.0);
                 }
                 distances(q, &leaf.coords, leaf.cap, len, acc);
+                let mut bound = best.bound();
                 for (j, &dsq) in acc.iter().enumerate().take(len) {
-                    best.offer(leaf.ids[j], dsq);
+                    if dsq <= bound {
+                        best.offer(leaf.ids[j], dsq);
+                        bound = best.bound();
+                    }
                 }
             }
             Node::Inner { dim, value, left, right } => {
