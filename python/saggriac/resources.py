@@ -2,7 +2,8 @@
 
 Without this a run of 10^8 joints is accepted and dies on an allocation failure (an abort, not an
 error) after a minute of work. The estimate is an upper bound calibrated on the measured memory
-(docs/performance.md: 478 bytes per sample at n = 15 joints, k-d tree index included).
+(docs/performance.md: 281 bytes per sample at n = 15 joints, block index included; the
+estimate allows 351).
 """
 
 from __future__ import annotations

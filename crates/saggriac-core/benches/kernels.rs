@@ -20,9 +20,9 @@ use std::time::Duration;
 use criterion::{criterion_group, criterion_main, BatchSize, Criterion, Throughput};
 
 use saggriac_core::arm::{Arm, ArmConfig};
+use saggriac_core::kd_tree::KdTree;
 use saggriac_core::local_model::{LocalModel, LocalModelConfig};
 use saggriac_core::memory::{IndexKind, SensorimotorMemory};
-use saggriac_core::kd_tree::KdTree;
 use saggriac_core::neighbours::{BruteForce, Neighbour, NeighbourIndex, WarmStart};
 use saggriac_core::region_tree::{RegionTree, RegionTreeConfig};
 use saggriac_core::rng::{index, rng_from_seed, uniform, CoreRng};

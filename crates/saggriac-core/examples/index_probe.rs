@@ -15,7 +15,7 @@ fn main() {
     let steps: u64 = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(200_000);
     let cond = Condition::parse(args.get(2).map(|s| s.as_str()).unwrap_or("actuator_random")).unwrap();
     let repeats: usize = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(3);
-        let blocks_only = args.get(4).map(|s| s == "blocks").unwrap_or(false);
+    let blocks_only = args.get(4).map(|s| s == "blocks").unwrap_or(false);
     let mut cfg = RunConfig { n_steps: steps, condition: cond, ..RunConfig::default() };
     cfg.goal_low = vec![0.0, -150.0];
     cfg.goal_high = vec![150.0, 150.0];

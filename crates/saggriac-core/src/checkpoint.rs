@@ -116,7 +116,17 @@ impl Learner {
         std::sync::Arc::make_mut(&mut p.evaluator.tests).true_x = s.true_x;
         p.evaluator.next_eval = s.next_eval;
         p.rng = s.rng;
-        p.recorder = Recorder { metrics: s.metrics, goals: s.goals, attempts: s.attempts, counters: s.counters, timers: s.timers, steps: s.steps, goals_done: s.goals_done, reported: s.reported, pending: Vec::new() };
+        p.recorder = Recorder {
+            metrics: s.metrics,
+            goals: s.goals,
+            attempts: s.attempts,
+            counters: s.counters,
+            timers: s.timers,
+            steps: s.steps,
+            goals_done: s.goals_done,
+            reported: s.reported,
+            pending: Vec::new(),
+        };
         l.low_level.restore_progress(s.babble_steps);
         Ok(l)
     }

@@ -6,11 +6,11 @@
 
 use nalgebra::DMatrix;
 
-pub use crate::config::low_level::EpisodicConfig;
 use crate::block_index::BlockIndex;
+pub use crate::config::low_level::EpisodicConfig;
 use crate::kd_tree::KdTree;
-use crate::neighbours::distances;
 use crate::local_model::pinv_apply_wide;
+use crate::neighbours::distances;
 use crate::neighbours::{dist_sq, merge_newer, Neighbour, NeighbourIndex};
 use crate::task_space::{point, sub, Point};
 

@@ -10,8 +10,8 @@ use crate::body::Body;
 pub use crate::config::evaluation::EvalConfig;
 use crate::config::{EpisodicConfig, RunConfig};
 use crate::episodic_memory::EpisodicMemory;
-use crate::memory::SensorimotorMemory;
 use crate::evaluation_pool::{Finished, Job, Pool};
+use crate::memory::SensorimotorMemory;
 use crate::micro_evaluation::{evaluate_micro, MicroParams, MicroScratch};
 use crate::neighbours::Neighbour;
 use crate::sensorimotor_model::ModelView;
@@ -114,7 +114,8 @@ impl Evaluator {
         let body = self.scratch.as_ref().and_then(|b| b.scratch()).expect("a body that can be copied (see can_run_elsewhere)");
         let memory = model.samples();
         let predict_neighbours = self.predict_neighbours(memory);
-        let job = Job { index, memory: memory.clone(), body, tests: Arc::clone(&self.tests), params: self.params.clone(), predict_neighbours, n_joints: memory.n_joints(), task_dim: memory.task_dim() };
+        let job =
+            Job { index, memory: memory.clone(), body, tests: Arc::clone(&self.tests), params: self.params.clone(), predict_neighbours, n_joints: memory.n_joints(), task_dim: memory.task_dim() };
         let threads = self.threads;
         self.pool.get_or_insert_with(|| Pool::new(threads - 1)).submit(job);
         self.elsewhere += 1;

@@ -12,10 +12,10 @@ use std::thread::JoinHandle;
 use std::time::Instant;
 
 use crate::body::Body;
-use crate::micro_evaluation::{evaluate_micro, MicroParams, MicroScratch};
-use crate::test_set::{EvalResult, TestSet};
 use crate::memory::SensorimotorMemory;
+use crate::micro_evaluation::{evaluate_micro, MicroParams, MicroScratch};
 use crate::neighbours::Neighbour;
+use crate::test_set::{EvalResult, TestSet};
 
 /// One evaluation to run: everything it reads, owned.
 pub(crate) struct Job {

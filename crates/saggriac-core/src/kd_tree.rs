@@ -350,5 +350,4 @@ mod tests {
             compare(&pts, dim, &qs, k);
         }
     }
-
 }

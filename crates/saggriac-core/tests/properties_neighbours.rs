@@ -9,9 +9,9 @@ mod common;
 use proptest::prelude::*;
 
 use common::cases;
-use saggriac_core::memory::{IndexKind, SensorimotorMemory};
 use saggriac_core::block_index::BlockIndex;
 use saggriac_core::kd_tree::KdTree;
+use saggriac_core::memory::{IndexKind, SensorimotorMemory};
 use saggriac_core::neighbours::{BruteForce, Neighbour, NeighbourIndex, WarmStart};
 use saggriac_core::rng::{index, rng_from_seed, uniform, unit};
 

@@ -270,4 +270,3 @@ impl PointIndex for BlockIndex {
         query.iter().enumerate().map(|(d, q)| (q - block[d * BLOCK + j]) * (q - block[d * BLOCK + j])).sum()
     }
 }
-
