@@ -22,12 +22,17 @@ pub(crate) struct MicroParams {
 }
 
 /// The scratch state a micro-action evaluation works in. Nothing in it carries over from one
-/// evaluation to the next (the warm start is cleared before each test reach, and a local model
-/// is read only after a fit that overwrote it), so a fresh one gives the same results.
+/// evaluation to the next (the warm start and the rest answer are cleared at its start, and a
+/// local model is read only after a fit that overwrote it), so a fresh one gives the same results.
 pub(crate) struct MicroScratch {
     model: LocalModel,
     warm: WarmStart,
     neighbours: Vec<Neighbour>,
+    /// The configuration the last reach from rest started at and its neighbours: half the test
+    /// reaches start at rest, and the memory does not change during an evaluation.
+    rest: Option<(Vec<f64>, Vec<Neighbour>)>,
+    /// Whether `rest` is kept (always, but for the test that checks it changes nothing).
+    keep_rest: bool,
     /// Seconds spent in neighbour search and in local fits.
     pub time_knn: f64,
     pub time_fit: f64,
@@ -35,7 +40,15 @@ pub(crate) struct MicroScratch {
 
 impl MicroScratch {
     pub fn new(p: &MicroParams, n_joints: usize, task_dim: usize) -> Self {
-        MicroScratch { model: LocalModel::new(n_joints, task_dim, p.local.clone()), warm: WarmStart::new(p.warm_start_recent), neighbours: Vec::new(), time_knn: 0.0, time_fit: 0.0 }
+        MicroScratch {
+            model: LocalModel::new(n_joints, task_dim, p.local.clone()),
+            warm: WarmStart::new(p.warm_start_recent),
+            neighbours: Vec::new(),
+            rest: None,
+            keep_rest: true,
+            time_knn: 0.0,
+            time_fit: 0.0,
+        }
     }
 }
 
@@ -45,14 +58,18 @@ impl MicroScratch {
 pub(crate) fn evaluate_micro(p: &MicroParams, tests: &TestSet, memory: &SensorimotorMemory, arm: &mut dyn Body, s: &mut MicroScratch, predict_neighbours: &[Vec<Neighbour>]) -> EvalResult {
     let mut reach_errors = Vec::with_capacity(tests.goals.len());
     let mut test_steps = 0;
+    s.rest = None;
+    s.warm.clear();
     arm.reset();
     for (i, &g) in tests.goals.iter().enumerate() {
-        // Even tests start from rest, odd ones from where the previous test ended.
-        if i % 2 == 0 {
+        // Even tests start from rest, odd ones from where the previous test ended (where the
+        // previous neighbours still help a search).
+        let from_rest = i % 2 == 0;
+        if from_rest {
             arm.reset();
+            s.warm.clear();
         }
-        s.warm.clear();
-        let (err, steps) = test_reach(p, memory, arm, g, s);
+        let (err, steps) = test_reach(p, memory, arm, g, from_rest, s);
         reach_errors.push(err);
         test_steps += steps;
     }
@@ -75,7 +92,7 @@ pub(crate) fn evaluate_micro(p: &MicroParams, tests: &TestSet, memory: &Sensorim
 }
 
 /// Closed-loop reach with the learnt inverse model only: no exploration, no storing.
-fn test_reach(p: &MicroParams, memory: &SensorimotorMemory, arm: &mut dyn Body, goal: Point, s: &mut MicroScratch) -> (f64, u64) {
+fn test_reach(p: &MicroParams, memory: &SensorimotorMemory, arm: &mut dyn Body, goal: Point, from_rest: bool, s: &mut MicroScratch) -> (f64, u64) {
     let dist = |x: Point| distance(&goal, &x);
     let d0 = dist(arm.position());
     let timeout = (p.cfg.timeout_factor * d0 / p.v).ceil() as usize + p.cfg.timeout_min;
@@ -95,10 +112,22 @@ fn test_reach(p: &MicroParams, memory: &SensorimotorMemory, arm: &mut dyn Body, 
         let dx = desired_step(&x, &goal, p.v);
         let theta = arm.theta().to_vec();
         let t0 = std::time::Instant::now();
-        if p.warm_start_recent > 0 {
-            memory.knn_warm(&mut s.warm, &theta, k, &mut s.neighbours);
-        } else {
-            memory.knn(&theta, k, &mut s.neighbours);
+        let at_rest = from_rest && steps == 0;
+        match &s.rest {
+            Some((t, nb)) if at_rest && *t == theta => {
+                s.neighbours.clone_from(nb);
+                s.warm.remember(nb);
+            }
+            _ => {
+                if p.warm_start_recent > 0 {
+                    memory.knn_warm(&mut s.warm, &theta, k, &mut s.neighbours);
+                } else {
+                    memory.knn(&theta, k, &mut s.neighbours);
+                }
+                if at_rest && s.keep_rest {
+                    s.rest = Some((theta.clone(), s.neighbours.clone()));
+                }
+            }
         }
         let t1 = std::time::Instant::now();
         let fitted = s.model.fit(memory, &s.neighbours).and_then(|_| s.model.inverse(&dx[..memory.task_dim()], &mut dtheta));
@@ -122,4 +151,44 @@ fn test_reach(p: &MicroParams, memory: &SensorimotorMemory, arm: &mut dyn Body, 
         }
     }
     (dist(arm.position()), steps)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::arm::Arm;
+    use crate::{Learner, RunConfig};
+
+    /// The shortcuts of an evaluation (warm starts across odd tests, the answer at rest reused)
+    /// change nothing: the same errors as cold searches without them, and a reused scratch
+    /// gives what a fresh one does.
+    #[test]
+    fn shortcuts_give_the_errors_of_cold_searches() {
+        let mut cfg = RunConfig { n_steps: 3000, ..RunConfig::default() };
+        cfg.eval.schedule = vec![3000];
+        let mut l = Learner::new(cfg.clone(), 4, 5).unwrap();
+        l.run(&mut |_| true);
+        let (mem, tests) = (l.memory(), l.test_set());
+        let predict: Vec<Vec<Neighbour>> = tests
+            .configs
+            .iter()
+            .map(|c| {
+                let mut nb = Vec::new();
+                mem.knn(c, cfg.local.k_neighbours, &mut nb);
+                nb
+            })
+            .collect();
+        let params = |recent| MicroParams { cfg: cfg.eval.clone(), local: cfg.local.clone(), v: cfg.reaching.v, warm_start_recent: recent };
+        let run = |p: &MicroParams, s: &mut MicroScratch| evaluate_micro(p, tests, mem, &mut Arm::new(cfg.arm.clone()).unwrap(), s, &predict);
+        let (warm, cold) = (params(8), params(0));
+        let mut s = MicroScratch::new(&warm, mem.n_joints(), 2);
+        let first = run(&warm, &mut s);
+        assert!(first.test_steps > 100, "the test reaches moved: {}", first.test_steps);
+        assert!(s.rest.is_some(), "the answer at rest was kept");
+        assert_eq!(run(&warm, &mut s), first);
+        let mut plain = MicroScratch::new(&cold, mem.n_joints(), 2);
+        plain.keep_rest = false;
+        assert_eq!(run(&cold, &mut plain), first);
+        assert!(plain.rest.is_none());
+    }
 }

@@ -218,6 +218,12 @@ impl WarmStart {
         self.previous.clear();
     }
 
+    /// Take `answer`, found some other way, as the previous query's neighbours.
+    pub fn remember(&mut self, answer: &[Neighbour]) {
+        self.previous.clear();
+        self.previous.extend(answer.iter().map(|nb| nb.id));
+    }
+
     /// The exact k nearest neighbours of `query` among the points of `index`.
     pub fn knn<I: PointIndex + ?Sized>(&mut self, index: &I, query: &[f64], k: usize, out: &mut Vec<Neighbour>) {
         let n = index.len();

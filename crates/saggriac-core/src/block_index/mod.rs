@@ -126,7 +126,8 @@ impl BlockIndex {
         let mut b = [[0.0; FANOUT]; BATCH];
         bounds(&q.q32, &batch, &mut b);
         let n = self.n_boxes(level);
-        let mut limit = q.limit(best.bound());
+        let mut bound = best.bound();
+        let mut limit = q.limit(bound);
         for (&r, lanes) in rows.iter().zip(&b) {
             // The lanes to open, as bits (blocks are tested again as the limit falls).
             let real = (n - r * FANOUT).min(FANOUT);
@@ -140,7 +141,12 @@ impl BlockIndex {
                         continue;
                     }
                     self.visit_block(i, q.q, best, acc);
-                    limit = q.limit(best.bound());
+                    // Most blocks add nothing: the limit (two square roots) changes only with
+                    // the k-th distance.
+                    if best.bound() != bound {
+                        bound = best.bound();
+                        limit = q.limit(bound);
+                    }
                 } else {
                     next.push(i);
                 }
