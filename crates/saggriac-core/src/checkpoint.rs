@@ -93,7 +93,7 @@ impl Learner {
     /// Rebuild a learner from a checkpoint of a run with configuration `cfg`.
     pub fn restore(cfg: RunConfig, bytes: &[u8]) -> Result<Learner> {
         let s: State = match postcard::take_from_bytes_crc32::<State>(bytes, CHECKSUM.digest()) {
-            Ok((s, rest)) if rest.is_empty() => s,
+            Ok((s, [])) => s,
             Ok(_) => return Err(refuse(format!("The checkpoint is damaged: bytes follow its end. {START_OVER}"))),
             Err(postcard::Error::DeserializeBadCrc) => return Err(refuse(format!("The checkpoint is damaged: its checksum does not match its content. {START_OVER}"))),
             Err(e) => return Err(refuse(format!("The checkpoint is damaged or not a saggriac checkpoint ({e}). {START_OVER}"))),
