@@ -25,21 +25,46 @@ def test_anova_on_a_hand_computed_example():
     assert row["effect"] == pytest.approx(0.9)
 
 
-def test_pairwise_welch_and_effect_size_match_scipy():
+def test_pairs_are_compared_seed_by_seed_like_scipy():
     rng = np.random.default_rng(0)
-    g = {"sagg_riac": rng.normal(1.0, 0.3, 15), "sagg_random": rng.normal(1.4, 0.6, 15)}
-    t = statistics.compare(tidy(g), steps=[100], metrics=["reach_error"])
-    w = t[t["test"] == "welch"].iloc[0]
-    ref = sps.ttest_ind(g["sagg_riac"], g["sagg_random"], equal_var=False)
-    assert (w["a"], w["b"]) == ("sagg_riac", "sagg_random")
-    assert w["statistic"] == pytest.approx(ref.statistic) and w["p_value"] == pytest.approx(ref.pvalue)
-    # Hedges' g by its textbook formula.
+    # A seed effect shared by both conditions (the same test sets), which pairing removes.
+    seed_effect = rng.normal(0.0, 2.0, 15)
+    g = {"sagg_riac": seed_effect + rng.normal(1.0, 0.3, 15), "sagg_random": seed_effect + rng.normal(1.4, 0.3, 15)}
+    frame = tidy(g).sample(frac=1.0, random_state=1)  # row order must not matter
+    t = statistics.compare(frame, steps=[100], metrics=["reach_error"])
+    w = t[t["test"] == "paired_t"].iloc[0]
     a, b = g["sagg_riac"], g["sagg_random"]
-    sp = np.sqrt((14 * a.var(ddof=1) + 14 * b.var(ddof=1)) / 28)
-    assert w["effect"] == pytest.approx((a.mean() - b.mean()) / sp * (1 - 3 / (4 * 30 - 9)))
+    ref = sps.ttest_rel(a, b)
+    assert (w["a"], w["b"], w["n"]) == ("sagg_riac", "sagg_random", 15)
+    assert w["statistic"] == pytest.approx(ref.statistic) and w["p_value"] == pytest.approx(ref.pvalue)
+    d = a - b
+    half = sps.t.ppf(0.975, 14) * d.std(ddof=1) / np.sqrt(15)
+    assert (w["mean_diff"], w["ci_low"], w["ci_high"]) == pytest.approx((d.mean(), d.mean() - half, d.mean() + half))
+    assert w["effect"] == pytest.approx(d.mean() / d.std(ddof=1)) and w["effect_name"] == "cohen_dz"
+    # Unpaired, the seed effect would hide the difference.
+    assert w["p_value"] < 1e-4 < sps.ttest_ind(a, b, equal_var=False).pvalue
     md = statistics.to_markdown(t)
     assert md.count("\n") == 2 + len(t)
-    assert "| reach_error | 100 | welch | sagg_riac | sagg_random |" in md
+    assert "| reach_error | 100 | paired_t | sagg_riac | sagg_random |" in md
+
+
+def test_only_seeds_present_in_both_conditions_are_paired():
+    frame = tidy({"a": [1.0, 2.0, 3.0, 4.0], "b": [2.0, 2.5, 4.5]})
+    w = statistics.compare(frame, steps=[100], metrics=["reach_error"]).query("test == 'paired_t'").iloc[0]
+    assert w["n"] == 3 and w["mean_diff"] == pytest.approx(np.mean([-1.0, -0.5, -1.5]))
+
+
+def test_holm_correction():
+    p = [0.01, 0.04, 0.03, np.nan, 0.005]
+    # Sorted: 0.005*4, 0.01*3, 0.03*2, 0.04*1, each at least the previous.
+    assert statistics.holm(p)[[4, 0, 2, 1]] == pytest.approx([0.02, 0.03, 0.06, 0.06])
+    assert np.isnan(statistics.holm(p)[3])
+    rng = np.random.default_rng(3)
+    frame = pd.concat([tidy({c: rng.normal(0, 1, 6) for c in "abc"}, step=s) for s in (10, 20)])
+    t = statistics.compare(frame, steps=[10, 20], metrics=["reach_error"])
+    pairs = t[t["test"] == "paired_t"]
+    assert len(pairs) == 6 and (pairs["p_holm"] >= pairs["p_value"]).all()
+    assert pairs["p_holm"].to_numpy() == pytest.approx(statistics.holm(pairs["p_value"].to_numpy()))
 
 
 def test_checkpoints_end_at_the_last_step():
