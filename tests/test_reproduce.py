@@ -24,10 +24,20 @@ def test_reproduce_writes_figures_and_statistics(study_dir):
         assert p.read_bytes()[:8] == PNG and p.stat().st_size > 10_000
     table = pd.read_csv(study_dir / "stats.csv")
     end = table[table["step"] == 1200]
-    # One ANOVA over the three conditions and three pairwise tests, per metric.
-    assert sorted(end["test"].value_counts().items()) == [("anova", 2), ("welch", 6)]
-    assert end["p_value"].between(0, 1).all()
+    # One ANOVA over the three conditions and three paired tests, per metric (three metrics).
+    assert sorted(end["test"].value_counts().items()) == [("anova", 3), ("paired_t", 9)]
+    assert set(end["metric"]) == {"reach_error", "pred_error", "dx_error"}
+    # (Both SAGG conditions are one run before the first split: no spread, no p-value.)
+    tested = end.dropna(subset=["p_value"])
+    assert len(tested) >= 9 and tested["p_value"].between(0, 1).all() and (tested["p_holm"] >= tested["p_value"]).all()
+    pairs = end[end["test"] == "paired_t"]
+    assert (pairs["n"] == 2).all() and (pairs["ci_low"] <= pairs["mean_diff"]).all() and (pairs["mean_diff"] <= pairs["ci_high"]).all()
     assert "| reach_error | 1200 | anova |" in (study_dir / "stats.md").read_text()
+    # The time budget: goals and exploration of the SAGG runs, babbling only for ACTUATOR.
+    budget = pd.read_csv(study_dir / "time_budget.csv").set_index("condition")
+    assert (budget.loc[["sagg_riac", "sagg_random"], "goals"] > 0).all()
+    assert budget.loc["actuator_random", "share_exploration"] == 0.0
+    assert budget.loc["sagg_riac", "share_exploration"] > 0.0
 
 
 def test_plot_and_stats_rebuild_from_saved_results(study_dir, capsys):

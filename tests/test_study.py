@@ -15,7 +15,7 @@ import pytest
 import saggriac
 from saggriac import Config, Study, load_study, run_study
 from saggriac.errors import ParameterError, SaggriacError, StorageError
-from saggriac.study import StudyError, run_task
+from saggriac.study import METRICS, StudyError, run_task
 
 TABLES = ("metrics", "goals", "attempts", "regions")
 RUNS = ["sagg_random/seed0", "sagg_random/seed1", "sagg_riac/seed0", "sagg_riac/seed1"]
@@ -139,7 +139,7 @@ def test_run_killed_while_writing_is_redone_and_never_read(finished, study, tmp_
     (stale / "run.json").unlink()
     (stale / "metrics.parquet").write_bytes(data[: len(data) // 3])
     frame = load_study(out)
-    assert len(frame) == 2 * 4 * 6
+    assert len(frame) == 2 * len(METRICS) * 6
     assert set(zip(frame["condition"], frame["seed"])) == {("sagg_riac", 1), ("sagg_random", 0)}
     kept = ["sagg_random/seed0", "sagg_riac/seed1"]
     before = _fingerprints(out, kept)
@@ -170,8 +170,8 @@ def test_load_study_is_tidy_over_the_grid(tiny, tmp_path):
     ]
     frame = load_study(tmp_path / "grid")
     assert list(frame.columns) == ["condition", "seed", "g_max", "n_subgoals", "step", "metric", "value"]
-    assert len(frame) == 4 * 4 * 6  # runs x metrics x evaluation points
-    assert set(frame["metric"]) == {"reach_error", "pred_error", "n_goals", "n_regions"}
+    assert len(frame) == 4 * len(METRICS) * 6  # runs x metrics x evaluation points
+    assert set(frame["metric"]) == {"reach_error", "pred_error", "dx_error", "n_goals", "n_regions"}
     assert set(zip(frame["g_max"], frame["n_subgoals"])) == {(20, 3), (20, 5), (40, 3), (40, 5)}
     one = frame[(frame.g_max == 40) & (frame.n_subgoals == 3) & (frame.metric == "reach_error")]
     m = saggriac.RunResult.load(tmp_path / "grid/runs/sagg_riac__g_max=40__n_subgoals=3/seed3").metrics
@@ -321,7 +321,7 @@ def test_study_killed_with_sigkill_resumes(tmp_path):
     assert (res.n_computed, res.n_skipped) == (6 - len(done), len(done))
     assert _fingerprints(out, done) == before
     assert _leftovers(out) == [] and len(_finished_runs(out)) == 6
-    assert len(res.frame()) == 6 * 4 * 11
+    assert len(res.frame()) == 6 * len(METRICS) * 11
     assert json.loads((out / "study.json").read_text())["study"]["seeds"] == [0, 1, 2]
 
 

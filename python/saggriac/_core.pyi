@@ -5,6 +5,7 @@ import numpy as np
 
 __version__: str
 GIT_COMMIT: str
+IK_TOLERANCE: float
 CONFIG_KEYS: list[str]
 
 def validate_config(config: dict[str, Any]) -> None: ...

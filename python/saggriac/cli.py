@@ -142,7 +142,7 @@ def _print_run(res: Any, cfg: Config, seed: int, out: Path) -> None:
 
 
 def _cmd_reproduce(args: argparse.Namespace) -> int:
-    from .reproduce import final_summary, reproduce
+    from .reproduce import final_summary, reproduce, time_budget_summary
 
     if args.conditions is None:
         conditions = CONDITIONS
@@ -163,6 +163,10 @@ def _cmd_reproduce(args: argparse.Namespace) -> int:
     )
     out = Path(args.out) if args.out else Path(f"reproduce-{args.experiment}")
     print(final_summary(out).to_string(index=False))
+    budget = time_budget_summary(out)
+    if not budget.empty:
+        print("\ntime budget (means over runs; shares of all micro-actions):")
+        print(budget.to_string(index=False, float_format=lambda v: f"{v:.3g}"))
     for name, path in written.items():
         print(f"{name}: {path}")
     return 0

@@ -12,6 +12,7 @@ import dataclasses
 import math
 import sys
 import warnings
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -30,6 +31,9 @@ CONDITIONS = ("sagg_riac", "sagg_random", "actuator_random", "actuator_riac")
 
 
 _REMOVED_INDEXES = ("kdtree", "kdtree_crate")
+# Keys added after runs were already being saved, with the value that reproduces what such a run
+# did: a run.json without "test_configs" tested its forward model at uniform configurations.
+_LEGACY_VALUES = {"test_configs": "uniform"}
 
 
 @dataclass(frozen=True)
@@ -82,6 +86,8 @@ class Config:
     # Evaluation (SPEC.md).
     n_test_goals: int = 100
     n_test_configs: int = 100
+    # "ik_min_norm": each test goal's least-norm configuration; "uniform": uniform in the limits.
+    test_configs: str = "ik_min_norm"
     n_evals: int = 20
     eval_schedule: tuple[int, ...] | None = None
     eval_tolerance: float = 0.01
@@ -140,6 +146,11 @@ class Config:
         _core.validate_config(self.core_dict())
 
     @property
+    def reach(self) -> float:
+        """Length of the built-in arm: the radius of its reachable ball."""
+        return float(sum(self.link_lengths)) if self.link_lengths is not None else float(self.arm_length)
+
+    @property
     def joints(self) -> int:
         """Number of joints of the built-in arm (``link_lengths`` replaces ``n_joints`` when given)."""
         return len(self.link_lengths) if self.link_lengths is not None else self.n_joints
@@ -165,6 +176,12 @@ class Config:
         """JSON-ready dict of every field (tuples as lists)."""
         d = dataclasses.asdict(self)
         return {k: list(v) if isinstance(v, tuple) else v for k, v in d.items()}
+
+    @classmethod
+    def from_saved(cls, d: Mapping[str, Any]) -> Config:
+        """The configuration a run.json or study.json recorded. Keys it predates take the values
+        that reproduce what it ran, not today's defaults."""
+        return cls(**{**{k: v for k, v in _LEGACY_VALUES.items() if k not in d}, **d})
 
     def replace(self, **changes: Any) -> Config:
         check_keys(changes, source=None)

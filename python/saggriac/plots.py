@@ -23,17 +23,35 @@ LABELS = {
     "actuator_riac": "ACTUATOR-RIAC",
 }
 SD_BAND_LABEL = "shaded: mean \u00b1 1 sd over seeds"
-METRIC_TITLES = {"reach_error": "reaching error (distance goal - end effector)", "pred_error": "prediction error (end-effector position)"}
+METRIC_TITLES = {
+    "reach_error": "reaching error (distance goal - end effector)",
+    "pred_error": "prediction error (end-effector position)",
+    "dx_error": "relative error of the learnt dx = J dtheta",
+}
+# What each metric is without learning: its value at step 0 (nothing stored: no motion, the
+# origin predicted), except dx_error, whose no-motion prediction is 1 by definition.
+NO_LEARNING_LABEL = "no learning"
+
+
+def _no_learning(sel: pd.DataFrame, metric: str) -> float | None:
+    if metric == "dx_error":
+        return 1.0
+    start = sel[sel["step"] == 0]["value"]
+    return float(start.mean()) if len(start) else None
 
 
 def curves_figure(frame: pd.DataFrame, title: str = "", step_unit: str = "micro-actions") -> Figure:
     """Mean +- one standard deviation over seeds of each metric against time steps, one line per
     condition; the legend says what the shaded band is."""
-    fig = Figure(figsize=(11, 4.2), layout="constrained")
-    axes = fig.subplots(1, 2)
+    metrics = [m for m in METRIC_TITLES if m in set(frame["metric"])] or ["reach_error", "pred_error"]
+    fig = Figure(figsize=(5.5 * len(metrics), 4.2), layout="constrained")
+    axes = fig.subplots(1, len(metrics), squeeze=False)[0]
     conditions = [c for c in LABELS if c in set(frame["condition"])] + sorted(set(frame["condition"]) - set(LABELS))
-    for ax, metric in zip(axes, ("reach_error", "pred_error")):
+    for ax, metric in zip(axes, metrics):
         sel = frame[frame["metric"] == metric]
+        reference = _no_learning(sel, metric)
+        if reference is not None:
+            ax.axhline(reference, color="0.35", linestyle="--", linewidth=1.0, label=NO_LEARNING_LABEL)
         for i, cond in enumerate(conditions):
             g = sel[sel["condition"] == cond].groupby("step")["value"]
             mean, std, n = g.mean(), g.std(ddof=1).fillna(0.0), g.count()
@@ -49,7 +67,7 @@ def curves_figure(frame: pd.DataFrame, title: str = "", step_unit: str = "micro-
         ax.grid(alpha=0.3)
     handles, _ = axes[0].get_legend_handles_labels()
     band = Patch(facecolor="0.5", alpha=0.3, linewidth=0, label=SD_BAND_LABEL)
-    axes[0].legend(handles=[*handles, band])
+    axes[0].legend(handles=[*handles, band], fontsize=8)
     if title:
         fig.suptitle(title)
     return fig

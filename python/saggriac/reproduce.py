@@ -4,6 +4,7 @@ figures (Fig. 2-5 style) and the statistics table, all written into one folder."
 from __future__ import annotations
 
 import contextlib
+import json
 import os
 from pathlib import Path
 from typing import Any
@@ -102,17 +103,49 @@ def make_report(out_dir: str | Path, title: str | None = None) -> dict[str, Path
                 written[f"goals_{cond}"] = _atomic(figs / name, lambda p, d=run_dir: plots.plot_goal_histograms(d, p))
                 break
     written.update(write_stats(out, frame))
+    budget = time_budget_summary(out)
+    if not budget.empty:
+        written["time_budget_csv"] = _atomic(out / "time_budget.csv", lambda p: budget.to_csv(p, index=False))
     return written
 
 
 def write_stats(out_dir: str | Path, frame: pd.DataFrame | None = None) -> dict[str, Path]:
-    """stats.csv and stats.md: ANOVA and pairwise Welch tests at the end and at checkpoints."""
+    """stats.csv and stats.md: the ANOVA and paired tests by seed at the end and at checkpoints."""
     out = Path(out_dir)
     frame = load_study(out) if frame is None else frame
     table = statistics.compare(frame)
     csv = _atomic(out / "stats.csv", lambda p: table.to_csv(p, index=False))
     md = _atomic(out / "stats.md", lambda p: p.write_text(statistics.to_markdown(table)))
     return {"stats_csv": csv, "stats_md": md}
+
+
+# The time budget's columns, in the order shown (shares are of all micro-actions of a run).
+BUDGET_COLUMNS = ("goals", "share_exploration", "steps_per_goal", "goals_reachable", "steps_per_reachable_goal", "steps_per_unreachable_goal", "share_on_reachable_goals")
+
+
+def time_budget_summary(out_dir: str | Path) -> pd.DataFrame:
+    """Per condition, the mean over finished runs of each entry of run.json's ``time_budget``
+    (goals attempted, share of exploration, steps per goal inside and outside the reachable
+    area, share of time on reachable goals, and the share of time of each selection mode)."""
+    out = Path(out_dir)
+    rows = []
+    for task in Study.load(out).tasks():
+        manifest = out / task.path / "run.json"
+        if not manifest.exists():
+            continue
+        tb = json.loads(manifest.read_text()).get("time_budget")
+        if tb is None:  # a run from before saggriac 0.2
+            continue
+        row: dict[str, Any] = {"condition": task.condition, **{k: tb.get(k) for k in BUDGET_COLUMNS}}
+        row.update({f"share_mode_{k}": v for k, v in tb.get("share_by_mode", {}).items()})
+        rows.append(row)
+    if not rows:
+        return pd.DataFrame()
+    frame = pd.DataFrame(rows)
+    numeric = frame.drop(columns="condition").apply(pd.to_numeric, errors="coerce")
+    summary = numeric.groupby(frame["condition"], sort=False).mean()
+    summary.insert(0, "runs", frame.groupby("condition", sort=False).size())
+    return summary.reset_index()
 
 
 def final_summary(out_dir: str | Path) -> pd.DataFrame:
@@ -122,4 +155,4 @@ def final_summary(out_dir: str | Path) -> pd.DataFrame:
     return last.groupby(["metric", "condition"])["value"].agg(["mean", "std", "count"]).reset_index()
 
 
-__all__ = ["reproduce", "make_report", "write_stats", "final_summary", "study_title", "matching_preset", "RunResult"]
+__all__ = ["reproduce", "make_report", "write_stats", "final_summary", "time_budget_summary", "study_title", "matching_preset", "RunResult"]

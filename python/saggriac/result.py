@@ -60,7 +60,7 @@ class RunResult:
         manifest, tables = read_run(Path(path))
         empty = pd.DataFrame()
         return cls(
-            config=Config(**manifest["config"]),
+            config=Config.from_saved(manifest["config"]),
             seed=manifest["seed"],
             metrics=tables["metrics"],
             goals=tables.get("goals", empty),

@@ -22,6 +22,7 @@ from .result import RunResult
 from .seeding import check_seed, derive_seeds, environment_seed
 from .resources import check_run_fits, check_threads
 from .storage import MIN_FREE_BYTES, as_path, check_output_dir, replace_dir, sibling, target_lock, write_run
+from .time_budget import time_budget
 
 CHECKPOINT_FILES = frozenset({"state.bin", "checkpoint.json"})
 
@@ -156,6 +157,25 @@ def _is_checkpoint(path: Path) -> bool:
         return False
 
 
+def _test_set_summary(t: dict[str, Any], config: Config, reach: float | None) -> dict[str, Any]:
+    """What the forward-model metric was measured on, and its no-learning values."""
+    true_x = np.asarray(t["true_x"], dtype=float)
+    out: dict[str, Any] = {
+        "configs": t["kind"],
+        "n_configs": int(len(true_x)),
+        # Predicting the origin (what an empty memory gives) and predicting no motion.
+        "pred_error_no_learning": float(np.linalg.norm(true_x, axis=1).mean()) if len(true_x) else None,
+        "dx_error_no_learning": 1.0,
+    }
+    residuals = np.asarray(t["ik_residuals"], dtype=float)
+    if t["kind"] == "ik_min_norm":
+        scale = reach if reach is not None else config.reach
+        out["unreached_goals"] = int((residuals > _core.IK_TOLERANCE * scale).sum())
+        out["max_ik_residual"] = float(residuals.max()) if len(residuals) else 0.0
+        out["mean_config_norm"] = float(np.linalg.norm(np.asarray(t["configs"], dtype=float), axis=1).mean())
+    return out
+
+
 def _drive(learner: Any, config: Config, info: dict[str, Any], out: Path | None, progress: bool, every: int | None, extras: dict[str, str]) -> RunResult:
     """Run ``learner`` to the end of its budget, checkpointing if asked, and save the result."""
     seed = info["seed"]
@@ -201,6 +221,9 @@ def _drive(learner: Any, config: Config, info: dict[str, Any], out: Path | None,
     }
     if info.get("resumed_at") is not None:
         manifest["resumed_at_step"] = info["resumed_at"]
+    reach = None if "environment" in extras else config.reach
+    manifest["test_set"] = _test_set_summary(learner.test_set(), config, reach)
+    manifest["time_budget"] = time_budget(goals, manifest["profile"], config.n_steps, reach)
     result = RunResult(config=config, seed=seed, metrics=metrics, goals=goals, attempts=attempts, regions=regions, manifest=manifest, path=None)
     if out is not None:
         try:
@@ -234,7 +257,7 @@ def resume(out_dir: str | Path, progress: bool = False, threads: int | None = No
     with target_lock(out):
         try:
             meta = json.loads((ck / "checkpoint.json").read_text())
-            config = Config(**meta["config"])
+            config = Config.from_saved(meta["config"])
             info = {k: meta[k] for k in ("seed", "learner_seed", "eval_seed", "overwrite")}
             every = meta["checkpoint_every"]
         except (OSError, ValueError, KeyError, TypeError, UnicodeDecodeError) as e:

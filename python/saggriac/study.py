@@ -27,6 +27,7 @@ from typing import Any
 
 import numpy as np
 import pandas as pd
+import pyarrow.parquet as pq
 
 from . import _core
 from .config import Config, check_keys
@@ -38,7 +39,7 @@ from .storage import MANIFEST, as_path, run_damage
 STUDY_FILE = "study.json"
 LOCK_FILE = ".lock"
 RUNS_DIR = "runs"
-METRICS = ("reach_error", "pred_error", "n_goals", "n_regions")
+METRICS = ("reach_error", "pred_error", "dx_error", "n_goals", "n_regions")
 _FORMAT = 1
 _SAFE_TEXT = re.compile(r"[A-Za-z0-9_.+-]+")
 
@@ -174,7 +175,7 @@ class Study:
 
     @classmethod
     def from_dict(cls, d: Mapping[str, Any]) -> Study:
-        return cls(base=Config(**d["base"]), conditions=tuple(d["conditions"]), seeds=tuple(d["seeds"]), grid=dict(d.get("grid") or {}))
+        return cls(base=Config.from_saved(d["base"]), conditions=tuple(d["conditions"]), seeds=tuple(d["seeds"]), grid=dict(d.get("grid") or {}))
 
     @classmethod
     def load(cls, out_dir: str | Path) -> Study:
@@ -344,7 +345,7 @@ def _is_finished(out: Path, task: Task) -> bool | str:
         return damage
     data = json.loads(manifest.read_text())
     try:
-        same = data["seed"] == task.seed and Config(**data["config"]) == Config(**task.config)
+        same = data["seed"] == task.seed and Config.from_saved(data["config"]) == Config(**task.config)
     except (KeyError, TypeError, ParameterError) as e:
         return f"{manifest} does not describe a run this version of saggriac can read ({e})"
     if not same:
@@ -573,14 +574,17 @@ def load_study(out_dir: str | Path) -> pd.DataFrame:
         damage = run_damage(run_dir)
         if damage is not None:
             raise StorageError(f"{run_dir} is damaged: {damage}. Run the study again on {out} (saggriac reproduce, or run_study) to set it aside and recompute it.")
-        m = pd.read_parquet(run_dir / "metrics.parquet", columns=["step", *METRICS])
-        n = len(m) * len(METRICS)
+        # Runs from before a metric existed leave it out (dx_error came with saggriac 0.2).
+        have = set(pq.read_schema(run_dir / "metrics.parquet").names)
+        metrics = [k for k in METRICS if k in have]
+        m = pd.read_parquet(run_dir / "metrics.parquet", columns=["step", *metrics])
+        n = len(m) * len(metrics)
         cols: dict[str, Any] = {"condition": [task.condition] * n, "seed": np.full(n, task.seed, dtype=np.int64)}
         for k in keys:
             cols[k] = [task.params[k]] * n
-        cols["step"] = np.tile(m["step"].to_numpy(np.int64), len(METRICS))
-        cols["metric"] = np.repeat(np.array(METRICS, dtype=object), len(m))
-        cols["value"] = np.concatenate([m[k].to_numpy(np.float64) for k in METRICS])
+        cols["step"] = np.tile(m["step"].to_numpy(np.int64), len(metrics))
+        cols["metric"] = np.repeat(np.array(metrics, dtype=object), len(m))
+        cols["value"] = np.concatenate([m[k].to_numpy(np.float64) for k in metrics])
         parts.append(pd.DataFrame(cols))
     if not parts:
         empty = {"condition": pd.Series(dtype=str), "seed": pd.Series(dtype=np.int64)}

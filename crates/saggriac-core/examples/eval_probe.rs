@@ -20,7 +20,15 @@ fn main() {
     l.run(&mut |_| true);
     let mem = l.memory();
     let n = mem.n_joints();
-    let tests = saggriac_core::evaluation::TestSet::new(&cfg.arm, &cfg.goal_low, &cfg.goal_high, 100, 1, 1).unwrap();
+    let tests = saggriac_core::evaluation::TestSet::new(
+        &cfg.arm,
+        &cfg.goal_low,
+        &cfg.goal_high,
+        &saggriac_core::config::evaluation::EvalConfig { n_test_goals: 100, n_test_configs: 1, test_configs: saggriac_core::config::evaluation::TestConfigs::Uniform, ..cfg.eval.clone() },
+        cfg.exploration.step,
+        1,
+    )
+    .unwrap();
     let mut arm = Arm::new(cfg.arm.clone()).unwrap();
     let mut model = LocalModel::new(n, 2, cfg.local.clone());
     let mut ws = WarmStart::new(8);

@@ -29,7 +29,15 @@ fn main() {
     let n = mem.n_joints();
     let k = cfg.local.k_neighbours;
     // Record the queries of 100 test reaches (what one evaluation asks).
-    let tests = saggriac_core::evaluation::TestSet::new(&cfg.arm, &cfg.goal_low, &cfg.goal_high, 100, 1, 1).unwrap();
+    let tests = saggriac_core::evaluation::TestSet::new(
+        &cfg.arm,
+        &cfg.goal_low,
+        &cfg.goal_high,
+        &saggriac_core::config::evaluation::EvalConfig { n_test_goals: 100, n_test_configs: 1, test_configs: saggriac_core::config::evaluation::TestConfigs::Uniform, ..cfg.eval.clone() },
+        cfg.exploration.step,
+        1,
+    )
+    .unwrap();
     let mut arm = Arm::new(cfg.arm.clone()).unwrap();
     let mut model = LocalModel::new(n, 2, cfg.local.clone());
     let mut ws = WarmStart::new(cfg.warm_start_recent);

@@ -104,6 +104,18 @@ impl Arm {
         self.x = self.read(self.forward(&self.theta));
     }
 
+    /// The Jacobian of `forward` (task_dim x n, row-major) where it is written out: the planar
+    /// arm. False for the spatial arm (callers differentiate numerically).
+    pub fn jacobian(&self, theta: &[f64], out: &mut [f64]) -> bool {
+        match self.cfg.kind {
+            ArmKind::Planar => {
+                planar_jacobian(&self.cfg.link_lengths, theta, out);
+                true
+            }
+            ArmKind::Spatial => false,
+        }
+    }
+
     /// End-effector position for a configuration.
     pub fn forward(&self, theta: &[f64]) -> Point {
         match self.cfg.kind {
@@ -134,6 +146,23 @@ impl Arm {
 }
 
 /// Planar arm: x = sum_i l_i (cos phi_i, sin phi_i), phi_i = theta_1 + ... + theta_i.
+/// Planar arm: d x / d theta_i = -sum_{j >= i} l_j sin(phi_j), d y / d theta_i = sum_{j >= i}
+/// l_j cos(phi_j), phi_j the absolute angle of link j. Row-major 2 x n into `out`.
+pub(crate) fn planar_jacobian(links: &[f64], theta: &[f64], out: &mut [f64]) {
+    let n = theta.len();
+    let mut phi = 0.0;
+    for (i, (l, t)) in links.iter().zip(theta).enumerate() {
+        phi += t;
+        let (s, c) = phi.sin_cos();
+        out[i] = -l * s;
+        out[n + i] = l * c;
+    }
+    for i in (0..n.saturating_sub(1)).rev() {
+        out[i] += out[i + 1];
+        out[n + i] += out[n + i + 1];
+    }
+}
+
 fn planar_forward(links: &[f64], theta: &[f64]) -> Point {
     let mut phi = 0.0;
     let mut x = [0.0; MAX_TASK_DIM];
@@ -175,6 +204,25 @@ fn spatial_forward(links: &[f64], theta: &[f64]) -> Point {
 
 #[cfg(test)]
 mod tests {
+
+    #[test]
+    fn planar_jacobian_is_the_derivative_of_forward() {
+        let a = Arm::new(ArmConfig::uniform(7, 21.0, 1.5, 0.05)).unwrap();
+        let theta = [0.3, -0.2, 0.9, 0.1, -1.1, 0.5, 0.05];
+        let mut j = [0.0; 14];
+        assert!(a.jacobian(&theta, &mut j));
+        for i in 0..7 {
+            let (mut hi, mut lo) = (theta, theta);
+            hi[i] += 1e-6;
+            lo[i] -= 1e-6;
+            let (xh, xl) = (a.forward(&hi), a.forward(&lo));
+            for r in 0..2 {
+                let fd = (xh[r] - xl[r]) / 2e-6;
+                assert!((j[r * 7 + i] - fd).abs() < 1e-6, "row {r} joint {i}: {} vs {fd}", j[r * 7 + i]);
+            }
+        }
+    }
+
     use super::*;
     use std::f64::consts::PI;
 

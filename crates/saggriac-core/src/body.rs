@@ -17,6 +17,16 @@ pub trait Body: Send + Sync {
     /// Put the body in a configuration at once: a whole movement in the episodic paradigm, a
     /// placement during evaluation.
     fn set_theta(&mut self, theta: &[f64]);
+    /// The noise-free position of a configuration, if the body knows its kinematics (the
+    /// built-in arms do); None makes callers place the body and read its position instead.
+    fn forward(&self, _theta: &[f64]) -> Option<Point> {
+        None
+    }
+    /// The Jacobian of `forward` at `theta` (task_dim x n_joints, row-major, into `out`) if the
+    /// body has it in closed form; false makes callers use finite differences.
+    fn jacobian(&self, _theta: &[f64], _out: &mut [f64]) -> bool {
+        false
+    }
     /// One micro-action: writes the realised joint change into `dtheta`, returns the realised dx.
     fn step(&mut self, dtheta: &mut [f64]) -> Point;
     /// An independent copy for the evaluation's test reaches, if the body can make one. Without
@@ -66,6 +76,20 @@ impl Body for Arm {
     }
     fn set_theta(&mut self, theta: &[f64]) {
         Arm::set_theta(self, theta)
+    }
+    fn forward(&self, theta: &[f64]) -> Option<Point> {
+        // Within the limits, as a placement would be.
+        let lim = self.config().joint_limit;
+        if theta.iter().all(|t| t.abs() <= lim) {
+            return Some(Arm::forward(self, theta));
+        }
+        let clipped: Vec<f64> = theta.iter().map(|t| t.clamp(-lim, lim)).collect();
+        Some(Arm::forward(self, &clipped))
+    }
+    fn jacobian(&self, theta: &[f64], out: &mut [f64]) -> bool {
+        // Only inside the limits, where placements do not clip.
+        let lim = self.config().joint_limit;
+        theta.iter().all(|t| t.abs() < lim) && Arm::jacobian(self, theta, out)
     }
     fn step(&mut self, dtheta: &mut [f64]) -> Point {
         Arm::step(self, dtheta)

@@ -15,8 +15,9 @@ use crate::run_loop::Learner;
 use crate::task_space::Point;
 
 /// Bumped whenever the layout below changes; older checkpoints are then refused.
-/// Format 3: the encoding is followed by a CRC-32 (Castagnoli) of it.
-const FORMAT: u32 = 3;
+/// Format 3: the encoding is followed by a CRC-32 (Castagnoli) of it. Format 4: the test motions'
+/// true displacements and the metric rows' dx_error.
+const FORMAT: u32 = 4;
 
 /// CRC-32C: detects every error of up to 32 consecutive bits, so any one damaged byte.
 const CHECKSUM: crc::Crc<u32> = crc::Crc::<u32>::new(&crc::CRC_32_ISCSI);
@@ -44,6 +45,7 @@ struct State {
     body: ArmState,
     scratch: Option<ArmState>,
     true_x: Vec<Point>,
+    true_dx: Vec<Point>,
     counters: Counters,
     timers: Timers,
     metrics: Vec<MetricRow>,
@@ -81,6 +83,7 @@ impl Learner {
             body,
             scratch: p.evaluator.scratch.as_ref().and_then(|s| s.save()),
             true_x: p.evaluator.tests.true_x.clone(),
+            true_dx: p.evaluator.tests.true_dx.clone(),
             counters: r.counters.clone(),
             timers: r.timers.clone(),
             metrics: r.metrics.clone(),
@@ -113,7 +116,9 @@ impl Learner {
         if let (Some(sc), Some(st)) = (p.evaluator.scratch.as_mut(), &s.scratch) {
             sc.load(st);
         }
-        std::sync::Arc::make_mut(&mut p.evaluator.tests).true_x = s.true_x;
+        let tests = std::sync::Arc::make_mut(&mut p.evaluator.tests);
+        tests.true_x = s.true_x;
+        tests.true_dx = s.true_dx;
         p.evaluator.next_eval = s.next_eval;
         p.rng = s.rng;
         p.recorder = Recorder {

@@ -15,7 +15,8 @@ use crate::memory::SensorimotorMemory;
 use crate::micro_evaluation::{evaluate_micro, MicroParams, MicroScratch};
 use crate::neighbours::Neighbour;
 use crate::sensorimotor_model::ModelView;
-use crate::task_space::{distance, MAX_TASK_DIM};
+use crate::task_space::{distance, sub, MAX_TASK_DIM};
+use crate::test_set::relative_error;
 pub use crate::test_set::{EvalResult, TestSet};
 
 pub struct Evaluator {
@@ -160,17 +161,11 @@ impl Evaluator {
     /// The learner's body changed: copy it again and measure the test configurations anew.
     pub fn body_changed(&mut self, main: &mut dyn Body) {
         self.scratch = main.scratch();
-        let configs = self.tests.configs.clone();
-        let true_x = self.on_body(main, |_, b| {
-            configs
-                .iter()
-                .map(|c| {
-                    b.set_theta(c);
-                    b.position()
-                })
-                .collect()
-        });
-        Arc::make_mut(&mut self.tests).true_x = true_x;
+        let tests = Arc::clone(&self.tests);
+        let (true_x, true_dx) = self.on_body(main, |_, b| (tests.measure_x(b), tests.measure_dx(b)));
+        let tests = Arc::make_mut(&mut self.tests);
+        tests.true_x = true_x;
+        tests.true_dx = true_dx;
     }
 
     /// Run `f` on the scratch body if there is one, else on `main`, put back afterwards.
@@ -218,17 +213,22 @@ impl Evaluator {
         let n = configs.first().map_or(0, Vec::len);
         let queries: Vec<f64> = (0..n * nq).map(|j| configs[j % nq][j / nq]).collect();
         memory.knn_theta_since_many(&queries, EpisodicMemory::forward_k(cfg), &mut self.forward_cache, &mut self.scan_acc);
+        let mut dx_errors = Vec::with_capacity(nq);
         let pred_errors = configs
             .iter()
-            .zip(&self.tests.true_x)
+            .enumerate()
             .zip(&self.forward_cache)
-            .map(|((c, xt), (nb, _))| {
+            .map(|((i, c), (nb, _))| {
                 let xp = memory.predict_from(c, nb, cfg).unwrap_or([0.0; MAX_TASK_DIM]);
-                distance(&xp, xt)
+                // The differential model: the same local model at the moved configuration.
+                let moved: Vec<f64> = c.iter().zip(&self.tests.motions[i]).map(|(t, d)| t + d).collect();
+                let dxp = memory.predict_from(&moved, nb, cfg).map_or([0.0; MAX_TASK_DIM], |x1| sub(&x1, &xp));
+                dx_errors.extend(relative_error(&dxp, &self.tests.true_dx[i]));
+                distance(&xp, &self.tests.true_x[i])
             })
             .collect();
         self.time_knn += t0.elapsed().as_secs_f64();
         let steps = reach_errors.len() as u64;
-        EvalResult { reach_errors, pred_errors, test_steps: steps }
+        EvalResult { reach_errors, pred_errors, dx_errors, test_steps: steps }
     }
 }

@@ -25,6 +25,7 @@ pub mod local_model;
 pub mod low_level;
 pub mod memory;
 pub(crate) mod micro_evaluation;
+pub mod min_norm_ik;
 pub mod neighbours;
 pub mod parts;
 pub mod recorder;

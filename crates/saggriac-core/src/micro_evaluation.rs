@@ -9,7 +9,7 @@ use crate::local_model::LocalModel;
 use crate::memory::SensorimotorMemory;
 use crate::neighbours::{Neighbour, WarmStart};
 use crate::task_space::{desired_step, distance, Point, MAX_TASK_DIM};
-use crate::test_set::{EvalResult, TestSet};
+use crate::test_set::{relative_error, EvalResult, TestSet};
 
 /// What a micro-action evaluation needs besides the memory, the body and the tests: the same
 /// for every evaluation of a run, so a worker thread gets a copy.
@@ -75,8 +75,9 @@ pub(crate) fn evaluate_micro(p: &MicroParams, tests: &TestSet, memory: &Sensorim
     }
     let m = memory.task_dim();
     let mut pred_errors = Vec::with_capacity(tests.configs.len());
+    let mut dx_errors = Vec::with_capacity(tests.configs.len());
     let mut xp = [0.0; MAX_TASK_DIM];
-    for ((c, xt), nb) in tests.configs.iter().zip(&tests.true_x).zip(predict_neighbours) {
+    for (i, (c, nb)) in tests.configs.iter().zip(predict_neighbours).enumerate() {
         let ok = memory.len() >= p.local.k_neighbours && s.model.fit(memory, nb).is_ok();
         if ok {
             s.model.predict_x(memory, nb, c, &mut xp[..m]);
@@ -86,9 +87,18 @@ pub(crate) fn evaluate_micro(p: &MicroParams, tests: &TestSet, memory: &Sensorim
         } else {
             xp = [0.0; MAX_TASK_DIM];
         }
-        pred_errors.push(distance(&xp, xt));
+        pred_errors.push(distance(&xp, &tests.true_x[i]));
+        // The differential model J dtheta, or no motion without a fit.
+        let mut dxp = [0.0; MAX_TASK_DIM];
+        if ok {
+            let j = s.model.jacobian();
+            for (r, v) in dxp.iter_mut().take(m).enumerate() {
+                *v = tests.motions[i].iter().enumerate().map(|(a, d)| j[(r, a)] * d).sum();
+            }
+        }
+        dx_errors.extend(relative_error(&dxp, &tests.true_dx[i]));
     }
-    EvalResult { reach_errors, pred_errors, test_steps }
+    EvalResult { reach_errors, pred_errors, dx_errors, test_steps }
 }
 
 /// Closed-loop reach with the learnt inverse model only: no exploration, no storing.

@@ -179,7 +179,7 @@ impl Parts {
         while self.evaluator.due(self.recorder.steps) {
             if self.evaluator.can_run_elsewhere(&self.model.view()) {
                 let index = self.recorder.metrics.len();
-                self.recorder.metrics.push(self.row(f64::NAN, f64::NAN));
+                self.recorder.metrics.push(self.row(f64::NAN, f64::NAN, f64::NAN));
                 self.recorder.pending.push(index);
                 self.evaluator.start(index, self.model.view());
             } else {
@@ -194,6 +194,7 @@ impl Parts {
             let row = &mut self.recorder.metrics[f.index];
             row.reach_error = f.result.mean_reach();
             row.pred_error = f.result.mean_pred();
+            row.dx_error = f.result.mean_dx();
             self.recorder.counters.test_steps += f.result.test_steps;
             self.recorder.timers.evaluation += f.seconds;
             self.recorder.pending.retain(|&i| i != f.index);
@@ -201,12 +202,13 @@ impl Parts {
     }
 
     /// The metric row of an evaluation now, with its errors.
-    fn row(&self, reach_error: f64, pred_error: f64) -> MetricRow {
+    fn row(&self, reach_error: f64, pred_error: f64, dx_error: f64) -> MetricRow {
         MetricRow {
             step: self.recorder.steps,
             n_samples: self.model.len() as u64,
             reach_error,
             pred_error,
+            dx_error,
             n_goals: self.recorder.goals_done,
             n_regions: self.selector.tree().map(|t| t.leaves().len() as u64).unwrap_or(1),
         }
@@ -219,7 +221,7 @@ impl Parts {
         let r = self.evaluator.evaluate(self.model.view(), self.body.as_mut());
         self.recorder.timers.evaluation += t0.elapsed().as_secs_f64();
         self.recorder.counters.test_steps += r.test_steps;
-        let row = self.row(r.mean_reach(), r.mean_pred());
+        let row = self.row(r.mean_reach(), r.mean_pred(), r.mean_dx());
         self.recorder.metrics.push(row.clone());
         row
     }

@@ -14,6 +14,9 @@ pub struct MetricRow {
     pub n_samples: u64,
     pub reach_error: f64,
     pub pred_error: f64,
+    /// Mean relative error of the learnt differential model at the test configurations:
+    /// |predicted dx - true dx| / |true dx| for each test motion (1 = no better than no motion).
+    pub dx_error: f64,
     pub n_goals: u64,
     pub n_regions: u64,
 }

@@ -161,7 +161,7 @@ impl Learner {
             0 => actuator_reset_period(&cfg, rest_x),
             r => r,
         };
-        let tests = TestSet::with_body(&cfg.arm, body.as_mut(), &cfg.goal_low, &cfg.goal_high, cfg.eval.n_test_goals, cfg.eval.n_test_configs, eval_seed)?;
+        let tests = TestSet::with_body(&cfg.arm, body.as_mut(), &cfg.goal_low, &cfg.goal_high, &cfg.eval, cfg.exploration.step, eval_seed)?;
         body.reset();
         let evaluator = Evaluator::new(&cfg, tests, body.scratch(), n, m);
         let episodic = cfg.paradigm == Paradigm::Episodic;

@@ -4,6 +4,7 @@
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use saggriac_core::arm::{ArmConfig, ArmKind};
+use saggriac_core::config::evaluation::TestConfigs;
 use saggriac_core::config::Paradigm;
 use saggriac_core::error::invalid;
 use saggriac_core::memory::IndexKind;
@@ -17,7 +18,7 @@ pub const KEYS: &[&str] = &[
     "condition", "n_steps", "body", "n_joints", "arm_length", "link_lengths", "joint_limit", "max_joint_step", "goal_low", "goal_high",
     "v", "n_subgoals", "eps_max", "timeout_factor", "timeout_min", "q", "explore_step", "k_neighbours", "ridge", "pinv_rcond",
     "bandwidth", "min_c", "eps_c", "g_max", "zeta", "min_child", "p_interest", "p_global", "p_lowest", "reset_every",
-    "n_test_goals", "n_test_configs", "eval_tolerance", "eval_patience", "eval_timeout_factor", "eval_timeout_min",
+    "n_test_goals", "n_test_configs", "test_configs", "eval_tolerance", "eval_patience", "eval_timeout_factor", "eval_timeout_min",
     "eval_schedule", "knn_index", "warm_start_recent", "babble_step", "actuator_reset_every", "paradigm", "episodic_noise", "episodic_refine", "episodic_k", "motor_noise", "sensor_noise", "body_change_step",
     "body_change_link", "body_change_length",
 ];
@@ -112,6 +113,8 @@ pub fn run_config_from_dict(d: &Bound<'_, PyDict>) -> PyResult<RunConfig> {
     c.reset_every = get(d, "reset_every", c.reset_every, "an int >= 1")?;
     c.eval.n_test_goals = get(d, "n_test_goals", c.eval.n_test_goals, "an int >= 1")?;
     c.eval.n_test_configs = get(d, "n_test_configs", c.eval.n_test_configs, "an int >= 1")?;
+    let kind: String = get(d, "test_configs", c.eval.test_configs.name().to_string(), "a str")?;
+    c.eval.test_configs = TestConfigs::parse(&kind).ok_or_else(|| to_py(py, invalid("Config", "test_configs", "one of 'ik_min_norm', 'uniform'", format!("'{kind}'"))))?;
     c.eval.tolerance = get(d, "eval_tolerance", c.eval.tolerance, "a float")?;
     c.eval.patience = get(d, "eval_patience", c.eval.patience, "an int >= 1")?;
     c.eval.timeout_factor = get(d, "eval_timeout_factor", c.eval.timeout_factor, "a float")?;

@@ -28,6 +28,8 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("CONFIG_KEYS", config::KEYS.to_vec())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add("GIT_COMMIT", env!("SAGGRIAC_GIT_COMMIT"))?;
+    // A test configuration further than this times the reach from its goal did not reach it.
+    m.add("IK_TOLERANCE", saggriac_core::test_set::IK_TOLERANCE)?;
     m.add_function(wrap_pyfunction!(validate_config, m)?)?;
     Ok(())
 }

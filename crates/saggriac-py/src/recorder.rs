@@ -24,12 +24,14 @@ pub fn metric_row<'py>(py: Python<'py>, m: &MetricRow) -> PyResult<Bound<'py, Py
     d.set_item("n_samples", m.n_samples)?;
     d.set_item("reach_error", m.reach_error)?;
     d.set_item("pred_error", m.pred_error)?;
+    d.set_item("dx_error", m.dx_error)?;
     d.set_item("n_goals", m.n_goals)?;
     d.set_item("n_regions", m.n_regions)?;
     Ok(d)
 }
 
-/// Learning curve: dict of 1-D arrays (step, n_samples, reach_error, pred_error, n_goals, n_regions).
+/// Learning curve: dict of 1-D arrays (step, n_samples, reach_error, pred_error, dx_error,
+/// n_goals, n_regions).
 pub fn metrics<'py>(py: Python<'py>, r: &Recorder) -> PyResult<Bound<'py, PyDict>> {
     let m = &r.metrics;
     let d = PyDict::new(py);
@@ -37,6 +39,7 @@ pub fn metrics<'py>(py: Python<'py>, r: &Recorder) -> PyResult<Bound<'py, PyDict
     d.set_item("n_samples", col(py, m.iter().map(|r| r.n_samples).collect()))?;
     d.set_item("reach_error", col(py, m.iter().map(|r| r.reach_error).collect()))?;
     d.set_item("pred_error", col(py, m.iter().map(|r| r.pred_error).collect()))?;
+    d.set_item("dx_error", col(py, m.iter().map(|r| r.dx_error).collect()))?;
     d.set_item("n_goals", col(py, m.iter().map(|r| r.n_goals).collect()))?;
     d.set_item("n_regions", col(py, m.iter().map(|r| r.n_regions).collect()))?;
     Ok(d)

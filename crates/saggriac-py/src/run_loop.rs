@@ -140,7 +140,8 @@ impl PyLearner {
         goal_selection::regions(py, self.inner.selector())
     }
 
-    /// Test goals (n x task dimension) and test configurations (n x joints) of the evaluation.
+    /// The evaluation's test sets: goals, configurations and their true positions, test motions
+    /// and their true displacements, the kind of configurations and their IK residuals.
     fn test_set<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         evaluation::test_set(py, self.inner.test_set(), self.inner.task_dim(), self.inner.body().n_joints())
     }

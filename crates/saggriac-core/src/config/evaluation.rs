@@ -2,10 +2,38 @@
 
 use crate::error::{invalid, Check, Result};
 
+/// Where the forward model is tested (SPEC "Evaluation").
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TestConfigs {
+    /// For each test goal (in order; more goals are drawn if there are more configurations than
+    /// goals), the configuration of least joint norm that reaches it within the joint limits.
+    IkMinNorm,
+    /// Uniform in the joint limits ("joint-space coverage"): curled postures far from anything a
+    /// learner visits, so this error measures extrapolation more than learning.
+    Uniform,
+}
+
+impl TestConfigs {
+    pub fn parse(s: &str) -> Option<Self> {
+        match s {
+            "ik_min_norm" => Some(TestConfigs::IkMinNorm),
+            "uniform" => Some(TestConfigs::Uniform),
+            _ => None,
+        }
+    }
+    pub fn name(&self) -> &'static str {
+        match self {
+            TestConfigs::IkMinNorm => "ik_min_norm",
+            TestConfigs::Uniform => "uniform",
+        }
+    }
+}
+
 #[derive(Debug, Clone, PartialEq)]
 pub struct EvalConfig {
     pub n_test_goals: usize,
     pub n_test_configs: usize,
+    pub test_configs: TestConfigs,
     /// A test reach stops once closer than this to its goal.
     pub tolerance: f64,
     /// ... or after this many micro-actions without getting closer.
@@ -19,7 +47,7 @@ pub struct EvalConfig {
 
 impl Default for EvalConfig {
     fn default() -> Self {
-        EvalConfig { n_test_goals: 100, n_test_configs: 100, tolerance: 0.01, patience: 10, timeout_factor: 2.0, timeout_min: 20, schedule: vec![] }
+        EvalConfig { n_test_goals: 100, n_test_configs: 100, test_configs: TestConfigs::IkMinNorm, tolerance: 0.01, patience: 10, timeout_factor: 2.0, timeout_min: 20, schedule: vec![] }
     }
 }
 
