@@ -65,6 +65,8 @@ class Config:
     eps_max: float = 0.25
     timeout_factor: float = 2.0
     timeout_min: int = 10
+    # Also end an exploration phase at the timeout (Algorithm 1 checks it between phases only).
+    timeout_in_exploration: bool = False
     q: int = 20
     explore_step: float = 0.01
     # Local models (paper III.B).
@@ -75,6 +77,8 @@ class Config:
     # Competence (eq. 7).
     min_c: float = -1.0
     eps_c: float = -0.05
+    # "relative": eq. 7; "absolute": -D(x_g, x_f) / arm length (for the episodic paradigm).
+    competence: str = "relative"
     # High level (paper II.D).
     g_max: int = 50
     zeta: int = 20

@@ -13,7 +13,7 @@ use saggriac_core::competence::{competence, CompetenceConfig};
 use saggriac_core::interest::interest;
 
 fn competence_config() -> impl Strategy<Value = CompetenceConfig> {
-    (1e-6..10.0f64, 1e-6..0.999_999f64).prop_map(|(m, f)| CompetenceConfig { min_c: -m, eps_c: -m * f })
+    (1e-6..10.0f64, 1e-6..0.999_999f64).prop_map(|(m, f)| CompetenceConfig { min_c: -m, eps_c: -m * f, ..Default::default() })
 }
 
 fn point2() -> impl Strategy<Value = [f64; 2]> {

@@ -5,6 +5,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use saggriac_core::arm::{ArmConfig, ArmKind};
 use saggriac_core::config::evaluation::TestConfigs;
+use saggriac_core::config::high_level::CompetenceKind;
 use saggriac_core::config::Paradigm;
 use saggriac_core::error::invalid;
 use saggriac_core::memory::IndexKind;
@@ -16,8 +17,8 @@ use crate::errors::to_py;
 #[rustfmt::skip]
 pub const KEYS: &[&str] = &[
     "condition", "n_steps", "body", "n_joints", "arm_length", "link_lengths", "joint_limit", "max_joint_step", "goal_low", "goal_high",
-    "v", "n_subgoals", "eps_max", "timeout_factor", "timeout_min", "q", "explore_step", "k_neighbours", "ridge", "pinv_rcond",
-    "bandwidth", "min_c", "eps_c", "g_max", "zeta", "min_child", "p_interest", "p_global", "p_lowest", "reset_every",
+    "v", "n_subgoals", "eps_max", "timeout_factor", "timeout_min", "timeout_in_exploration", "q", "explore_step", "k_neighbours", "ridge", "pinv_rcond",
+    "bandwidth", "min_c", "eps_c", "competence", "g_max", "zeta", "min_child", "p_interest", "p_global", "p_lowest", "reset_every",
     "n_test_goals", "n_test_configs", "test_configs", "eval_tolerance", "eval_patience", "eval_timeout_factor", "eval_timeout_min",
     "eval_schedule", "knn_index", "warm_start_recent", "babble_step", "actuator_reset_every", "paradigm", "episodic_noise", "episodic_refine", "episodic_k", "motor_noise", "sensor_noise", "body_change_step",
     "body_change_link", "body_change_length",
@@ -96,6 +97,7 @@ pub fn run_config_from_dict(d: &Bound<'_, PyDict>) -> PyResult<RunConfig> {
     c.reaching.eps_max = get(d, "eps_max", c.reaching.eps_max, "a float")?;
     c.reaching.timeout_factor = get(d, "timeout_factor", c.reaching.timeout_factor, "a float")?;
     c.reaching.timeout_min = get(d, "timeout_min", c.reaching.timeout_min, "an int >= 1")?;
+    c.reaching.timeout_in_exploration = get(d, "timeout_in_exploration", c.reaching.timeout_in_exploration, "a bool")?;
     c.exploration.q = get(d, "q", c.exploration.q, "an int >= 1")?;
     c.exploration.step = get(d, "explore_step", c.exploration.step, "a float")?;
     c.local.k_neighbours = get(d, "k_neighbours", c.local.k_neighbours, "an int >= 1")?;
@@ -104,6 +106,8 @@ pub fn run_config_from_dict(d: &Bound<'_, PyDict>) -> PyResult<RunConfig> {
     c.local.bandwidth = get(d, "bandwidth", c.local.bandwidth, "a float")?;
     c.competence.min_c = get(d, "min_c", c.competence.min_c, "a float")?;
     c.competence.eps_c = get(d, "eps_c", c.competence.eps_c, "a float")?;
+    let kind: String = get(d, "competence", c.competence.kind.name().to_string(), "a str")?;
+    c.competence.kind = CompetenceKind::parse(&kind).ok_or_else(|| to_py(py, invalid("Config", "competence", "one of 'relative', 'absolute'", format!("'{kind}'"))))?;
     c.tree.g_max = get(d, "g_max", c.tree.g_max, "an int >= 2")?;
     c.tree.zeta = get(d, "zeta", c.tree.zeta, "an int >= 2")?;
     c.tree.min_child = get(d, "min_child", c.tree.min_child, "an int >= 1")?;

@@ -3,6 +3,33 @@
 
 use crate::error::{invalid, Check, Result};
 
+/// What an attempt's final distance to its goal is measured against.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CompetenceKind {
+    /// Eq. 7: C = -D(x_g, x_f) / D(x_start, x_g), the paper's.
+    Relative,
+    /// C = -D(x_g, x_f) / reach (the arm's length): the same distance costs the same wherever
+    /// the attempt started. Beyond the paper; meant for the episodic paradigm, where every
+    /// movement "starts" at rest and eq. 7 inflates small errors near it.
+    Absolute,
+}
+
+impl CompetenceKind {
+    pub fn parse(s: &str) -> Option<Self> {
+        match s {
+            "relative" => Some(CompetenceKind::Relative),
+            "absolute" => Some(CompetenceKind::Absolute),
+            _ => None,
+        }
+    }
+    pub fn name(&self) -> &'static str {
+        match self {
+            CompetenceKind::Relative => "relative",
+            CompetenceKind::Absolute => "absolute",
+        }
+    }
+}
+
 /// Thresholds of the competence measure.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CompetenceConfig {
@@ -10,11 +37,12 @@ pub struct CompetenceConfig {
     pub min_c: f64,
     /// Tolerance: a cost above eps_C (min_C < eps_C < 0) counts as reached, competence 0.
     pub eps_c: f64,
+    pub kind: CompetenceKind,
 }
 
 impl Default for CompetenceConfig {
     fn default() -> Self {
-        CompetenceConfig { min_c: -1.0, eps_c: -0.05 }
+        CompetenceConfig { min_c: -1.0, eps_c: -0.05, kind: CompetenceKind::Relative }
     }
 }
 

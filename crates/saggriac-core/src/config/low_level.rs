@@ -15,14 +15,16 @@ pub struct ReachingConfig {
     pub eps_max: f64,
     /// Timeout of one (sub)goal attempt, in micro-actions of any kind (reaching and
     /// exploration): ceil(timeout_factor * distance / v) + timeout_min. It is checked between
-    /// phases, so an exploration phase that starts before the timeout runs its q actions.
+    /// phases, so an exploration phase that starts before the timeout runs its q actions,
+    /// unless `timeout_in_exploration`, which also ends a phase at the timeout.
     pub timeout_factor: f64,
     pub timeout_min: usize,
+    pub timeout_in_exploration: bool,
 }
 
 impl Default for ReachingConfig {
     fn default() -> Self {
-        ReachingConfig { v: 0.5, n_subgoals: 5, eps_max: 0.25, timeout_factor: 2.0, timeout_min: 10 }
+        ReachingConfig { v: 0.5, n_subgoals: 5, eps_max: 0.25, timeout_factor: 2.0, timeout_min: 10, timeout_in_exploration: false }
     }
 }
 

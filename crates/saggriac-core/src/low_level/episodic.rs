@@ -6,7 +6,7 @@
 //! region tree over theta, the interest being the forward model's error. The goal selectors and
 //! the evaluation's test sets are the same as for micro-actions.
 
-use crate::competence::{competence, CompetenceConfig};
+use crate::competence::{competence_of, CompetenceConfig};
 pub use crate::config::low_level::EpisodicConfig;
 use crate::config::{Condition, RunConfig};
 use crate::goal_selection::GoalChoice;
@@ -21,6 +21,8 @@ pub struct Episodic {
     condition: Condition,
     cfg: EpisodicConfig,
     competence: CompetenceConfig,
+    /// The arm's length (the scale of the absolute competence).
+    reach: f64,
     joint_limit: f64,
     rcond: f64,
     /// Neighbour scratch of the inverse and forward models.
@@ -29,7 +31,15 @@ pub struct Episodic {
 
 impl Episodic {
     pub fn new(cfg: &RunConfig) -> Self {
-        Episodic { condition: cfg.condition, cfg: cfg.episodic, competence: cfg.competence, joint_limit: cfg.arm.joint_limit, rcond: cfg.local.pinv_rcond, nb: Vec::new() }
+        Episodic {
+            condition: cfg.condition,
+            cfg: cfg.episodic,
+            competence: cfg.competence,
+            reach: cfg.arm.link_lengths.iter().sum(),
+            joint_limit: cfg.arm.joint_limit,
+            rcond: cfg.local.pinv_rcond,
+            nb: Vec::new(),
+        }
     }
 }
 
@@ -78,7 +88,7 @@ impl LowLevel for Episodic {
         r.counters.reaching_steps += u64::from(goal.is_some());
         match (goal, &choice) {
             (Some(g), Some(c)) => {
-                let comp = competence(&g, &x, &rest, &self.competence);
+                let comp = competence_of(&self.competence, self.reach, &g, &x, &rest);
                 let region = parts.tell(&g[..m], comp);
                 let r = &mut parts.recorder;
                 r.attempts.push(AttemptRow { goal_index: r.goals_done(), subgoal: 1, step_end: r.steps(), target: g, end: x, competence: comp, reached: comp == 0.0, region });

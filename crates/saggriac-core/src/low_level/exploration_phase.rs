@@ -8,11 +8,15 @@ use crate::rng::uniform;
 /// Run one exploration phase: q micro-actions, each moving to a random configuration in a small
 /// box around the theta the phase started from. Staying around that centre (rather than a
 /// drifting random walk) keeps the new samples where the local model must be good. Stops early
-/// only when the run's step budget is spent. `d` is the caller's command buffer.
-pub fn explore(parts: &mut Parts, cfg: &ExplorationConfig, d: &mut [f64]) {
+/// when the run's step budget is spent, or at `deadline` (a time step) if one is given. `d` is
+/// the caller's command buffer.
+pub fn explore(parts: &mut Parts, cfg: &ExplorationConfig, d: &mut [f64], deadline: Option<u64>) {
     let step = cfg.step;
     let centre = parts.body.theta().to_vec();
     for _ in 0..cfg.q {
+        if deadline.is_some_and(|t| parts.recorder.steps() >= t) {
+            return;
+        }
         for ((v, c), t) in d.iter_mut().zip(&centre).zip(parts.body.theta()) {
             *v = c + uniform(&mut parts.rng, -step, step) - t;
         }

@@ -5,7 +5,7 @@
 //! model exists yet), until the target is reached or the attempt times out. Each subgoal's
 //! competence goes to the high level.
 
-use crate::competence::{clip, cost, CompetenceConfig};
+use crate::competence::{clip, cost_of, CompetenceConfig};
 use crate::config::low_level::ExplorationConfig;
 pub use crate::config::low_level::ReachingConfig;
 use crate::config::RunConfig;
@@ -32,6 +32,8 @@ pub struct SsaReacher {
     reaching: ReachingConfig,
     exploration: ExplorationConfig,
     competence: CompetenceConfig,
+    /// The arm's length (the scale of the absolute competence).
+    reach: f64,
     reset_every: u64,
     /// The command buffer of every micro-action.
     dtheta: Vec<f64>,
@@ -40,7 +42,14 @@ pub struct SsaReacher {
 impl SsaReacher {
     pub fn new(cfg: &RunConfig) -> Self {
         let n = cfg.arm.link_lengths.len();
-        SsaReacher { reaching: cfg.reaching, exploration: cfg.exploration, competence: cfg.competence, reset_every: cfg.reset_every as u64, dtheta: vec![0.0; n] }
+        SsaReacher {
+            reaching: cfg.reaching,
+            exploration: cfg.exploration,
+            competence: cfg.competence,
+            reach: cfg.arm.link_lengths.iter().sum(),
+            reset_every: cfg.reset_every as u64,
+            dtheta: vec![0.0; n],
+        }
     }
 
     /// One attempt to reach `target` from where the body is.
@@ -49,10 +58,13 @@ impl SsaReacher {
         let start = parts.body.position();
         let timeout = rc.timeout(distance(&target, &start)) as u64;
         let step0 = parts.recorder.steps();
+        // Algorithm 1 checks the timeout between phases; the option also ends an exploration
+        // phase at it.
+        let deadline = rc.timeout_in_exploration.then_some(step0 + timeout);
         let mut interrupted = false;
         loop {
             let x = parts.body.position();
-            if cost(&target, &x, &start, comp.min_c) > comp.eps_c {
+            if cost_of(&comp, self.reach, &target, &x, &start) > comp.eps_c {
                 break;
             }
             if parts.recorder.steps() - step0 >= timeout {
@@ -76,7 +88,7 @@ impl SsaReacher {
                         let expected = parts.model.expected_dx(&self.dtheta);
                         if distance(&dx, &expected) > rc.eps_max {
                             parts.recorder.counters.explorations += 1;
-                            explore(parts, &self.exploration, &mut self.dtheta);
+                            explore(parts, &self.exploration, &mut self.dtheta, deadline);
                         }
                     }
                 },
@@ -84,12 +96,12 @@ impl SsaReacher {
                     // No usable local model here yet: explore to build one.
                     parts.recorder.counters.fit_failures += 1;
                     parts.recorder.counters.explorations += 1;
-                    explore(parts, &self.exploration, &mut self.dtheta);
+                    explore(parts, &self.exploration, &mut self.dtheta, deadline);
                 }
             }
         }
         let end = parts.body.position();
-        let c = clip(cost(&target, &end, &start, comp.min_c), &comp);
+        let c = clip(cost_of(&comp, self.reach, &target, &end, &start), &comp);
         AttemptOutcome { start, end, competence: c, reached: c == 0.0, interrupted: interrupted && c != 0.0 }
     }
 }

@@ -1,0 +1,60 @@
+"""Options for readings of the paper that the science review flagged (issue 14, item 6)."""
+
+import math
+
+import numpy as np
+import pytest
+
+import saggriac
+from saggriac import Config
+from saggriac.errors import ParameterError
+
+
+def attempt_overruns(res, cfg):
+    """Micro-actions each (sub)goal attempt ran past its timeout ceil(f d / v) + min."""
+    out = []
+    goals = res.goals.set_index("goal_index")
+    for g, att in res.attempts.groupby("goal_index"):
+        step = int(goals.loc[g, "step_start"])
+        pos = np.array([goals.loc[g, "start_x"], goals.loc[g, "start_y"]])
+        for _, a in att.sort_values("subgoal").iterrows():
+            target = np.array([a["target_x"], a["target_y"]])
+            timeout = math.ceil(cfg.timeout_factor * np.linalg.norm(target - pos) / cfg.v) + cfg.timeout_min
+            out.append(int(a["step_end"]) - step - timeout)
+            step, pos = int(a["step_end"]), np.array([a["end_x"], a["end_y"]])
+    return np.array(out)
+
+
+@pytest.mark.parametrize("inside", [False, True])
+def test_timeout_inside_exploration_phases(inside):
+    cfg = Config.from_preset("exp2", n_steps=20000, n_evals=1, timeout_in_exploration=inside)
+    res = saggriac.run(cfg, seed=101)
+    over = attempt_overruns(res, cfg)
+    if inside:
+        # No attempt runs past its timeout (the last goal may be cut by the step budget).
+        assert over.max() <= 0, over.max()
+    else:
+        # Algorithm 1's reading: a phase begun before the timeout runs its q = 100 actions.
+        assert over.max() > 0 and over.max() < cfg.q
+
+
+def test_absolute_competence_in_the_episodic_paradigm():
+    base = Config.from_preset("explauto", n_steps=3000, n_evals=1)
+    rel = saggriac.run(base, seed=102)
+    absolute = saggriac.run(base.replace(competence="absolute"), seed=102)
+    for r in (rel, absolute):
+        assert r.goals["competence"].between(base.min_c, 0.0).all()
+    # Absolute: -D(x_g, x_f) / 50, clipped; so the competence follows the final distance alone.
+    g = absolute.goals
+    d = np.hypot(g["goal_x"] - g["end_x"], g["goal_y"] - g["end_y"])
+    expected = np.where(-d / 50.0 <= base.min_c, base.min_c, np.where(-d / 50.0 <= base.eps_c, -d / 50.0, 0.0))
+    np.testing.assert_allclose(g["competence"], expected, rtol=1e-12)
+    # Eq. 7 with x_start = rest: the same distance near rest costs more.
+    assert not np.allclose(rel.goals["competence"].to_numpy(), absolute.goals["competence"].to_numpy()[: len(rel.goals)])
+
+
+def test_bad_values_are_refused_with_the_rule():
+    with pytest.raises(ParameterError, match=r"'competence' parameter of Config must be one of 'relative', 'absolute'. Got 'eq7'"):
+        Config(competence="eq7")
+    with pytest.raises(ParameterError, match=r"'timeout_in_exploration'"):
+        Config(timeout_in_exploration="yes")
