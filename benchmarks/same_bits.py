@@ -43,7 +43,8 @@ SKIP_PATHS = ("config.knn_index",)
 # What was added after the reference: checked to be new, not compared. The cases run with the
 # forward-model test configurations the reference had ("uniform"); the least-norm IK ones
 # (issue 14) change the prediction error by design.
-ADDED_PATHS = ("config.test_configs",)
+# Configuration keys added since, with the value that means what the reference ran.
+ADDED_VALUES = {"config.test_configs": "uniform", "config.timeout_in_exploration": False, "config.competence": "relative"}
 ADDED_PREFIXES = ("test_set.", "time_budget.")
 ADDED_COLUMNS = {"metrics": ("dx_error",)}
 
@@ -230,7 +231,11 @@ def diff(ref: dict[str, Any], got: dict[str, Any]) -> list[str]:
     for part in ("tables", "run.json"):
         a, b = ref[part], got[part]
         for k in sorted(set(a) | set(b)):
-            if k in SKIP_PATHS or (k not in a and (k in ADDED_PATHS or k.startswith(ADDED_PREFIXES))):
+            if k in SKIP_PATHS or (k not in a and k.startswith(ADDED_PREFIXES)):
+                continue
+            if k not in a and k in ADDED_VALUES:
+                if b.get(k) != ADDED_VALUES[k]:
+                    bad.append(f"{part}:{k}: new key with {b.get(k)!r}, not the reference's behaviour {ADDED_VALUES[k]!r}")
                 continue
             if part == "tables" and k.endswith(".file") and k not in b:
                 continue  # a table with added columns: its content hash decides
