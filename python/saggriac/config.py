@@ -32,8 +32,9 @@ CONDITIONS = ("sagg_riac", "sagg_random", "actuator_random", "actuator_riac")
 
 _REMOVED_INDEXES = ("kdtree", "kdtree_crate")
 # Keys added after runs were already being saved, with the value that reproduces what such a run
-# did: a run.json without "test_configs" tested its forward model at uniform configurations.
-_LEGACY_VALUES = {"test_configs": "uniform"}
+# did: a run.json without "test_configs" tested its forward model at uniform configurations, and
+# one without "actuator_candidates" ran ACTUATOR-RIAC's free-proposal variant.
+_LEGACY_VALUES = {"test_configs": "uniform", "actuator_candidates": 0}
 
 
 @dataclass(frozen=True)
@@ -100,6 +101,9 @@ class Config:
     eval_timeout_min: int = 20
     # ACTUATOR conditions (motor babbling).
     babble_step: float = 0.01
+    # ACTUATOR-RIAC: candidate commands per step chosen among in the current context (0: the
+    # earlier variant, commands proposed anywhere in the (theta, dtheta) space).
+    actuator_candidates: int = 16
     actuator_reset_every: int = 0
     # Episodic paradigm (one whole configuration per goal; see docs/episodic.md).
     paradigm: str = "micro_actions"

@@ -45,6 +45,12 @@ pub trait GoalSelector: Send + Sync {
     /// Report the competence obtained for a goal (or subgoal) at `point`; returns the region
     /// that recorded it, if the selector has regions.
     fn update(&mut self, point: &[f64], competence: f64) -> Option<usize>;
+    /// Choose one of `candidates` (points of the selector's space, at least one) rather than
+    /// draw a point anywhere: how R-IAC picks an action in the current context. None for a
+    /// selector without regions to choose by.
+    fn choose(&mut self, _candidates: &[Vec<f64>]) -> Option<GoalChoice> {
+        None
+    }
     fn tree(&self) -> Option<&RegionTree> {
         None
     }
@@ -155,6 +161,48 @@ impl GoalSelector for SaggRiac {
     fn update(&mut self, point: &[f64], competence: f64) -> Option<usize> {
         Some(self.tree.add(point, competence).0)
     }
+    /// R-IAC in the current context (SPEC "ACTUATOR-RIAC, faithfully"): each candidate is
+    /// located in its leaf, and the three modes choose among the candidates through their
+    /// leaves: mode 1 with probability |interest - min interest| (eq. 3, the minimum over all
+    /// leaves), mode 2 uniformly, mode 3 the candidate in the leaf of lowest mean competence.
+    /// Uniform before the first split, and in mode 1 when no candidate's leaf has weight.
+    fn choose(&mut self, candidates: &[Vec<f64>]) -> Option<GoalChoice> {
+        let pick = |c: usize, mode: Mode, leaf: Option<usize>| Some(GoalChoice { goal: candidates[c].clone(), mode, region: leaf });
+        if candidates.is_empty() {
+            return None;
+        }
+        if self.tree.leaves().len() < 2 {
+            return pick(index(&mut self.rng, candidates.len()), Mode::Initial, None);
+        }
+        let leaves: Vec<usize> = candidates.iter().map(|c| self.tree.leaf_of(c)).collect();
+        let u = unit(&mut self.rng);
+        if u < self.modes.p_interest {
+            let min = self.tree.min_leaf_interest();
+            let w: Vec<f64> = leaves.iter().map(|&l| (self.tree.region(l).interest - min).abs()).collect();
+            let total: f64 = w.iter().sum();
+            if !(total > 0.0 && total.is_finite()) {
+                let c = index(&mut self.rng, candidates.len());
+                return pick(c, Mode::Interest, Some(leaves[c]));
+            }
+            let mut r = unit(&mut self.rng) * total;
+            let mut chosen = w.iter().rposition(|&x| x > 0.0).unwrap_or(0);
+            for (c, &x) in w.iter().enumerate() {
+                if r < x {
+                    chosen = c;
+                    break;
+                }
+                r -= x;
+            }
+            pick(chosen, Mode::Interest, Some(leaves[chosen]))
+        } else if u < self.modes.p_interest + self.modes.p_global {
+            let c = index(&mut self.rng, candidates.len());
+            pick(c, Mode::Global, Some(leaves[c]))
+        } else {
+            // Empty leaves (no mean) are skipped; if all are empty, the first candidate.
+            let c = (0..candidates.len()).filter_map(|c| self.tree.region(leaves[c]).mean().map(|m| (m, c))).min_by(|a, b| a.0.total_cmp(&b.0)).map_or(0, |(_, c)| c);
+            pick(c, Mode::LowestCompetence, Some(leaves[c]))
+        }
+    }
     fn tree(&self) -> Option<&RegionTree> {
         Some(&self.tree)
     }
@@ -218,6 +266,44 @@ impl GoalSelector for RandomGoals {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Choosing among candidates: uniform before the first split; then mode 1 favours the
+    /// candidates in the leaf of high interest, and mode 3 takes the one in the leaf of lowest
+    /// mean competence.
+    #[test]
+    fn chooses_among_candidates_by_their_leaves() {
+        let cfg = RegionTreeConfig { g_max: 20, zeta: 10, min_child: 3 };
+        let mut s = SaggRiac::new(&[0.0, 0.0], &[1.0, 1.0], cfg, ModeProbabilities::default(), 3).unwrap();
+        let cands = vec![vec![0.1, 0.5], vec![0.9, 0.5]];
+        let first = s.choose(&cands).unwrap();
+        assert_eq!(first.mode, Mode::Initial);
+        // Left half: competence rising (interest); right half: flat at -0.9 (no interest, lowest).
+        let mut r = rng_from_seed(5);
+        for i in 0..60 {
+            s.update(&[uniform(&mut r, 0.0, 0.5), uniform(&mut r, 0.0, 1.0)], -1.0 + i as f64 / 60.0);
+            s.update(&[uniform(&mut r, 0.5, 1.0), uniform(&mut r, 0.0, 1.0)], -0.9);
+        }
+        assert!(s.tree.leaves().len() >= 2);
+        let (mut left, mut by_mode) = (0, std::collections::HashMap::new());
+        for _ in 0..2000 {
+            let c = s.choose(&cands).unwrap();
+            assert!(c.goal == cands[0] || c.goal == cands[1]);
+            assert_eq!(c.region, Some(s.tree.leaf_of(&c.goal)));
+            *by_mode.entry(c.mode as u8).or_insert(0) += 1;
+            if c.mode == Mode::Interest && c.goal == cands[0] {
+                left += 1;
+            }
+            if c.mode == Mode::LowestCompetence {
+                assert_eq!(c.goal, cands[1], "the right half has the lowest mean competence");
+            }
+        }
+        let interest = by_mode[&(Mode::Interest as u8)];
+        assert!((1250..1550).contains(&interest), "{interest} of 2000 in mode 1 (p = 0.7)");
+        assert!(left as f64 > 0.9 * interest as f64, "mode 1 chose the learnable half {left} of {interest} times");
+        // A selector without regions cannot choose.
+        let mut random = RandomGoals::new(&[0.0, 0.0], &[1.0, 1.0], 1).unwrap();
+        assert!(random.choose(&cands).is_none());
+    }
 
     /// Competence on a toy task: the left quarter of [0,1]^2 improves with practice, the rest is
     /// hopeless (always min_C). SAGG-RIAC must concentrate its goals where progress is.

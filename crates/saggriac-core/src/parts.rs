@@ -106,6 +106,14 @@ impl Parts {
         choice
     }
 
+    /// Let the high level choose one of `candidates` (None: it cannot choose).
+    pub fn choose(&mut self, candidates: &[Vec<f64>]) -> Option<GoalChoice> {
+        let t0 = Instant::now();
+        let choice = self.selector.choose(candidates);
+        self.recorder.timers.goal_selection += t0.elapsed().as_secs_f64();
+        choice
+    }
+
     /// Give the high level the competence measured at `point`; returns the region that took it.
     pub fn tell(&mut self, point: &[f64], competence: f64) -> Option<usize> {
         let t0 = Instant::now();

@@ -20,7 +20,7 @@ pub const KEYS: &[&str] = &[
     "v", "n_subgoals", "eps_max", "timeout_factor", "timeout_min", "timeout_in_exploration", "q", "explore_step", "k_neighbours", "ridge", "pinv_rcond",
     "bandwidth", "min_c", "eps_c", "competence", "g_max", "zeta", "min_child", "p_interest", "p_global", "p_lowest", "reset_every",
     "n_test_goals", "n_test_configs", "test_configs", "eval_tolerance", "eval_patience", "eval_timeout_factor", "eval_timeout_min",
-    "eval_schedule", "knn_index", "warm_start_recent", "babble_step", "actuator_reset_every", "paradigm", "episodic_noise", "episodic_refine", "episodic_k", "motor_noise", "sensor_noise", "body_change_step",
+    "eval_schedule", "knn_index", "warm_start_recent", "babble_step", "actuator_candidates", "actuator_reset_every", "paradigm", "episodic_noise", "episodic_refine", "episodic_k", "motor_noise", "sensor_noise", "body_change_step",
     "body_change_link", "body_change_length",
 ];
 
@@ -128,6 +128,7 @@ pub fn run_config_from_dict(d: &Bound<'_, PyDict>) -> PyResult<RunConfig> {
     c.index = IndexKind::parse(&index).ok_or_else(|| to_py(py, invalid("Config", "knn_index", "one of 'blocks', 'brute_force'", format!("'{index}'"))))?;
     c.warm_start_recent = get(d, "warm_start_recent", c.warm_start_recent, "an int >= 0")?;
     c.babble_step = get(d, "babble_step", c.babble_step, "a float")?;
+    c.actuator_candidates = get(d, "actuator_candidates", c.actuator_candidates, "an int >= 0")?;
     c.actuator_reset_every = get(d, "actuator_reset_every", c.actuator_reset_every, "an int >= 0")?;
     let paradigm: String = get(d, "paradigm", c.paradigm.name().to_string(), "a str")?;
     c.paradigm = Paradigm::parse(&paradigm).map_err(|e| to_py(py, in_config_terms(e)))?;

@@ -103,6 +103,10 @@ pub struct RunConfig {
     pub warm_start_recent: usize,
     /// ACTUATOR conditions: each joint moves by a value uniform in [-babble_step, babble_step].
     pub babble_step: f64,
+    /// ACTUATOR-RIAC: candidate commands drawn at each step, among which R-IAC chooses in the
+    /// current configuration's context; 0 = the earlier variant, where the region tree proposes
+    /// a (theta, dtheta) anywhere and only its dtheta is executed.
+    pub actuator_candidates: usize,
     /// ACTUATOR conditions: back to rest every this many micro-actions (0 = the paper's `max`,
     /// computed from the goal space, see `actuator_babbling`).
     pub actuator_reset_every: usize,
@@ -130,6 +134,7 @@ impl Default for RunConfig {
             index: IndexKind::Blocks,
             warm_start_recent: 8,
             babble_step: 0.01,
+            actuator_candidates: 16,
             actuator_reset_every: 0,
         }
     }

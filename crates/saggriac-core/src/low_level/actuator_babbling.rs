@@ -95,6 +95,8 @@ pub fn actuator_reset_period(cfg: &RunConfig, rest: Point) -> usize {
 pub struct ActuatorBabbling {
     /// ACTUATOR-RIAC (commands from the region tree) rather than ACTUATOR-Random.
     riac: bool,
+    /// ACTUATOR-RIAC: candidate commands per step, chosen among in context (0: free proposals).
+    candidates: usize,
     step: f64,
     /// Back to rest every this many micro-actions (the paper's `max`).
     reset_period: u64,
@@ -106,7 +108,14 @@ pub struct ActuatorBabbling {
 impl ActuatorBabbling {
     pub fn new(cfg: &RunConfig, reset_period: usize) -> Self {
         let n = cfg.arm.link_lengths.len();
-        ActuatorBabbling { riac: cfg.condition == Condition::ActuatorRiac, step: cfg.babble_step, reset_period: reset_period as u64, babbled: 0, dtheta: vec![0.0; n] }
+        ActuatorBabbling {
+            riac: cfg.condition == Condition::ActuatorRiac,
+            candidates: cfg.actuator_candidates,
+            step: cfg.babble_step,
+            reset_period: reset_period as u64,
+            babbled: 0,
+            dtheta: vec![0.0; n],
+        }
     }
 }
 
@@ -114,9 +123,10 @@ impl LowLevel for ActuatorBabbling {
     fn rest_due(&self, _parts: &Parts) -> bool {
         self.babbled % self.reset_period == 0
     }
-    /// R-IAC chooses the command; ACTUATOR-Random draws it itself.
+    /// R-IAC proposes the command in the free variant; in context it is chosen among this
+    /// level's candidates (see `attempt`), and ACTUATOR-Random draws it itself.
     fn asks_high_level(&self) -> bool {
-        self.riac
+        self.riac && self.candidates == 0
     }
     /// Babble until the next evaluation report could be due (a goal attempt's worth).
     fn attempts_per_report(&self) -> usize {
@@ -133,6 +143,20 @@ impl LowLevel for ActuatorBabbling {
     fn attempt(&mut self, choice: Option<GoalChoice>, parts: &mut Parts) {
         self.babbled += 1;
         let theta0 = parts.body.theta().to_vec();
+        let n = theta0.len();
+        let mut choice = choice;
+        if self.riac && self.candidates > 0 {
+            // In context: candidate commands from here, located at (theta, dtheta) in the tree.
+            let candidates: Vec<Vec<f64>> = (0..self.candidates)
+                .map(|_| {
+                    let mut p = theta0.clone();
+                    p.extend((0..n).map(|_| uniform(&mut parts.rng, -self.step, self.step)));
+                    p
+                })
+                .collect();
+            let chosen = parts.choose(&candidates).map(|c| c.goal);
+            choice = Some(GoalChoice { goal: chosen.unwrap_or_else(|| candidates[0].clone()), mode: crate::goal_selection::Mode::External, region: None });
+        }
         let d = &mut self.dtheta;
         match &choice {
             // The region tree proposes a point (theta, dtheta); the arm cannot jump to theta, so
