@@ -38,6 +38,10 @@ def test_reproduce_writes_figures_and_statistics(study_dir):
     assert (budget.loc[["sagg_riac", "sagg_random"], "goals"] > 0).all()
     assert budget.loc["actuator_random", "share_exploration"] == 0.0
     assert budget.loc["sagg_riac", "share_exploration"] > 0.0
+    # Fig. 3's split statistic beside its null model (SAGG-Random's measurements replayed).
+    splits = pd.read_csv(study_dir / "splits.csv")
+    assert set(splits["tree"]) == {"sagg_riac", "sagg_random_replayed"}
+    assert len(splits) == 2 * 2 * 4 and splits["reachable_share"].dropna().between(0, 1).all()
 
 
 def test_plot_and_stats_rebuild_from_saved_results(study_dir, capsys):

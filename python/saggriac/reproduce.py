@@ -11,7 +11,7 @@ from typing import Any
 
 import pandas as pd
 
-from . import plots, statistics
+from . import plots, splits, statistics
 from .config import CONDITIONS, PRESETS, Config
 from .errors import ParameterError, StorageError
 from .result import RunResult
@@ -106,6 +106,9 @@ def make_report(out_dir: str | Path, title: str | None = None) -> dict[str, Path
     budget = time_budget_summary(out)
     if not budget.empty:
         written["time_budget_csv"] = _atomic(out / "time_budget.csv", lambda p: budget.to_csv(p, index=False))
+    null = split_null_model(out)
+    if not null.empty:
+        written["splits_csv"] = _atomic(out / "splits.csv", lambda p: null.to_csv(p, index=False))
     return written
 
 
@@ -148,6 +151,31 @@ def time_budget_summary(out_dir: str | Path) -> pd.DataFrame:
     return summary.reset_index()
 
 
+def split_null_model(out_dir: str | Path, n_parts: int = 4) -> pd.DataFrame:
+    """Fig. 3's split statistic with its null model: for each seed, the mean share of reachable
+    area of the regions SAGG-RIAC split, per quarter of its splits, beside the same for the tree
+    SAGG-Random's measurements build when replayed (``splits.replay_regions``). Empty unless the
+    study has both SAGG conditions."""
+    out = Path(out_dir)
+    study = Study.load(out)
+    rows = []
+    for task in study.tasks():
+        run_dir = out / task.path
+        if task.condition not in ("sagg_riac", "sagg_random") or not (run_dir / "run.json").exists():
+            continue
+        cfg = Config.from_saved(json.loads((run_dir / "run.json").read_text())["config"])
+        if task.condition == "sagg_riac":
+            regions, label = pd.read_parquet(run_dir / "regions.parquet"), "sagg_riac"
+        else:
+            regions, label = splits.replay_regions(pd.read_parquet(run_dir / "attempts.parquet"), cfg), "sagg_random_replayed"
+        for part, share in enumerate(splits.split_shares(regions, cfg.reach, n_parts)):
+            rows.append({"tree": label, "seed": task.seed, **task.params, "part": part + 1, "reachable_share": share})
+    frame = pd.DataFrame(rows)
+    if frame.empty or set(frame["tree"]) != {"sagg_riac", "sagg_random_replayed"}:
+        return pd.DataFrame()
+    return frame
+
+
 def final_summary(out_dir: str | Path) -> pd.DataFrame:
     """Mean and standard deviation of each metric at the last step, per condition."""
     frame = load_study(out_dir)
@@ -155,4 +183,4 @@ def final_summary(out_dir: str | Path) -> pd.DataFrame:
     return last.groupby(["metric", "condition"])["value"].agg(["mean", "std", "count"]).reset_index()
 
 
-__all__ = ["reproduce", "make_report", "write_stats", "final_summary", "time_budget_summary", "study_title", "matching_preset", "RunResult"]
+__all__ = ["reproduce", "make_report", "write_stats", "final_summary", "time_budget_summary", "split_null_model", "study_title", "matching_preset", "RunResult"]
