@@ -1,34 +1,20 @@
 //! Replays the test reaches of one evaluation and records the neighbour queries (probe).
+#[path = "probe_setup/mod.rs"]
+mod probe_setup;
 use saggriac_core::arm::Arm;
+use saggriac_core::config::Condition;
 use saggriac_core::local_model::LocalModel;
 use saggriac_core::neighbours::{dist_sq, Neighbour, WarmStart};
 use saggriac_core::task_space::desired_step;
-use saggriac_core::{config::Condition, Learner, RunConfig};
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
     let steps: u64 = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(200_000);
     let cond = Condition::parse(args.get(2).map(|s| s.as_str()).unwrap_or("actuator_random")).unwrap();
-    let mut cfg = RunConfig { n_steps: steps, condition: cond, ..RunConfig::default() };
-    cfg.goal_low = vec![0.0, -150.0];
-    cfg.goal_high = vec![150.0, 150.0];
-    cfg.exploration.q = 100;
-    cfg.eval.schedule = vec![steps];
-    cfg.eval.n_test_goals = 1;
-    cfg.eval.n_test_configs = 1;
-    let mut l = Learner::new(cfg.clone(), 0, 1).unwrap();
-    l.run(&mut |_| true);
+    let (cfg, l) = probe_setup::exp2_learner(steps, cond);
     let mem = l.memory();
     let n = mem.n_joints();
-    let tests = saggriac_core::evaluation::TestSet::new(
-        &cfg.arm,
-        &cfg.goal_low,
-        &cfg.goal_high,
-        &saggriac_core::config::evaluation::EvalConfig { n_test_goals: 100, n_test_configs: 1, test_configs: saggriac_core::config::evaluation::TestConfigs::Uniform, ..cfg.eval.clone() },
-        cfg.exploration.step,
-        1,
-    )
-    .unwrap();
+    let tests = probe_setup::test_goals(&cfg);
     let mut arm = Arm::new(cfg.arm.clone()).unwrap();
     let mut model = LocalModel::new(n, 2, cfg.local.clone());
     let mut ws = WarmStart::new(8);

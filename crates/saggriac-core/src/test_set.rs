@@ -4,7 +4,7 @@ use crate::arm::{Arm, ArmConfig};
 use crate::body::Body;
 use crate::config::evaluation::{EvalConfig, TestConfigs};
 use crate::error::{invalid, Result};
-use crate::min_norm_ik::{min_norm_ik, BodyKinematics};
+use crate::min_norm_ik::{min_norm_ik, BodyKinematics, Kinematics};
 use crate::rng::{rng_from_seed, uniform, CoreRng};
 use crate::task_space::{point, sub, Point};
 
@@ -31,10 +31,7 @@ pub const IK_TOLERANCE: f64 = 1e-9;
 
 /// The body's noise-free position at `theta` where it knows it, else a placement and a reading.
 fn position_at(body: &mut dyn Body, theta: &[f64]) -> Point {
-    body.forward(theta).unwrap_or_else(|| {
-        body.set_theta(theta);
-        body.position()
-    })
+    BodyKinematics(body).position(theta)
 }
 
 /// Goals uniform in the reachable part of the goal box, by rejection.

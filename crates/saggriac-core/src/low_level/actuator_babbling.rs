@@ -144,25 +144,27 @@ impl LowLevel for ActuatorBabbling {
         self.babbled += 1;
         let theta0 = parts.body.theta().to_vec();
         let n = theta0.len();
-        let mut choice = choice;
-        if self.riac && self.candidates > 0 {
+        // A point (theta, dtheta) of the region tree, whose dtheta is executed from here.
+        let point = match choice {
+            // Free variant: proposed anywhere; the arm cannot jump to its theta, so the prediction
+            // error is recorded at the point actually visited.
+            Some(c) => Some(c.goal),
             // In context: candidate commands from here, located at (theta, dtheta) in the tree.
-            let candidates: Vec<Vec<f64>> = (0..self.candidates)
-                .map(|_| {
-                    let mut p = theta0.clone();
-                    p.extend((0..n).map(|_| uniform(&mut parts.rng, -self.step, self.step)));
-                    p
-                })
-                .collect();
-            let chosen = parts.choose(&candidates).map(|c| c.goal);
-            choice = Some(GoalChoice { goal: chosen.unwrap_or_else(|| candidates[0].clone()), mode: crate::goal_selection::Mode::External, region: None });
-        }
+            None if self.riac => {
+                let mut candidates: Vec<Vec<f64>> = (0..self.candidates)
+                    .map(|_| {
+                        let mut p = theta0.clone();
+                        p.extend((0..n).map(|_| uniform(&mut parts.rng, -self.step, self.step)));
+                        p
+                    })
+                    .collect();
+                Some(parts.choose(&candidates).map_or_else(|| candidates.swap_remove(0), |c| c.goal))
+            }
+            None => None,
+        };
         let d = &mut self.dtheta;
-        match &choice {
-            // The region tree proposes a point (theta, dtheta); the arm cannot jump to theta, so
-            // the proposed dtheta is executed from where the arm is, and the prediction error is
-            // recorded at the point actually visited.
-            Some(c) => d.copy_from_slice(&c.goal[theta0.len()..]),
+        match &point {
+            Some(p) => d.copy_from_slice(&p[n..]),
             None => {
                 for v in d.iter_mut() {
                     *v = uniform(&mut parts.rng, -self.step, self.step);
