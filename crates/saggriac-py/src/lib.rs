@@ -1,12 +1,14 @@
 //! saggriac._core: a thin PyO3 layer over saggriac-core. It converts types and errors only;
 //! the algorithm lives in the core crate. One file per core component: config, body (a Python
-//! environment), goal_selection (a Python selector, the region tree), ask_tell, evaluation,
+//! environment), goal_selection (a Python selector, the region tree), ask_tell, competence,
+//! evaluation,
 //! recorder, run_loop; every error conversion in errors.rs.
 
 use pyo3::prelude::*;
 
 mod ask_tell;
 mod body;
+mod competence;
 mod config;
 mod errors;
 mod evaluation;
@@ -31,5 +33,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     // A test configuration further than this times the reach from its goal did not reach it.
     m.add("IK_TOLERANCE", saggriac_core::test_set::IK_TOLERANCE)?;
     m.add_function(wrap_pyfunction!(validate_config, m)?)?;
+    m.add_function(wrap_pyfunction!(competence::competence, m)?)?;
     Ok(())
 }

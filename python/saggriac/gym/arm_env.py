@@ -1,0 +1,157 @@
+"""saggriac's arms as goal-conditioned Gymnasium environments.
+
+The observation is a dict in the layout of Gymnasium-Robotics' goal environments:
+``observation`` (the joint angles), ``achieved_goal`` (the end effector's position) and
+``desired_goal`` (the episode's goal). An action is a joint change, bounded by
+``max_joint_step`` per joint; it moves the arm exactly as a micro-action of a saggriac run does
+(the same arithmetic as the built-in arm, bit for bit). ``compute_reward`` works on batches, for
+goal relabelling (hindsight experience replay).
+
+An episode's goal comes from ``reset(options={"goal": g})``, else from the ``next_goal``
+attribute (set by a vector wrapper through ``set_attr``), else uniform in the goal box.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import gymnasium
+import numpy as np
+from gymnasium import spaces
+
+from ..environments import PlanarArm, SpatialArm
+from ..errors import InputError, ParameterError
+
+BODIES = {"planar_arm": PlanarArm, "spatial_arm": SpatialArm}
+REWARDS = ("sparse", "dense")
+# reset() options this environment reads; vector environments add "reset_mask" themselves.
+OPTIONS = ("goal", "theta", "reset_mask")
+
+
+def _positive(name: str, value: Any) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) or value <= 0:
+        raise ParameterError(f"The '{name}' parameter of GoalArmEnv must be a finite number > 0. Got {value!r} instead.", name, repr(value))
+    return float(value)
+
+
+def _point(name: str, value: Any, dim: int) -> np.ndarray:
+    a = np.asarray(value, dtype=np.float64)
+    if a.shape != (dim,) or not np.all(np.isfinite(a)):
+        raise InputError(f"'{name}' must be {dim} finite floats; got {value!r}.")
+    return a
+
+
+class GoalArmEnv(gymnasium.Env):
+    """A saggriac arm reaching for goals. ``body`` is ``"planar_arm"`` (2-D goals) or
+    ``"spatial_arm"`` (3-D); the arm's parameters mean what they mean in :class:`saggriac.Config`.
+    ``goal_low``/``goal_high`` bound the goals (default: the box around the arm's reach);
+    a goal is reached within ``distance_threshold`` (default: 1 % of the arm's length).
+    ``reward_type="sparse"`` gives -1 until the goal is reached and 0 there; ``"dense"`` gives
+    minus the distance."""
+
+    metadata = {"render_modes": []}
+
+    def __init__(
+        self,
+        body: str = "planar_arm",
+        n_joints: int = 15,
+        arm_length: float = 50.0,
+        link_lengths: Any = None,
+        joint_limit: float = math.pi / 2,
+        max_joint_step: float = 0.05,
+        goal_low: Any = None,
+        goal_high: Any = None,
+        distance_threshold: float | None = None,
+        reward_type: str = "sparse",
+        render_mode: str | None = None,
+    ) -> None:
+        if body not in BODIES:
+            raise ParameterError(f"The 'body' parameter of GoalArmEnv must be one of {', '.join(map(repr, BODIES))}. Got {body!r} instead.", "body", repr(body))
+        if isinstance(n_joints, bool) or not isinstance(n_joints, int) or n_joints < 1:
+            raise ParameterError(f"The 'n_joints' parameter of GoalArmEnv must be an int >= 1. Got {n_joints!r} instead.", "n_joints", repr(n_joints))
+        if link_lengths is not None:
+            lengths = list(link_lengths) if not isinstance(link_lengths, (str, bytes)) else None
+            if not lengths or any(isinstance(v, bool) or not isinstance(v, (int, float, np.floating)) or not math.isfinite(v) or v <= 0 for v in lengths):
+                raise ParameterError(f"The 'link_lengths' parameter of GoalArmEnv must be a list of finite floats > 0. Got {link_lengths!r} instead.", "link_lengths", repr(link_lengths))
+        arm_length = _positive("arm_length", arm_length)
+        joint_limit = _positive("joint_limit", joint_limit)
+        if joint_limit > math.pi:
+            raise ParameterError(f"The 'joint_limit' parameter of GoalArmEnv must be at most pi. Got {joint_limit!r} instead.", "joint_limit", repr(joint_limit))
+        max_joint_step = _positive("max_joint_step", max_joint_step)
+        if reward_type not in REWARDS:
+            raise ParameterError(f"The 'reward_type' parameter of GoalArmEnv must be one of {', '.join(map(repr, REWARDS))}. Got {reward_type!r} instead.", "reward_type", repr(reward_type))
+        if render_mode is not None:
+            raise ParameterError(f"The 'render_mode' parameter of GoalArmEnv must be None (nothing is rendered). Got {render_mode!r} instead.", "render_mode", repr(render_mode))
+        self.body = body
+        self.arm = BODIES[body](n_joints=n_joints, arm_length=arm_length, link_lengths=link_lengths, joint_limit=joint_limit, max_joint_step=max_joint_step)
+        self.reach = float(sum(self.arm.lengths))
+        dim = self.arm.task_dim
+        n = len(self.arm.lengths)
+        low = np.full(dim, -self.reach) if goal_low is None else np.asarray(goal_low, dtype=np.float64)
+        high = np.full(dim, self.reach) if goal_high is None else np.asarray(goal_high, dtype=np.float64)
+        for name, v in (("goal_low", low), ("goal_high", high)):
+            if v.shape != (dim,) or not np.all(np.isfinite(v)):
+                raise ParameterError(f"The '{name}' parameter of GoalArmEnv must be {dim} finite floats for body {body!r}. Got {v.tolist()!r} instead.", name, repr(v.tolist()))
+        if not np.all(low < high):
+            raise ParameterError(f"The 'goal_low' parameter of GoalArmEnv must be below 'goal_high' in every dimension. Got {low.tolist()} and {high.tolist()}.", "goal_low", repr(low.tolist()))
+        self.distance_threshold = 0.01 * self.reach if distance_threshold is None else _positive("distance_threshold", distance_threshold)
+        self.reward_type = reward_type
+        self.render_mode = None
+        self.goal_space = spaces.Box(low, high, dtype=np.float64)
+        self.action_space = spaces.Box(-max_joint_step, max_joint_step, (n,), dtype=np.float64)
+        self.observation_space = spaces.Dict(
+            {
+                "observation": spaces.Box(-joint_limit, joint_limit, (n,), dtype=np.float64),
+                "achieved_goal": spaces.Box(-self.reach, self.reach, (dim,), dtype=np.float64),
+                "desired_goal": spaces.Box(low, high, dtype=np.float64),
+            }
+        )
+        self.next_goal: np.ndarray | None = None
+        self._theta, self._x = self.arm.reset()
+        self._goal = (low + high) / 2
+
+    def _obs(self) -> dict[str, np.ndarray]:
+        return {"observation": self._theta.copy(), "achieved_goal": self._x.copy(), "desired_goal": self._goal.copy()}
+
+    def _info(self) -> dict[str, Any]:
+        d = float(np.linalg.norm(self._x - self._goal))
+        return {"distance": d, "is_success": d <= self.distance_threshold}
+
+    def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None) -> tuple[dict[str, np.ndarray], dict[str, Any]]:
+        super().reset(seed=seed)
+        options = dict(options or {})
+        unknown = sorted(set(options) - set(OPTIONS))
+        if unknown:
+            raise InputError(f"GoalArmEnv.reset() does not know the option(s) {unknown}; it reads {list(OPTIONS[:2])}.")
+        dim = self.goal_space.shape[0]
+        if options.get("goal") is not None:
+            goal = _point("options['goal']", options["goal"], dim)
+        elif self.next_goal is not None:
+            goal = _point("next_goal", self.next_goal, dim)
+        else:
+            goal = self.np_random.uniform(self.goal_space.low, self.goal_space.high)
+        self.next_goal = None
+        if options.get("theta") is not None:
+            self._theta, self._x = self.arm.reset(options={"theta": _point("options['theta']", options["theta"], len(self.arm.lengths))})
+        else:
+            self._theta, self._x = self.arm.reset()
+        self._goal = goal
+        return self._obs(), self._info()
+
+    def step(self, action: Any) -> tuple[dict[str, np.ndarray], float, bool, bool, dict[str, Any]]:
+        a = np.asarray(action, dtype=np.float64)
+        if a.shape != self.action_space.shape or not np.all(np.isfinite(a)):
+            raise InputError(f"GoalArmEnv.step() needs {self.action_space.shape[0]} finite joint changes; got {action!r}.")
+        self._theta, self._x = self.arm.step(a)
+        info = self._info()
+        reward = float(self.compute_reward(self._x, self._goal, info))
+        return self._obs(), reward, False, False, info
+
+    def compute_reward(self, achieved_goal: Any, desired_goal: Any, info: Any) -> Any:
+        """Reward of reaching ``achieved_goal`` when ``desired_goal`` was wanted; both may be
+        batches (one point per row), for relabelling. ``info`` is not read."""
+        d = np.linalg.norm(np.asarray(achieved_goal, dtype=np.float64) - np.asarray(desired_goal, dtype=np.float64), axis=-1)
+        if self.reward_type == "dense":
+            return -d
+        return -(d > self.distance_threshold).astype(np.float64)

@@ -1,0 +1,172 @@
+"""A saggriac goal selector as the teacher of a goal-conditioned Gymnasium environment.
+
+Each episode's goal is asked of the selector when the episode starts, and the selector is told
+the episode's competence (eq. 7 of Baranes & Oudeyer 2010, through :func:`saggriac.competence`:
+the final distance to the goal against the starting one) when it ends, terminated or truncated.
+An episode cut short by a reset is not told. The environment must have a dict observation with
+``achieved_goal`` and ``desired_goal`` (the Gymnasium-Robotics layout), as ``saggriac/...-v0``.
+
+* :class:`SelectorGoals` wraps one environment. The goal reaches it through
+  ``reset(options={"goal": g})`` (``goal_via="options"``, as saggriac's environments read it) or
+  by replacing ``desired_goal`` in every observation and recomputing the reward with the
+  environment's ``compute_reward`` (``goal_via="observation"``, for any goal environment).
+* :class:`VectorSelectorGoals` wraps a vector environment (``gymnasium.make_vec``,
+  ``SyncVectorEnv``, ``AsyncVectorEnv``; autoreset on the next step, Gymnasium's default). It asks
+  and tells in batches (``sample_batch``/``update_batch``) and hands each sub-environment its next
+  goal through ``set_attr("next_goal", ...)``: saggriac's environments read it on reset; wrap
+  others in :class:`GoalSlot`.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import gymnasium
+import numpy as np
+
+from ..competence import competence
+from ..errors import ConformanceError, ParameterError
+
+GOAL_VIA = ("options", "observation")
+
+
+class _Scoring:
+    """The competence parameters of a wrapper, checked once."""
+
+    def __init__(self, min_c: float, eps_c: float, kind: str, reach: float | None) -> None:
+        self.kw = dict(min_c=min_c, eps_c=eps_c, kind=kind, reach=reach)
+        competence(np.zeros(1), np.zeros(1), np.ones(1), **self.kw)  # raises ParameterError on a bad value
+
+    def __call__(self, goal: np.ndarray, reached: np.ndarray, start: np.ndarray) -> Any:
+        return competence(goal, reached, start, **self.kw)
+
+
+def _check_goal_space(space: Any, owner: str) -> None:
+    if not isinstance(space, gymnasium.spaces.Dict) or not {"achieved_goal", "desired_goal"} <= set(space.spaces):
+        raise ConformanceError(f"{owner} needs a goal-conditioned environment: a Dict observation space with 'achieved_goal' and 'desired_goal'; got {space}.")
+
+
+def _sample_batch(selector: Any, n: int) -> np.ndarray:
+    if hasattr(selector, "sample_batch"):
+        return np.asarray(selector.sample_batch(n), dtype=np.float64)
+    return np.array([np.asarray(selector.sample(), dtype=np.float64) for _ in range(n)])
+
+
+def _update_batch(selector: Any, goals: np.ndarray, comps: np.ndarray) -> None:
+    if hasattr(selector, "update_batch"):
+        selector.update_batch(goals, comps)
+    else:
+        for g, c in zip(goals, comps):
+            selector.update(g, float(c))
+
+
+class SelectorGoals(gymnasium.Wrapper):
+    """Goals of ``env``'s episodes asked of ``selector`` (anything with ``sample()`` and
+    ``update(goal, competence)``, such as :class:`saggriac.SaggRiacSelector`). The competence
+    parameters mean what they mean in :class:`saggriac.Config`; ``reach`` is needed only for
+    ``competence="absolute"``. ``info["competence"]`` holds the value told at an episode's end."""
+
+    def __init__(self, env: gymnasium.Env, selector: Any, *, goal_via: str = "options", min_c: float = -1.0, eps_c: float = -0.05, competence: str = "relative", reach: float | None = None) -> None:
+        super().__init__(env)
+        _check_goal_space(env.observation_space, "SelectorGoals")
+        if goal_via not in GOAL_VIA:
+            raise ParameterError(f"The 'goal_via' parameter of SelectorGoals must be one of {', '.join(map(repr, GOAL_VIA))}. Got {goal_via!r} instead.", "goal_via", repr(goal_via))
+        if not (callable(getattr(selector, "sample", None)) and callable(getattr(selector, "update", None))):
+            raise ConformanceError(f"SelectorGoals needs a selector with sample() and update(goal, competence); got {selector!r}.")
+        self.selector, self.goal_via = selector, goal_via
+        self._score = _Scoring(min_c, eps_c, competence, reach)
+        self._goal: np.ndarray | None = None
+        self._start: np.ndarray | None = None
+        self._open = False
+
+    def _with_goal(self, obs: dict[str, Any]) -> dict[str, Any]:
+        if self.goal_via == "observation":
+            obs = dict(obs)
+            obs["desired_goal"] = self._goal.astype(self.observation_space["desired_goal"].dtype, copy=True)
+        return obs
+
+    def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None) -> tuple[Any, dict[str, Any]]:
+        self._goal = np.asarray(self.selector.sample(), dtype=np.float64)
+        if self.goal_via == "options":
+            options = {**(options or {}), "goal": self._goal}
+        obs, info = self.env.reset(seed=seed, options=options)
+        self._start = np.asarray(obs["achieved_goal"], dtype=np.float64).copy()
+        self._open = True
+        return self._with_goal(obs), info
+
+    def step(self, action: Any) -> tuple[Any, Any, bool, bool, dict[str, Any]]:
+        obs, reward, terminated, truncated, info = self.env.step(action)
+        obs = self._with_goal(obs)
+        if self.goal_via == "observation":
+            reward = float(self.env.unwrapped.compute_reward(obs["achieved_goal"], obs["desired_goal"], info))
+        if (terminated or truncated) and self._open:
+            c = self._score(self._goal, np.asarray(obs["achieved_goal"], dtype=np.float64), self._start)
+            self.selector.update(self._goal, c)
+            info = {**info, "competence": c}
+            self._open = False
+        return obs, reward, terminated, truncated, info
+
+
+class GoalSlot(gymnasium.Wrapper):
+    """Gives a goal environment whose ``reset`` reads ``options["goal"]`` a ``next_goal``
+    attribute, read (and cleared) on reset: what :class:`VectorSelectorGoals` sets."""
+
+    def __init__(self, env: gymnasium.Env) -> None:
+        super().__init__(env)
+        self.next_goal: np.ndarray | None = None
+
+    def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None) -> tuple[Any, dict[str, Any]]:
+        if self.next_goal is not None:
+            options = {**(options or {}), "goal": self.next_goal}
+            self.next_goal = None
+        return self.env.reset(seed=seed, options=options)
+
+
+class VectorSelectorGoals(gymnasium.vector.VectorWrapper):
+    """Goals of every sub-environment of the vector environment ``env``, asked of ``selector`` in
+    batches (see the module's text). ``info["competence"]`` holds, after a step, the competence told
+    for each sub-environment whose episode ended there (NaN elsewhere)."""
+
+    def __init__(self, env: gymnasium.vector.VectorEnv, selector: Any, *, min_c: float = -1.0, eps_c: float = -0.05, competence: str = "relative", reach: float | None = None) -> None:
+        super().__init__(env)
+        _check_goal_space(env.single_observation_space, "VectorSelectorGoals")
+        mode = env.metadata.get("autoreset_mode", gymnasium.vector.AutoresetMode.NEXT_STEP)
+        if mode != gymnasium.vector.AutoresetMode.NEXT_STEP:
+            raise ParameterError(f"VectorSelectorGoals needs a vector environment that resets on the next step (autoreset_mode=AutoresetMode.NEXT_STEP, Gymnasium's default); this one has {mode}.", "autoreset_mode", repr(mode))
+        if not (callable(getattr(selector, "sample", None)) and callable(getattr(selector, "update", None))):
+            raise ConformanceError(f"VectorSelectorGoals needs a selector with sample() and update(goal, competence); got {selector!r}.")
+        self.selector = selector
+        self._score = _Scoring(min_c, eps_c, competence, reach)
+        n = env.num_envs
+        self._goals = np.zeros((n,) + env.single_observation_space["desired_goal"].shape)
+        self._starts = np.zeros_like(self._goals)
+        self._restarting = np.zeros(n, dtype=bool)  # reset on this step (autoreset)
+
+    def _hand_out(self, which: np.ndarray) -> None:
+        """New goals for the sub-environments ``which``, read on their next reset."""
+        new = _sample_batch(self.selector, int(which.sum()))
+        self._goals[which] = new
+        values: list[Any] = [None] * self.num_envs
+        for i, g in zip(np.flatnonzero(which), new):
+            values[i] = g
+        self.env.set_attr("next_goal", values)
+
+    def reset(self, *, seed: int | list[int] | None = None, options: dict[str, Any] | None = None) -> tuple[Any, dict[str, Any]]:
+        self._hand_out(np.ones(self.num_envs, dtype=bool))
+        obs, info = self.env.reset(seed=seed, options=options)
+        self._starts[:] = obs["achieved_goal"]
+        self._restarting[:] = False
+        return obs, info
+
+    def step(self, actions: Any) -> tuple[Any, Any, Any, Any, dict[str, Any]]:
+        obs, reward, terminated, truncated, info = self.env.step(actions)
+        achieved = np.asarray(obs["achieved_goal"], dtype=np.float64)
+        self._starts[self._restarting] = achieved[self._restarting]
+        done = (np.asarray(terminated) | np.asarray(truncated)) & ~self._restarting
+        comps = np.full(self.num_envs, np.nan)
+        if done.any():
+            comps[done] = self._score(self._goals[done], achieved[done], self._starts[done])
+            _update_batch(self.selector, self._goals[done], comps[done])
+            self._hand_out(done)
+        self._restarting = done
+        return obs, reward, terminated, truncated, {**info, "competence": comps}
