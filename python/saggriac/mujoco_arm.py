@@ -1,0 +1,123 @@
+"""A serial arm of a MuJoCo model as a saggriac body (the optional extra
+``pip install "saggriac[mujoco]"``).
+
+The joints, their limits and the end effector come from the model, and MuJoCo computes the
+kinematics (``mj_kinematics``: positions only, no dynamics, as saggriac's own arms). The core
+wants the same symmetric limit on every joint, so each joint's angle q in its range [lo, hi] is
+seen by saggriac as theta = (q - mid) / half in [-1, 1], with mid = (lo + hi) / 2 and
+half = (hi - lo) / 2. Rest (theta = 0) is the middle of every range. ``max_joint_step`` is in
+these units: 0.02 moves a joint by at most 2 % of its half-range per micro-action.
+
+:func:`pusher_arm` gives the 7-joint arm of Gymnasium's MuJoCo Pusher model (``pusher_v5.xml``,
+shipped by the ``gymnasium`` package); its end effector is the ``tips_arm`` body.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from typing import Any
+
+import numpy as np
+
+from .environments import Box
+from .errors import InputError, ParameterError
+
+try:
+    import mujoco
+except ImportError:  # pragma: no cover - depends on the installation
+    raise ImportError('saggriac.mujoco_arm needs MuJoCo: pip install "saggriac[mujoco]"') from None
+
+PUSHER_JOINTS = ("r_shoulder_pan_joint", "r_shoulder_lift_joint", "r_upper_arm_roll_joint", "r_elbow_flex_joint", "r_forearm_roll_joint", "r_wrist_flex_joint", "r_wrist_roll_joint")
+
+
+def pusher_model_path() -> str:
+    """The path of Gymnasium's ``pusher_v5.xml``."""
+    try:
+        import gymnasium
+    except ImportError:
+        raise ImportError('The Pusher model comes with Gymnasium: pip install "saggriac[mujoco]"') from None
+    path = os.path.join(os.path.dirname(gymnasium.__file__), "envs", "mujoco", "assets", "pusher_v5.xml")
+    if not os.path.exists(path):
+        raise FileNotFoundError(f"This Gymnasium has no {path}; saggriac's MuJoCo extra needs Gymnasium >= 1.0.")
+    return path
+
+
+class MujocoArm:
+    """The hinge joints ``joints`` of the MuJoCo model ``model`` (an ``MjModel`` or the path of
+    an XML file) as a saggriac body whose end effector is the body or site ``end_effector``.
+    The model's other joints stay at their ``qpos0``."""
+
+    def __init__(self, model: Any, joints: tuple[str, ...] | list[str], end_effector: str, max_joint_step: float = 0.02) -> None:
+        if isinstance(model, (str, os.PathLike)):
+            model = mujoco.MjModel.from_xml_path(os.fspath(model))
+        if not isinstance(model, mujoco.MjModel):
+            raise ParameterError(f"The 'model' parameter of MujocoArm must be a mujoco.MjModel or the path of an XML model. Got {model!r} instead.", "model", repr(model))
+        if isinstance(max_joint_step, bool) or not isinstance(max_joint_step, (int, float)) or not math.isfinite(max_joint_step) or not 0 < max_joint_step <= 1:
+            raise ParameterError(f"The 'max_joint_step' parameter of MujocoArm must be a number in (0, 1] (a share of each joint's half-range). Got {max_joint_step!r} instead.", "max_joint_step", repr(max_joint_step))
+        if not joints:
+            raise ParameterError("The 'joints' parameter of MujocoArm must name at least one joint.", "joints", repr(joints))
+        self.model, self.data = model, mujoco.MjData(model)
+        adr, lo, hi = [], [], []
+        for name in joints:
+            jid = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, name)
+            if jid < 0:
+                known = [model.joint(i).name for i in range(model.njnt)]
+                raise ParameterError(f"The 'joints' parameter of MujocoArm names {name!r}, which the model does not have. Its joints: {known}.", "joints", repr(name))
+            if model.jnt_type[jid] != mujoco.mjtJoint.mjJNT_HINGE or not model.jnt_limited[jid]:
+                raise ParameterError(f"The 'joints' parameter of MujocoArm must name limited hinge joints; {name!r} is not one.", "joints", repr(name))
+            adr.append(int(model.jnt_qposadr[jid]))
+            lo.append(float(model.jnt_range[jid][0]))
+            hi.append(float(model.jnt_range[jid][1]))
+        self._adr = np.array(adr)
+        self.low, self.high = np.array(lo), np.array(hi)
+        self.mid, self.half = (self.low + self.high) / 2, (self.high - self.low) / 2
+        self._site = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_SITE, end_effector)
+        self._body = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, end_effector) if self._site < 0 else -1
+        if self._site < 0 and self._body < 0:
+            raise ParameterError(f"The 'end_effector' parameter of MujocoArm must name a body or site of the model. Got {end_effector!r}.", "end_effector", repr(end_effector))
+        self.joint_names, self.end_effector = tuple(joints), end_effector
+        self.max_joint_step = float(max_joint_step)
+        n = len(adr)
+        self.joint_space = Box(-1.0, 1.0, (n,))
+        self.action_space = Box(-self.max_joint_step, self.max_joint_step, (n,))
+        self.task_space = Box(-1e3, 1e3, (3,))
+        self.theta = np.zeros(n)
+
+    def joint_angles(self, theta: Any) -> np.ndarray:
+        """The model's joint angles (radians) of saggriac's coordinates ``theta``."""
+        return self.mid + np.asarray(theta, dtype=np.float64) * self.half
+
+    def forward(self, theta: Any) -> np.ndarray:
+        """The end effector's position at ``theta``, by ``mj_kinematics``."""
+        self.data.qpos[self._adr] = self.joint_angles(theta)
+        mujoco.mj_kinematics(self.model, self.data)
+        return (self.data.site_xpos[self._site] if self._site >= 0 else self.data.xpos[self._body]).copy()
+
+    def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None) -> tuple[np.ndarray, np.ndarray]:
+        # Kinematics only: nothing is random, so the seed is not needed.
+        self.data.qpos[:] = self.model.qpos0
+        if options and "theta" in options:
+            t = np.asarray(options["theta"], dtype=np.float64)
+            if t.shape != self.theta.shape or not np.all(np.isfinite(t)):
+                raise InputError(f"options['theta'] must be {len(self.theta)} finite floats; got {options['theta']!r}.")
+            self.theta = np.clip(t, -1.0, 1.0)
+        else:
+            self.theta = np.zeros(len(self._adr))
+        return self.theta.copy(), self.forward(self.theta)
+
+    def step(self, dtheta: Any) -> tuple[np.ndarray, np.ndarray]:
+        # The built-in arms' rule: scaled down (direction kept) to the largest step, then clipped.
+        d = [float(v) for v in dtheta]
+        biggest = max((abs(v) for v in d), default=0.0)
+        scale = self.max_joint_step / biggest if biggest > self.max_joint_step else 1.0
+        self.theta = np.array([min(max(t + v * scale, -1.0), 1.0) for t, v in zip(self.theta, d)])
+        return self.theta.copy(), self.forward(self.theta)
+
+
+def pusher_arm(max_joint_step: float = 0.02) -> MujocoArm:
+    """The 7-joint arm of Gymnasium's MuJoCo Pusher, end effector ``tips_arm``."""
+    return MujocoArm(pusher_model_path(), PUSHER_JOINTS, "tips_arm", max_joint_step=max_joint_step)
+
+
+__all__ = ["MujocoArm", "pusher_arm", "pusher_model_path", "PUSHER_JOINTS"]
