@@ -59,6 +59,16 @@ class Environment(Protocol):
     def step(self, dtheta: np.ndarray) -> tuple[np.ndarray, np.ndarray]: ...
 
 
+def joint_step(theta: Any, dtheta: Any, max_joint_step: float, limit: float) -> np.ndarray:
+    """The built-in arms' micro-action: ``dtheta`` scaled down (direction kept) so that no joint
+    moves more than ``max_joint_step``, added to ``theta``, clipped to ``[-limit, limit]``; the
+    core's arithmetic, operation for operation."""
+    d = [float(v) for v in dtheta]
+    max_abs = max((abs(v) for v in d), default=0.0)
+    scale = max_joint_step / max_abs if max_abs > max_joint_step else 1.0
+    return np.array([min(max(float(t) + v * scale, -limit), limit) for t, v in zip(theta, d)])
+
+
 class _SerialArm:
     """What the two arms share: joints, limits, rest pose, micro-actions."""
 
@@ -87,11 +97,7 @@ class _SerialArm:
         return self.theta.copy(), self.forward(self.theta)
 
     def step(self, dtheta: Any) -> tuple[np.ndarray, np.ndarray]:
-        d = [float(v) for v in dtheta]
-        max_abs = max((abs(v) for v in d), default=0.0)
-        scale = self.max_joint_step / max_abs if max_abs > self.max_joint_step else 1.0
-        lim = self.joint_limit
-        self.theta = np.array([min(max(t + v * scale, -lim), lim) for t, v in zip(self.theta, d)])
+        self.theta = joint_step(self.theta, dtheta, self.max_joint_step, self.joint_limit)
         return self.theta.copy(), self.forward(self.theta)
 
 

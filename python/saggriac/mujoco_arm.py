@@ -20,7 +20,7 @@ from typing import Any
 
 import numpy as np
 
-from .environments import Box
+from .environments import Box, joint_step
 from .errors import InputError, ParameterError
 
 try:
@@ -107,11 +107,7 @@ class MujocoArm:
         return self.theta.copy(), self.forward(self.theta)
 
     def step(self, dtheta: Any) -> tuple[np.ndarray, np.ndarray]:
-        # The built-in arms' rule: scaled down (direction kept) to the largest step, then clipped.
-        d = [float(v) for v in dtheta]
-        biggest = max((abs(v) for v in d), default=0.0)
-        scale = self.max_joint_step / biggest if biggest > self.max_joint_step else 1.0
-        self.theta = np.array([min(max(t + v * scale, -1.0), 1.0) for t, v in zip(self.theta, d)])
+        self.theta = joint_step(self.theta, dtheta, self.max_joint_step, 1.0)
         return self.theta.copy(), self.forward(self.theta)
 
 

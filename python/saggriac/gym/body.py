@@ -28,7 +28,7 @@ from typing import Any, Callable
 
 import numpy as np
 
-from ..environments import Box
+from ..environments import Box, joint_step
 from ..errors import InputError, ParameterError
 
 Reader = Callable[[Any, Any], Any]
@@ -100,11 +100,6 @@ class GymBody:
             obs = self.env.step(dtheta)[0]
         else:
             # The built-in arms' arithmetic, so that a kinematic body moves as they do.
-            d = [float(v) for v in dtheta]
-            biggest = max((abs(v) for v in d), default=0.0)
-            scale = self.max_joint_step / biggest if biggest > self.max_joint_step else 1.0
-            lim = self.joint_limit
-            target = np.array([min(max(t + v * scale, -lim), lim) for t, v in zip(self.theta, d)])
-            obs = self._set_joints(self.env, target)
+            obs = self._set_joints(self.env, joint_step(self.theta, dtheta, self.max_joint_step, self.joint_limit))
         self.theta = self._read_theta(obs)
         return self.theta.copy(), self._read_position(obs)
