@@ -133,7 +133,7 @@ impl Default for RunConfig {
             eval: EvalConfig::default(),
             index: IndexKind::Blocks,
             warm_start_recent: 8,
-            babble_step: 0.01,
+            babble_step: 0.02,
             actuator_candidates: 16,
             actuator_reset_every: 0,
         }
