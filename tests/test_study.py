@@ -2,6 +2,7 @@
 
 import hashlib
 import json
+import os
 import pickle
 import shutil
 import signal
@@ -334,3 +335,24 @@ def test_work_goes_seed_by_seed_costliest_condition_first(tiny):
     # Longer runs of the same condition go first too.
     s = Study(tiny, ("sagg_riac",), (0,), grid={"n_steps": [1000, 3000]})
     assert [t.params["n_steps"] for t in _longest_first_by_seed(s.tasks())] == [3000, 1000]
+
+
+def test_a_lock_left_beside_a_finished_run_is_cleaned_on_resume_but_a_live_one_is_kept(tmp_path):
+    import fcntl
+
+    cfg = Config.from_preset("exp1", n_steps=300, n_test_goals=5, n_test_configs=5, n_evals=1)
+    st = Study(cfg, ("sagg_random",), (0, 1))
+    out = tmp_path / "study"
+    run_study(st, out, n_workers=1, progress=False)
+    # A process killed between writing run.json and removing its lock leaves this behind.
+    stale = out / "runs" / "sagg_random" / ".seed0.lock"
+    stale.touch()
+    live = out / "runs" / "sagg_random" / ".seed1.lock"
+    fd = os.open(live, os.O_RDWR | os.O_CREAT)
+    fcntl.flock(fd, fcntl.LOCK_EX)
+    try:
+        res = run_study(st, out, n_workers=1, progress=False)
+        assert (res.n_computed, res.n_skipped) == (0, 2)
+        assert not stale.exists() and live.exists()
+    finally:
+        os.close(fd)
