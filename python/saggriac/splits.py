@@ -44,10 +44,28 @@ def replay_regions(attempts: pd.DataFrame, config: Config) -> pd.DataFrame:
 def reachable_share(low: np.ndarray, high: np.ndarray, reach: float, grid: int = 40) -> float:
     """Share of the box [low, high] inside the ball of radius ``reach`` around the origin
     (midpoints of a grid of ``grid`` cells per side)."""
-    axes = [lo + (np.arange(grid) + 0.5) * (hi - lo) / grid for lo, hi in zip(low, high)]
-    mesh = np.meshgrid(*axes, indexing="ij")
-    r2 = sum(m**2 for m in mesh)
-    return float((r2 <= reach * reach).mean())
+    return float(reachable_shares(np.asarray(low, float)[None, :], np.asarray(high, float)[None, :], reach, grid)[0])
+
+
+def reachable_shares(lows: np.ndarray, highs: np.ndarray, reach: float, grid: int = 40) -> np.ndarray:
+    """:func:`reachable_share` of many boxes at once (one per row), in chunks that keep the
+    grids to a few million points."""
+    lows, highs = np.asarray(lows, float), np.asarray(highs, float)
+    m, d = lows.shape
+    out = np.empty(m)
+    cells = np.arange(grid) + 0.5
+    chunk = max(1, 4_000_000 // grid**d)
+    for start in range(0, m, chunk):
+        lo, hi = lows[start : start + chunk], highs[start : start + chunk]
+        # Per box and axis, the squared grid coordinates; summed over axes by broadcasting.
+        sq = (lo[:, :, None] + cells[None, None, :] * (hi - lo)[:, :, None] / grid) ** 2
+        r2 = np.zeros((len(lo),) + (grid,) * d)
+        for j in range(d):
+            shape = [len(lo)] + [1] * d
+            shape[1 + j] = grid
+            r2 = r2 + sq[:, j, :].reshape(shape)
+        out[start : start + chunk] = (r2 <= reach * reach).reshape(len(lo), -1).mean(axis=1)
+    return out
 
 
 def split_shares(regions: pd.DataFrame, reach: float, n_parts: int = 4) -> list[float]:
@@ -60,6 +78,6 @@ def split_shares(regions: pd.DataFrame, reach: float, n_parts: int = 4) -> list[
         return [float("nan")] * n_parts
     # A region was split when its children were created.
     when = children.groupby("parent")["created_at"].min().sort_values(kind="stable")
-    shares = [reachable_share(regions.loc[p, [f"low_{d}" for d in dims]].to_numpy(float), regions.loc[p, [f"high_{d}" for d in dims]].to_numpy(float), reach) for p in when.index]
-    parts = np.array_split(np.asarray(shares), n_parts)
+    shares = reachable_shares(regions.loc[when.index, [f"low_{d}" for d in dims]].to_numpy(float), regions.loc[when.index, [f"high_{d}" for d in dims]].to_numpy(float), reach)
+    parts = np.array_split(shares, n_parts)
     return [float(p.mean()) if len(p) else float("nan") for p in parts]
