@@ -39,7 +39,8 @@ def test_timeout_inside_exploration_phases(inside):
 
 
 def test_absolute_competence_in_the_episodic_paradigm():
-    base = Config.from_preset("explauto", n_steps=3000, n_evals=1)
+    base = Config.from_preset("explauto", n_steps=3000, n_evals=1, competence="relative")
+    assert Config.from_preset("explauto").competence == "absolute"  # the preset's choice (docs/sensitivity.md)
     rel = saggriac.run(base, seed=102)
     absolute = saggriac.run(base.replace(competence="absolute"), seed=102)
     for r in (rel, absolute):
