@@ -5,8 +5,8 @@
 For a study made by `saggriac reproduce` (or any study of the built-in planar arms), prints two
 tables and writes them as CSV beside the study (``goal_placement.csv``, ``leaf_interest.csv``):
 
-1. Per condition, the share of goals (by count, mean over seeds) in zones of the goal space: the
-   reachable disk (|g| <= arm length L), the area near the base (|g| < 0.3 L), the band just
+1. Per condition, the share of goals (by count, mean over seeds) in zones of the goal space (2-D
+   or 3-D): the reachable disk or ball (|g| <= arm length L), the area near the base (|g| < 0.3 L), the band just
    outside the rim (L < |g| <= 1.1 L), and near the rest position (|g - rest| < 0.2 L); over the
    whole run, its second half and each quarter (by the step a goal started at).
 2. For SAGG-RIAC, the leaves of the final region tree grouped by their mean competence: how many
@@ -30,14 +30,16 @@ from saggriac.splits import reachable_share
 
 
 def zones(goals: pd.DataFrame, reach: float) -> dict[str, np.ndarray]:
-    g = goals[["goal_x", "goal_y"]].to_numpy(float)
-    r = np.hypot(g[:, 0], g[:, 1])
-    rest = np.array([reach, 0.0])  # the straight arm along x
+    cols = [c for c in ("goal_x", "goal_y", "goal_z") if c in goals.columns]
+    g = goals[cols].to_numpy(float)
+    r = np.sqrt((g**2).sum(axis=1))
+    rest = np.zeros(len(cols))
+    rest[0] = reach  # the straight arm along x
     return {
         "reachable": r <= reach,
         "near_base": r < 0.3 * reach,
         "rim_band": (r > reach) & (r <= 1.1 * reach),
-        "near_rest": np.hypot(*(g - rest).T) < 0.2 * reach,
+        "near_rest": np.sqrt(((g - rest) ** 2).sum(axis=1)) < 0.2 * reach,
     }
 
 

@@ -157,10 +157,11 @@ def read_runs(cells: list[Cell], out: Path) -> pd.DataFrame:
             manifest = json.loads((run_dir / "run.json").read_text())
             last = pd.read_parquet(run_dir / "metrics.parquet").iloc[-1]
             tb = manifest["time_budget"]
-            goals = pd.read_parquet(run_dir / "goals.parquet", columns=["step_start", "goal_x", "goal_y"])
+            goals = pd.read_parquet(run_dir / "goals.parquet")
             late = goals[goals["step_start"] >= manifest["config"]["n_steps"] / 2]
             reach = sg.Config.from_saved(manifest["config"]).reach
-            inside = np.hypot(late["goal_x"], late["goal_y"]) <= reach
+            cols = [c for c in ("goal_x", "goal_y", "goal_z") if c in goals.columns]
+            inside = np.sqrt((late[cols].to_numpy(float) ** 2).sum(axis=1)) <= reach
             value = task.params[cell.parameter.name] if cell.kind == "parameter" else None
             rows.append(
                 {
