@@ -23,10 +23,16 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
-from scipy import stats as sps
 
 import saggriac as sg
-from saggriac.splits import reachable_share
+from saggriac.splits import reachable_shares
+from saggriac.statistics import paired
+
+
+def _against_zero(d: np.ndarray) -> str:
+    """Mean of per-seed differences, its 95 % CI and p (saggriac.statistics.paired against 0)."""
+    r = paired(d, np.zeros_like(d))
+    return f"{r['mean_diff']:+.3f} [{r['ci_low']:+.3f}, {r['ci_high']:+.3f}], p = {r['p_value']:.2g} (n = {len(d)})"
 
 
 def zones(goals: pd.DataFrame, reach: float) -> dict[str, np.ndarray]:
@@ -62,9 +68,7 @@ def placement(folder: Path) -> pd.DataFrame:
     if {"sagg_riac", "sagg_random"} <= set(whole.columns):
         d = (whole["sagg_riac"] - whole["sagg_random"]).dropna().to_numpy()
         if len(d) > 1:
-            half = float(sps.t.ppf(0.975, len(d) - 1) * d.std(ddof=1) / np.sqrt(len(d)))
-            p = float(sps.ttest_1samp(d, 0.0).pvalue)
-            print(f"{folder}: share of goals in the reachable area, SAGG-RIAC - SAGG-Random, paired by seed: {d.mean():+.3f} [{d.mean() - half:+.3f}, {d.mean() + half:+.3f}], p = {p:.2g} (n = {len(d)})")
+            print(f"{folder}: share of goals in the reachable area, SAGG-RIAC - SAGG-Random, paired by seed: {_against_zero(d)}")
     return frame.groupby(["part", "condition"], sort=False).mean(numeric_only=True).drop(columns="seed").reset_index()
 
 
@@ -81,7 +85,8 @@ def leaf_interest(folder: Path) -> pd.DataFrame:
         r = pd.read_parquet(run / "regions.parquet")
         leaves = r[r["is_leaf"] & (r["n_measurements"] > 0)]
         total = leaves["interest"].sum()
-        inside = np.array([reachable_share(np.array([a, b]), np.array([c, d]), cfg.reach, grid=20) for a, b, c, d in leaves[["low_x", "low_y", "high_x", "high_y"]].to_numpy(float)])
+        dims = [c[len("low_") :] for c in leaves.columns if c.startswith("low_")]
+        inside = reachable_shares(leaves[[f"low_{d}" for d in dims]].to_numpy(float), leaves[[f"high_{d}" for d in dims]].to_numpy(float), cfg.reach, grid=20)
         for lo, hi, label in BINS:
             sel = (leaves["mean_competence"] > lo) & (leaves["mean_competence"] <= hi)
             rows.append(
@@ -110,8 +115,7 @@ def split_test(folder: Path) -> None:
     s = pd.read_csv(path).groupby(["tree", "seed"])["reachable_share"].mean().unstack("tree").dropna()
     d = (s["sagg_riac"] - s["sagg_random_replayed"]).to_numpy()
     if len(d) > 1:
-        half = float(sps.t.ppf(0.975, len(d) - 1) * d.std(ddof=1) / np.sqrt(len(d)))
-        print(f"{folder}: reachable share of split regions, SAGG-RIAC - replayed SAGG-Random, paired by seed: {d.mean():+.3f} [{d.mean() - half:+.3f}, {d.mean() + half:+.3f}], p = {float(sps.ttest_1samp(d, 0.0).pvalue):.2g} (n = {len(d)})")
+        print(f"{folder}: reachable share of split regions, SAGG-RIAC - replayed SAGG-Random, paired by seed: {_against_zero(d)}")
 
 
 def main(argv: list[str]) -> int:
