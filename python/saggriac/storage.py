@@ -213,6 +213,27 @@ def target_lock(out: Path, what: str = "run") -> Iterator[None]:
         os.close(fd)
 
 
+def clear_stale_lock(out: Path) -> None:
+    """Remove the lock file of ``out`` left by a process killed after its run finished but
+    before :func:`target_lock` released it; a lock a live process holds is kept."""
+    try:
+        import fcntl
+    except ImportError:  # pragma: no cover - Windows: no lock files are made
+        return
+    path = sibling(Path(out), ".lock")
+    try:
+        fd = os.open(path, os.O_RDWR)
+    except OSError:
+        return
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        path.unlink(missing_ok=True)
+    except OSError:
+        pass  # held by a live process
+    finally:
+        os.close(fd)
+
+
 _RENAME_NOREPLACE = 1
 
 

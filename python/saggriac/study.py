@@ -34,7 +34,7 @@ from .config import Config, check_keys
 from .errors import ParameterError, SaggriacError, StorageError
 from .runner import run
 from .seeding import check_seed
-from .storage import MANIFEST, as_path, run_damage, sibling
+from .storage import MANIFEST, as_path, clear_stale_lock, run_damage
 
 STUDY_FILE = "study.json"
 LOCK_FILE = ".lock"
@@ -366,31 +366,6 @@ def _remove_leftovers(out: Path, task: Task) -> None:
             shutil.rmtree(parent / name)
 
 
-def _remove_stale_lock(out: Path, task: Task) -> None:
-    """A run killed after writing its results but before releasing its lock leaves the lock file
-    beside a finished run: remove it, unless a live process still holds the lock."""
-    path = sibling(out / task.path, ".lock")
-    try:
-        import fcntl
-    except ImportError:  # pragma: no cover - Windows: no lock files are made
-        return
-    try:
-        fd = os.open(path, os.O_RDWR)
-    except OSError:
-        return
-    try:
-        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-    except OSError:
-        os.close(fd)
-        return
-    try:
-        os.unlink(path)
-    except FileNotFoundError:
-        pass
-    finally:
-        os.close(fd)
-
-
 def _die_with_parent(parent_pid: int) -> None:
     """Pool worker initializer: on Linux, be killed when the study process dies, so a killed
     study leaves no orphan still writing runs into the folder."""
@@ -539,7 +514,7 @@ def run_study(
         pending = []
         repaired: dict[str, str] = {}
         for task in tasks:
-            _remove_stale_lock(out, task)
+            clear_stale_lock(out / task.path)
             state = _is_finished(out, task)
             if state is True:
                 continue
