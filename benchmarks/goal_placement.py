@@ -6,8 +6,9 @@ For a study made by `saggriac reproduce` (or any study of the built-in planar ar
 tables and writes them as CSV beside the study (``goal_placement.csv``, ``leaf_interest.csv``):
 
 1. Per condition, the share of goals (by count, mean over seeds) in zones of the goal space (2-D
-   or 3-D): the reachable disk or ball (|g| <= arm length L), the area near the base (|g| < 0.3 L), the band just
-   outside the rim (L < |g| <= 1.1 L), and near the rest position (|g - rest| < 0.2 L); over the
+   or 3-D): the reachable disk or ball (|g| <= arm length L; for a chain, its sampled reachable
+   set, saggriac.reachable), the area near the base (|g| < 0.3 L), the band just outside the rim
+   (unreachable, |g| <= 1.1 L), and near the rest position (|g - rest| < 0.2 L); over the
    whole run, its second half and each quarter (by the step a goal started at).
 2. For SAGG-RIAC, the leaves of the final region tree grouped by their mean competence: how many
    leaves, their mean interest (eq. 2), and their share of the summed interest, i.e. of what mode 1
@@ -25,6 +26,7 @@ import numpy as np
 import pandas as pd
 
 import saggriac as sg
+from saggriac.reachable import ReachableSet
 from saggriac.splits import reachable_shares
 from saggriac.statistics import paired
 
@@ -35,16 +37,23 @@ def _against_zero(d: np.ndarray) -> str:
     return f"{r['mean_diff']:+.3f} [{r['ci_low']:+.3f}, {r['ci_high']:+.3f}], p = {r['p_value']:.2g} (n = {len(d)})"
 
 
-def zones(goals: pd.DataFrame, reach: float) -> dict[str, np.ndarray]:
+def zones(goals: pd.DataFrame, cfg: sg.Config) -> dict[str, np.ndarray]:
     cols = [c for c in ("goal_x", "goal_y", "goal_z") if c in goals.columns]
     g = goals[cols].to_numpy(float)
+    reach = cfg.reach
     r = np.sqrt((g**2).sum(axis=1))
-    rest = np.zeros(len(cols))
-    rest[0] = reach  # the straight arm along x
+    if cfg.chain is not None:
+        # A chain reaches an irregular set around its first joint (the origin); rest is mid-range.
+        inside = ReachableSet(cfg).contains(g)
+        rest = sg._core.chain_forward(list(cfg.chain), np.zeros((1, cfg.joints)))[0][: len(cols)]
+    else:
+        inside = r <= reach
+        rest = np.zeros(len(cols))
+        rest[0] = reach  # the straight arm along x
     return {
-        "reachable": r <= reach,
+        "reachable": inside,
         "near_base": r < 0.3 * reach,
-        "rim_band": (r > reach) & (r <= 1.1 * reach),
+        "rim_band": ~inside & (r <= 1.1 * reach),
         "near_rest": np.sqrt(((g - rest) ** 2).sum(axis=1)) < 0.2 * reach,
     }
 
@@ -61,7 +70,7 @@ def placement(folder: Path) -> pd.DataFrame:
         quarter = np.minimum((4 * goals["step_start"].to_numpy() // max(cfg.n_steps, 1)), 3)
         parts = [("whole run", goals), ("second half", late)] + [(f"quarter {q + 1}", goals[quarter == q]) for q in range(4)]
         for part, sel in parts:
-            z = zones(sel, cfg.reach)
+            z = zones(sel, cfg)
             rows.append({"condition": task.condition, "seed": task.seed, "part": part, "goals": len(sel), **{k: float(v.mean()) for k, v in z.items()}})
     frame = pd.DataFrame(rows)
     whole = frame[frame["part"] == "whole run"].pivot(index="seed", columns="condition", values="reachable")
@@ -86,7 +95,7 @@ def leaf_interest(folder: Path) -> pd.DataFrame:
         leaves = r[r["is_leaf"] & (r["n_measurements"] > 0)]
         total = leaves["interest"].sum()
         dims = [c[len("low_") :] for c in leaves.columns if c.startswith("low_")]
-        inside = reachable_shares(leaves[[f"low_{d}" for d in dims]].to_numpy(float), leaves[[f"high_{d}" for d in dims]].to_numpy(float), cfg.reach, grid=20)
+        inside = reachable_shares(leaves[[f"low_{d}" for d in dims]].to_numpy(float), leaves[[f"high_{d}" for d in dims]].to_numpy(float), ReachableSet(cfg) if cfg.chain is not None else cfg.reach, grid=20)
         for lo, hi, label in BINS:
             sel = (leaves["mean_competence"] > lo) & (leaves["mean_competence"] <= hi)
             rows.append(

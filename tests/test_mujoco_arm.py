@@ -73,3 +73,85 @@ def test_bad_parameters_are_named(kwargs, param):
     with pytest.raises(sg.ParameterError) as e:
         MujocoArm(**args)
     assert e.value.param == param
+
+
+# A model with what the Pusher lacks: tilted frames, off-centre hinges, two chosen joints in one
+# body, a joint left out (at a qpos0 that is not 0), fixed bodies between joints, a site as the
+# end effector and a joint whose qpos0 (ref) is not 0.
+TWISTED = """
+<mujoco>
+  <worldbody>
+    <body name="base" pos="0.1 0.2 0.3" quat="0.9 0.1 0.2 0.3">
+      <geom size="0.02"/>
+      <joint name="j0" type="hinge" axis="0 0 1" range="-1 1" pos="0.05 0 0"/>
+      <body name="b1" pos="0.3 0 0" euler="0.3 0.2 0.1">
+        <geom size="0.02"/>
+        <joint name="j1" type="hinge" axis="0 1 1" range="-2 0.5"/>
+        <joint name="left_out" type="hinge" axis="0 0 1" range="-1 1" ref="0.4"/>
+        <joint name="j2" type="hinge" axis="1 0 0" range="-0.5 1.5" pos="0 0.02 0"/>
+        <body name="fixed" pos="0 0 0.2" euler="0.5 0 -0.3">
+          <body name="b3" pos="0.2 0 0">
+            <geom size="0.02"/>
+            <joint name="j3" type="hinge" axis="0 1 0" range="-1 1.2" ref="0.3" pos="0.01 0 0.01"/>
+            <site name="tip" pos="0.1 0.05 -0.02"/>
+          </body>
+        </body>
+      </body>
+    </body>
+  </worldbody>
+</mujoco>
+"""
+
+
+def twisted_arm():
+    return MujocoArm(mujoco.MjModel.from_xml_string(TWISTED), ("j0", "j1", "j2", "j3"), "tip")
+
+
+@pytest.mark.parametrize("make", [pusher_arm, twisted_arm])
+def test_the_native_chain_moves_as_mujoco_computes(make):
+    arm = make()
+    chain = arm.chain()
+    rng = np.random.default_rng(1)
+    thetas = rng.uniform(-1, 1, (300, len(arm.theta)))
+    native = sg._core.chain_forward(list(chain), thetas)
+    assert np.abs(native - np.array([arm.forward(t) for t in thetas])).max() < 1e-12
+    # Scaled, and with the first joint's body moved to the origin.
+    base = arm.forward(np.zeros(len(arm.theta))) - sg._core.chain_forward(list(chain), np.zeros((1, len(arm.theta))))[0]
+    moved = sg._core.chain_forward(list(arm.chain(scale=100.0, at_origin=True)), thetas)
+    offset = arm.model.body_pos[arm.model.jnt_bodyid[mujoco.mj_name2id(arm.model, mujoco.mjtObj.mjOBJ_JOINT, arm.joint_names[0])]]
+    assert np.abs(base).max() < 1e-12
+    assert np.abs(moved - 100.0 * (native - offset)).max() < 1e-9
+
+
+def test_the_pusher_preset_is_the_model_scaled_to_reach_50():
+    from saggriac.bodies import PUSHER_CHAIN
+    from saggriac.mujoco_arm import pusher_chain
+
+    assert np.allclose(PUSHER_CHAIN, pusher_chain(), rtol=0, atol=1e-12)
+    cfg = sg.Config.from_preset("pusher")
+    assert cfg.joints == 7 and abs(cfg.reach - 50.0) < 1e-12
+
+
+def test_a_native_run_and_a_run_through_mujoco_see_the_same_test_set():
+    arm = twisted_arm()
+    cfg = sg.Config(body="chain", chain=arm.chain(), joint_limit=1.0, max_joint_step=0.02, goal_low=(-1.0, -1.0, -1.0), goal_high=(1.0, 1.0, 1.0), n_steps=300, n_evals=1, v=0.01, n_test_goals=10, n_test_configs=10)
+    native = sg.run(cfg, seed=4)
+    through = sg.run(cfg, seed=4, environment=arm)
+    # The same goals and configurations; positions measured by MuJoCo in one, natively in the other.
+    assert np.isclose(native.metrics["pred_error"].iloc[0], through.metrics["pred_error"].iloc[0], rtol=1e-9)
+    assert np.isclose(native.metrics["reach_error"].iloc[0], through.metrics["reach_error"].iloc[0], rtol=1e-9)
+
+
+@pytest.mark.parametrize(
+    "call, param",
+    [
+        (lambda a: a.chain(scale=0.0), "scale"),
+        (lambda a: a.chain(at_origin="yes"), "at_origin"),
+        (lambda a: MujocoArm(a.model, ("j1", "j0"), "tip").chain(), "joints"),
+        (lambda a: MujocoArm(a.model, ("j0", "j3"), "b1").chain(), "joints"),
+    ],
+)
+def test_chain_refusals_are_named(call, param):
+    with pytest.raises(sg.ParameterError) as e:
+        call(twisted_arm())
+    assert e.value.param == param

@@ -41,7 +41,7 @@ def test_tied_parameters_print_both_values():
 def test_unknown_parameter_and_preset():
     with pytest.raises(ParameterError, match="'gmax' parameter is not a parameter of Config"):
         saggriac.Config.from_preset("exp1", gmax=3)
-    with pytest.raises(ParameterError, match="'preset' parameter must be one of 'exp1', 'exp2', 'explauto', 'arm3d'. Got 'exp3'"):
+    with pytest.raises(ParameterError, match="'preset' parameter must be one of 'exp1', 'exp2', 'explauto', 'arm3d', 'pusher'. Got 'exp3'"):
         saggriac.Config.from_preset("exp3")
 
 

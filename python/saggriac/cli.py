@@ -193,7 +193,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--version", action="version", version=f"saggriac {_core.__version__}")
     sub = p.add_subparsers(dest="command", required=True)
     r = sub.add_parser("run", help="run one learner and save its results")
-    r.add_argument("--preset", choices=sorted(PRESETS), help="the paper's experiments exp1 and exp2, explauto's episodic task, or arm3d: exp1 with an arm in space (default: the --config file's preset, else exp1; if both name one, they must agree)")
+    r.add_argument("--preset", choices=sorted(PRESETS), help="the paper's experiments exp1 and exp2, explauto's episodic task, arm3d: exp1 with an arm in space, or pusher: the 7-joint arm of Gymnasium's MuJoCo Pusher (default: the --config file's preset, else exp1; if both name one, they must agree)")
     r.add_argument("--config", help="TOML file with parameters (and optionally preset = ...)")
     r.add_argument("--seed", type=int, help="root seed of the run (default 0)")
     r.add_argument("--condition", help="sagg_riac (default), sagg_random, actuator_random or actuator_riac")
@@ -208,7 +208,7 @@ def build_parser() -> argparse.ArgumentParser:
     r.set_defaults(func=_cmd_run)
 
     rp = sub.add_parser("reproduce", help="run one of the paper's experiments (4 conditions x seeds) with figures and statistics")
-    rp.add_argument("experiment", choices=sorted(PRESETS), help="the preset to study: exp1 or exp2 (the paper's), explauto or arm3d")
+    rp.add_argument("experiment", choices=sorted(PRESETS), help="the preset to study: exp1 or exp2 (the paper's), explauto, arm3d or pusher")
     rp.add_argument("--seeds", type=int, default=15, help="seeds 0..N-1 (default 15, as the paper)")
     rp.add_argument("--conditions", help="comma-separated subset of the conditions (default: all four)")
     rp.add_argument("--steps", type=int, help="time steps per run (default: the paper's)")

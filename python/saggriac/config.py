@@ -20,6 +20,7 @@ from typing import Any
 import numpy as np
 
 from . import _core
+from .bodies import PUSHER_CHAIN
 from .errors import ParameterError
 
 if sys.version_info >= (3, 11):
@@ -57,6 +58,10 @@ class Config:
     body_change_step: int | None = None
     body_change_link: int | None = None
     body_change_length: float | None = None
+    # body="chain": a serial arm of hinges as fixed transforms, read out of a MuJoCo model by
+    # saggriac.mujoco_arm.MujocoArm.chain() (15 numbers per joint, then the tip; see
+    # docs/mujoco.md). Its joints are in [-1, 1] (each one's range), so joint_limit <= 1.
+    chain: tuple[float, ...] | None = None
     # Goal space S' (one bound per task-space dimension: 2 for the planar arm, 3 in space).
     goal_low: tuple[float, ...] = (0.0, -50.0)
     goal_high: tuple[float, ...] = (50.0, 50.0)
@@ -128,11 +133,11 @@ class Config:
             warnings.warn(f"knn_index={self.knn_index!r} was removed in saggriac 0.2; 'blocks' returns the same neighbours and is used instead.", DeprecationWarning, stacklevel=3)
             object.__setattr__(self, "knn_index", "blocks")
         # Lists from TOML or JSON become tuples so configs stay hashable and comparable.
-        for name in ("link_lengths", "goal_low", "goal_high", "eval_schedule"):
+        for name in ("link_lengths", "goal_low", "goal_high", "eval_schedule", "chain"):
             val = getattr(self, name)
             if isinstance(val, list):
                 object.__setattr__(self, name, tuple(val))
-            elif not (isinstance(val, tuple) or (val is None and name in ("link_lengths", "eval_schedule"))):
+            elif not (isinstance(val, tuple) or (val is None and name in ("link_lengths", "eval_schedule", "chain"))):
                 raise ParameterError(f"The '{name}' parameter of Config must be a list of numbers. Got {val!r} instead.", name, repr(val))
         if self.eval_schedule is not None and len(self.eval_schedule) == 0:
             raise ParameterError("The 'eval_schedule' parameter of Config must be a non-empty list of steps (or None for n_evals). Got () instead.", "eval_schedule", "()")
@@ -156,12 +161,18 @@ class Config:
 
     @property
     def reach(self) -> float:
-        """Length of the built-in arm: the radius of its reachable ball."""
+        """Length of the built-in arm: the radius of its reachable ball (for a chain, the summed
+        distances between its joints and to the end effector, which bound its reach)."""
+        if self.chain is not None:
+            return float(sum(_core.chain_link_lengths(list(self.chain))))
         return float(sum(self.link_lengths)) if self.link_lengths is not None else float(self.arm_length)
 
     @property
     def joints(self) -> int:
-        """Number of joints of the built-in arm (``link_lengths`` replaces ``n_joints`` when given)."""
+        """Number of joints of the built-in arm (``link_lengths`` replaces ``n_joints`` when
+        given; a chain has its own)."""
+        if self.chain is not None:
+            return max(0, (len(self.chain) - 3) // 15)
         return len(self.link_lengths) if self.link_lengths is not None else self.n_joints
 
     def schedule(self) -> list[int]:
@@ -175,7 +186,7 @@ class Config:
         """The flat dict the Rust core takes."""
         d = {f.name: getattr(self, f.name) for f in dataclasses.fields(self)}
         d.pop("n_evals")
-        for name in ("link_lengths", "goal_low", "goal_high"):
+        for name in ("link_lengths", "goal_low", "goal_high", "chain"):
             if d[name] is not None:
                 d[name] = list(d[name])
         d["eval_schedule"] = self.schedule() if isinstance(self.n_steps, int) and self.n_steps > 0 else []
@@ -258,7 +269,7 @@ def _plain(value: Any) -> Any:
 
 
 #: Parameters whose default is None, with the type of their values.
-_OPTIONAL_KINDS = {"link_lengths": "floats", "eval_schedule": "ints", "body_change_step": int, "body_change_link": int, "body_change_length": float}
+_OPTIONAL_KINDS = {"link_lengths": "floats", "chain": "floats", "eval_schedule": "ints", "body_change_step": int, "body_change_link": int, "body_change_length": float}
 #: Lengths and goal bounds beyond this overflow nothing yet, but squared distances and the step
 #: counts derived from them would lose their meaning long before float overflow; refuse them.
 MAX_MAGNITUDE = 1e12
@@ -307,7 +318,7 @@ def _check_goal_space(cfg: Config) -> None:
 
 
 def _check_magnitudes(cfg: Config) -> None:
-    values = {"arm_length": [cfg.arm_length], "link_lengths": list(cfg.link_lengths or ()), "goal_low": list(cfg.goal_low), "goal_high": list(cfg.goal_high)}
+    values = {"arm_length": [cfg.arm_length], "link_lengths": list(cfg.link_lengths or ()), "chain": list(cfg.chain or ()), "goal_low": list(cfg.goal_low), "goal_high": list(cfg.goal_high)}
     for name, vals in values.items():
         for v in vals:
             if _number(v, float) and math.isfinite(v) and abs(v) > MAX_MAGNITUDE:
@@ -352,6 +363,21 @@ PRESETS: dict[str, dict[str, Any]] = {
         n_steps=50_000,
         goal_low=(0.0, -50.0, -50.0),
         goal_high=(50.0, 50.0, 50.0),
+        q=20,
+    ),
+    # Beyond the paper: the 7-joint arm of Gymnasium's MuJoCo Pusher, natively (saggriac.bodies;
+    # docs/mujoco.md), shoulder at the origin, scaled to reach 50 as the paper's arm does. Its
+    # joints span their ranges in [-1, 1]; a micro-action moves each by at most 2 % of its
+    # half-range. The goal box, the cube of side 120 around the shoulder, is wider than the
+    # reach: about a fifth of it is reachable.
+    "pusher": dict(
+        body="chain",
+        chain=PUSHER_CHAIN,
+        joint_limit=1.0,
+        max_joint_step=0.02,
+        n_steps=50_000,
+        goal_low=(-60.0, -60.0, -60.0),
+        goal_high=(60.0, 60.0, 60.0),
         q=20,
     ),
 }

@@ -110,10 +110,79 @@ class MujocoArm:
         self.theta = joint_step(self.theta, dtheta, self.max_joint_step, 1.0)
         return self.theta.copy(), self.forward(self.theta)
 
+    def chain(self, scale: float = 1.0, at_origin: bool = False) -> tuple[float, ...]:
+        """This arm's kinematics as saggriac's native chain body (``Config(body="chain",
+        chain=...)``): the fixed transforms of the model's bodies from the world to the end
+        effector, each chosen hinge's anchor, axis and range. Lengths are multiplied by ``scale``
+        (100 gives centimetres for a model in metres). ``at_origin`` moves the arm so that the
+        first joint's body sits at the origin (its orientation kept). The run then moves the arm
+        with no call into Python or MuJoCo per micro-action; ``tests/test_mujoco_arm.py`` checks
+        it against ``mj_kinematics``."""
+        if isinstance(scale, bool) or not isinstance(scale, (int, float)) or not (math.isfinite(scale) and scale > 0):
+            raise ParameterError(f"The 'scale' parameter of MujocoArm.chain must be a float > 0. Got {scale!r} instead.", "scale", repr(scale))
+        if not isinstance(at_origin, bool):
+            raise ParameterError(f"The 'at_origin' parameter of MujocoArm.chain must be a bool. Got {at_origin!r} instead.", "at_origin", repr(at_origin))
+        m = self.model
+        ee_body = self._body if self._site < 0 else int(m.site_bodyid[self._site])
+        path = []
+        b = ee_body
+        while b > 0:
+            path.append(b)
+            b = int(m.body_parentid[b])
+        path.reverse()
+        chosen = {int(mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, n)): k for k, n in enumerate(self.joint_names)}
+        flat: list[float] = []
+        pos, quat = np.zeros(3), np.array([1.0, 0.0, 0.0, 0.0])
+        order = []
+        for b in path:
+            pos, quat = pos + _rotate(quat, m.body_pos[b]), _quat_mul(quat, m.body_quat[b])
+            for j in range(int(m.body_jntadr[b]), int(m.body_jntadr[b]) + int(m.body_jntnum[b])):
+                name = m.joint(j).name
+                if j not in chosen:
+                    # At qpos0 a hinge or a slide joint does not move its body; other joints can.
+                    if int(m.jnt_type[j]) not in (int(mujoco.mjtJoint.mjJNT_HINGE), int(mujoco.mjtJoint.mjJNT_SLIDE)):
+                        raise ParameterError(f"MujocoArm.chain handles hinge and slide joints between the world and the end effector; {name!r} is a ball or free joint.", "joints", repr(name))
+                    continue
+                k = chosen[j]
+                if at_origin and not order:
+                    pos = np.zeros(3)
+                offset = float(m.qpos0[m.jnt_qposadr[j]])
+                flat += [*(pos * scale), *quat, *(m.jnt_pos[j] * scale), *m.jnt_axis[j], float(self.low[k]) - offset, float(self.high[k]) - offset]
+                pos, quat = np.zeros(3), np.array([1.0, 0.0, 0.0, 0.0])
+                order.append(k)
+        missing = [self.joint_names[k] for k in range(len(self.joint_names)) if k not in order]
+        if missing:
+            raise ParameterError(f"MujocoArm.chain needs joints between the world and the end effector {self.end_effector!r}; {missing} do not move it.", "joints", repr(missing))
+        if order != sorted(order):
+            raise ParameterError(f"MujocoArm.chain needs the joints listed from the base to the end effector; the model orders them {[self.joint_names[k] for k in order]}.", "joints", repr(self.joint_names))
+        tip = pos + (_rotate(quat, m.site_pos[self._site]) if self._site >= 0 else 0.0)
+        return tuple(float(v) for v in (*flat, *(tip * scale)))
+
+
+def _quat_mul(a: Any, b: Any) -> np.ndarray:
+    w1, x1, y1, z1 = a
+    w2, x2, y2, z2 = b
+    return np.array([w1 * w2 - x1 * x2 - y1 * y2 - z1 * z2, w1 * x2 + x1 * w2 + y1 * z2 - z1 * y2, w1 * y2 - x1 * z2 + y1 * w2 + z1 * x2, w1 * z2 + x1 * y2 - y1 * x2 + z1 * w2])
+
+
+def _rotate(q: Any, v: Any) -> np.ndarray:
+    """v rotated by the unit quaternion q (w, x, y, z)."""
+    w, u = q[0], np.asarray(q[1:])
+    v = np.asarray(v, dtype=np.float64)
+    return v + 2.0 * np.cross(u, np.cross(u, v) + w * v)
+
 
 def pusher_arm(max_joint_step: float = 0.02) -> MujocoArm:
     """The 7-joint arm of Gymnasium's MuJoCo Pusher, end effector ``tips_arm``."""
     return MujocoArm(pusher_model_path(), PUSHER_JOINTS, "tips_arm", max_joint_step=max_joint_step)
 
 
-__all__ = ["MujocoArm", "pusher_arm", "pusher_model_path", "PUSHER_JOINTS"]
+def pusher_chain() -> tuple[float, ...]:
+    """The Pusher's arm as the ``pusher`` preset's native chain (``saggriac.bodies.PUSHER_CHAIN``):
+    shoulder at the origin, scaled to reach 50."""
+    from .bodies import PUSHER_SCALE
+
+    return pusher_arm().chain(scale=PUSHER_SCALE, at_origin=True)
+
+
+__all__ = ["MujocoArm", "pusher_arm", "pusher_chain", "pusher_model_path", "PUSHER_JOINTS"]

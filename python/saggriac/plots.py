@@ -14,7 +14,9 @@ from matplotlib.figure import Figure
 from matplotlib.patches import Arc, Patch, Rectangle
 from matplotlib.ticker import FuncFormatter
 
+from . import _core
 from .config import Config
+from .reachable import ReachableSet
 
 LABELS = {
     "sagg_riac": "SAGG-RIAC",
@@ -116,7 +118,8 @@ def goal_histograms_figure(run_dir: str | Path, n_windows: int = 4, bins: int = 
     fig = Figure(figsize=(cols * (panel_w + 0.8), n_rows * (panel_h + (1.1 if len(planes) > 1 else 0.9)) + 0.4), layout="constrained")
     grid = np.atleast_2d(fig.subplots(n_rows, cols, squeeze=False))
     edges, windows = _window_bounds(len(goals), n_windows)
-    reach = cfg.arm_length if cfg.link_lengths is None else float(sum(cfg.link_lengths))
+    reach = cfg.reach
+    reachable = ReachableSet(cfg) if cfg.chain is not None else None
     for p, (u, w) in enumerate(planes):
         iu, iw = axis_index[u], axis_index[w]
         lo, hi = (cfg.goal_low[iu], cfg.goal_low[iw]), (cfg.goal_high[iu], cfg.goal_high[iw])
@@ -133,8 +136,13 @@ def goal_histograms_figure(run_dir: str | Path, n_windows: int = 4, bins: int = 
                 n_meas = int((attempts["goal_index"] < end).sum()) if len(attempts) else 0
                 for _, r in _leaves_at(regions, n_meas).iterrows():
                     ax.add_patch(Rectangle((r[f"low_{u}"], r[f"low_{w}"]), r[f"high_{u}"] - r[f"low_{u}"], r[f"high_{w}"] - r[f"low_{w}"], fill=False, edgecolor="white", linewidth=0.6))
-            # The whole reachable circle; the axis limits clip it to the goal space.
-            ax.add_patch(Arc((0, 0), 2 * reach, 2 * reach, theta1=0, theta2=360, edgecolor="cyan", linewidth=1.5))
+            if reachable is None:
+                # The whole reachable circle; the axis limits clip it to the goal space.
+                ax.add_patch(Arc((0, 0), 2 * reach, 2 * reach, theta1=0, theta2=360, edgecolor="cyan", linewidth=1.5))
+            else:
+                # A chain's reachable set, projected: the outline of its occupied cells.
+                proj = reachable.projection((iu, iw)).astype(float)
+                ax.contour(proj.T, levels=[0.5], colors="cyan", linewidths=1.5, extent=(lo[0], hi[0], lo[1], hi[1]), origin="lower")
             ax.set_xlim(lo[0], hi[0])
             ax.set_ylim(lo[1], hi[1])
             ax.set_aspect("equal")
@@ -203,6 +211,8 @@ def spatial_arm_points(theta: np.ndarray, lengths: np.ndarray) -> np.ndarray:
 def plot_arm(config: Config, path: str | Path) -> Path:
     """The arm at rest and in a bent pose, with x_start, a goal x_g and a final position x_f: the
     quantities of the competence C = -D(x_g, x_f) / D(x_start, x_g) (eq. 7)."""
+    if config.chain is not None:
+        return _plot_chain(config, path)
     lengths = np.asarray(config.link_lengths if config.link_lengths else [config.arm_length / config.n_joints] * config.n_joints, dtype=float)
     if config.body == "spatial_arm":
         return _plot_spatial_arm(lengths, path)
@@ -265,6 +275,39 @@ def _plot_spatial_arm(lengths: np.ndarray, path: str | Path) -> Path:
     ax.set_box_aspect((1, 1, 1))
     ax.legend(loc="upper left", fontsize=8)
     ax.set_title(f"{n}-joint spatial arm (joints alternately yaw and pitch), total length {r:g}")
+    path = Path(path)
+    fig.savefig(path, dpi=110)
+    return path
+
+
+def _plot_chain(config: Config, path: str | Path) -> Path:
+    """A chain body (a MuJoCo model's arm) at rest and in a bent pose, over a sample of the
+    positions it reaches, inside the goal box."""
+    chain = list(config.chain or ())
+    n = config.joints
+    fig = Figure(figsize=(7.0, 6.0), layout="constrained")
+    ax = fig.add_subplot(projection="3d")
+    cloud = _core.chain_cloud(chain, float(config.joint_limit), 3000, 0)
+    ax.scatter(cloud[:, 0], cloud[:, 1], cloud[:, 2], s=1, color="0.75", alpha=0.5, label="positions at random configurations")
+    rest = _core.chain_points(chain, [0.0] * n)
+    bent = _core.chain_points(chain, list(np.linspace(-0.4, 0.4, n) * config.joint_limit))
+    ax.plot(rest[:, 0], rest[:, 1], rest[:, 2], "-o", color="0.2", markersize=3, label="rest pose (every joint mid-range)")
+    ax.plot(bent[:, 0], bent[:, 1], bent[:, 2], "-o", color="tab:blue", markersize=3, label="another configuration")
+    lo, hi = np.asarray(config.goal_low, float), np.asarray(config.goal_high, float)
+    for a in range(3):
+        for corner in range(4):
+            b, c = [i for i in range(3) if i != a]
+            p0, p1 = lo.copy(), lo.copy()
+            p0[b] = p1[b] = hi[b] if corner & 1 else lo[b]
+            p0[c] = p1[c] = hi[c] if corner & 2 else lo[c]
+            p1[a] = hi[a]
+            ax.plot(*zip(p0, p1), color="0.5", linewidth=0.6)
+    ax.set_xlabel("x")
+    ax.set_ylabel("y")
+    ax.set_zlabel("z")
+    ax.set_box_aspect(tuple(hi - lo))
+    ax.legend(loc="upper left", fontsize=8)
+    ax.set_title(f"{n}-joint chain (reach {config.reach:.3g}) in its goal box")
     path = Path(path)
     fig.savefig(path, dpi=110)
     return path

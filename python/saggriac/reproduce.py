@@ -14,6 +14,7 @@ import pandas as pd
 from . import plots, splits, statistics
 from .config import CONDITIONS, PRESETS, Config
 from .errors import ParameterError, StorageError
+from .reachable import ReachableSet
 from .result import RunResult
 from .study import Study, load_study, run_study
 
@@ -168,7 +169,8 @@ def split_null_model(out_dir: str | Path, n_parts: int = 4) -> pd.DataFrame:
             regions, label = pd.read_parquet(run_dir / "regions.parquet"), "sagg_riac"
         else:
             regions, label = splits.replay_regions(pd.read_parquet(run_dir / "attempts.parquet"), cfg), "sagg_random_replayed"
-        for part, share in enumerate(splits.split_shares(regions, cfg.reach, n_parts)):
+        reach = ReachableSet(cfg) if cfg.chain is not None else cfg.reach
+        for part, share in enumerate(splits.split_shares(regions, reach, n_parts)):
             rows.append({"tree": label, "seed": task.seed, **task.params, "part": part + 1, "reachable_share": share})
     frame = pd.DataFrame(rows)
     if frame.empty or set(frame["tree"]) != {"sagg_riac", "sagg_random_replayed"}:

@@ -18,6 +18,7 @@ import pandas as pd
 from . import _core
 from .config import Config
 from .errors import ParameterError, StorageError
+from .reachable import ReachableSet
 from .result import RunResult
 from .seeding import check_seed, derive_seeds, environment_seed
 from .resources import check_run_fits, check_threads
@@ -223,7 +224,8 @@ def _drive(learner: Any, config: Config, info: dict[str, Any], out: Path | None,
         manifest["resumed_at_step"] = info["resumed_at"]
     reach = None if "environment" in extras else config.reach
     manifest["test_set"] = _test_set_summary(learner.test_set(), config, reach)
-    manifest["time_budget"] = time_budget(goals, manifest["profile"], config.n_steps, reach)
+    reachable = ReachableSet(config) if reach is not None and config.chain is not None else reach
+    manifest["time_budget"] = time_budget(goals, manifest["profile"], config.n_steps, reachable)
     result = RunResult(config=config, seed=seed, metrics=metrics, goals=goals, attempts=attempts, regions=regions, manifest=manifest, path=None)
     if out is not None:
         try:

@@ -15,6 +15,7 @@ import pandas as pd
 
 from .config import Config
 from .goal_selection import SaggRiacSelector
+from .reachable import ReachableSet
 
 
 def _dims(regions: pd.DataFrame) -> list[str]:
@@ -41,13 +42,14 @@ def replay_regions(attempts: pd.DataFrame, config: Config) -> pd.DataFrame:
     return pd.DataFrame(out)
 
 
-def reachable_share(low: np.ndarray, high: np.ndarray, reach: float, grid: int = 40) -> float:
-    """Share of the box [low, high] inside the ball of radius ``reach`` around the origin
-    (midpoints of a grid of ``grid`` cells per side)."""
+def reachable_share(low: np.ndarray, high: np.ndarray, reach: float | ReachableSet, grid: int = 40) -> float:
+    """Share of the box [low, high] inside the ball of radius ``reach`` around the origin, or
+    inside a :class:`~saggriac.reachable.ReachableSet` (midpoints of a grid of ``grid`` cells
+    per side)."""
     return float(reachable_shares(np.asarray(low, float)[None, :], np.asarray(high, float)[None, :], reach, grid)[0])
 
 
-def reachable_shares(lows: np.ndarray, highs: np.ndarray, reach: float, grid: int = 40) -> np.ndarray:
+def reachable_shares(lows: np.ndarray, highs: np.ndarray, reach: float | ReachableSet, grid: int = 40) -> np.ndarray:
     """:func:`reachable_share` of many boxes at once (one per row), in chunks that keep the
     grids to a few million points."""
     lows, highs = np.asarray(lows, float), np.asarray(highs, float)
@@ -55,6 +57,11 @@ def reachable_shares(lows: np.ndarray, highs: np.ndarray, reach: float, grid: in
     out = np.empty(m)
     cells = np.arange(grid) + 0.5
     chunk = max(1, 4_000_000 // grid**d)
+    if isinstance(reach, ReachableSet):
+        mesh = np.stack(np.meshgrid(*([cells] * d), indexing="ij"), axis=-1).reshape(-1, d) / grid
+        for i in range(m):
+            out[i] = reach.contains(lows[i] + mesh * (highs[i] - lows[i])).mean()
+        return out
     for start in range(0, m, chunk):
         lo, hi = lows[start : start + chunk], highs[start : start + chunk]
         # Per box and axis, the squared grid coordinates; summed over axes by broadcasting.
@@ -68,7 +75,7 @@ def reachable_shares(lows: np.ndarray, highs: np.ndarray, reach: float, grid: in
     return out
 
 
-def split_shares(regions: pd.DataFrame, reach: float, n_parts: int = 4) -> list[float]:
+def split_shares(regions: pd.DataFrame, reach: float | ReachableSet, n_parts: int = 4) -> list[float]:
     """The splits of a tree in the order they happened, cut into ``n_parts`` equal parts; for
     each part, the mean share of the split regions' area inside the reachable ball (NaN for a
     part without splits)."""

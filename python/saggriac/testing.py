@@ -82,7 +82,9 @@ def check_environment_interface(env: Any, config: Any) -> None:
         raise ParameterError(f"The 'goal_low' parameter of Config must have one bound per dimension of the environment's task_space ({m}). Got {list(config.goal_low)} instead.", "goal_low", repr(config.goal_low))
     if config.link_lengths is not None and len(config.link_lengths) != len(hi):
         raise ParameterError(f"The 'link_lengths' parameter of Config must have one length per joint of the environment's joint_space ({len(hi)} joints). Got {len(config.link_lengths)} lengths instead.", "link_lengths", repr(config.link_lengths))
-    if config.link_lengths is None and len(hi) != config.n_joints:
+    if config.chain is not None and config.joints != len(hi):
+        raise ParameterError(f"The 'chain' parameter of Config must have one joint per joint of the environment's joint_space ({len(hi)} joints). Got a chain of {config.joints} joints instead.", "chain", f"{config.joints} joints")
+    if config.link_lengths is None and config.chain is None and len(hi) != config.n_joints:
         raise ParameterError(f"The 'n_joints' parameter of Config must match the environment's joint_space ({len(hi)} joints). Got {config.n_joints} instead.", "n_joints", repr(config.n_joints))
     if not math.isclose(float(hi[0]), config.joint_limit, rel_tol=1e-12):
         raise ParameterError(f"The 'joint_limit' parameter of Config must match the environment's joint_space (limit {float(hi[0])!r}). Got {config.joint_limit!r} instead.", "joint_limit", repr(config.joint_limit))

@@ -3,8 +3,9 @@ goals attempted, steps per goal inside and outside the reachable area, and the s
 goal-selection mode. Written into run.json as ``time_budget`` and summed up by ``reproduce``.
 
 A goal's time is the micro-actions from its start to its end (subgoals, exploration phases and
-the timeout included). Whether a goal is reachable is known only for the built-in arms (the ball
-of radius = arm length around the base); for a user's environment those entries are absent.
+the timeout included). Whether a goal is reachable is known only for the built-in bodies (the ball
+of radius = arm length around the base; a chain's sampled reachable set, ``saggriac.reachable``);
+for a user's environment those entries are absent.
 """
 
 from __future__ import annotations
@@ -16,11 +17,12 @@ import numpy as np
 import pandas as pd
 
 from .goal_selection import MODES
+from .reachable import ReachableSet
 
 
-def time_budget(goals: pd.DataFrame, profile: Mapping[str, Any], n_steps: int, reach: float | None) -> dict[str, Any]:
+def time_budget(goals: pd.DataFrame, profile: Mapping[str, Any], n_steps: int, reach: float | ReachableSet | None) -> dict[str, Any]:
     """The time budget of one run from its goals table and run.json profile; ``reach`` is the
-    arm's length (None when the body's reach is unknown)."""
+    arm's length, or the set a chain reaches (None when the body's reach is unknown)."""
     kinds = {k: int(profile.get(f"{k}_steps", 0)) for k in ("reaching", "exploration", "babbling")}
     total = max(sum(kinds.values()), 1)
     out: dict[str, Any] = {
@@ -36,8 +38,11 @@ def time_budget(goals: pd.DataFrame, profile: Mapping[str, Any], n_steps: int, r
     out["goals_by_mode"] = {MODES.get(int(m), str(m)): int((goals["mode"] == m).sum()) for m in sorted(goals["mode"].unique())}
     if reach is not None:
         cols = sorted(c for c in goals.columns if c.startswith("goal_") and c != "goal_index")
-        radius = np.sqrt((goals[cols].to_numpy(np.float64) ** 2).sum(axis=1))
-        inside = radius <= reach
+        if isinstance(reach, ReachableSet):
+            inside = reach.contains(goals[cols].to_numpy(np.float64))
+        else:
+            radius = np.sqrt((goals[cols].to_numpy(np.float64) ** 2).sum(axis=1))
+            inside = radius <= reach
         out["goals_reachable"] = int(inside.sum())
         out["steps_per_reachable_goal"] = float(steps[inside].mean()) if inside.any() else None
         out["steps_per_unreachable_goal"] = float(steps[~inside].mean()) if (~inside).any() else None

@@ -1,8 +1,10 @@
 //! The simulated arm: n revolute joints in series, base at the origin, joint angles relative to
 //! the previous link, rest pose straight along +x. The paper's arm (Fig. 2) is planar; the
 //! spatial variant moves in 3-D, its joints turning alternately about the local z axis (yaw) and
-//! the local y axis (pitch).
+//! the local y axis (pitch). A chain (`crate::chain`) is any serial arm of hinges in 3-D, such as
+//! a MuJoCo model's.
 
+use crate::chain::Chain;
 pub use crate::config::body::{ArmConfig, ArmKind};
 use crate::error::Result;
 use crate::rng::{normal, rng_from_seed, CoreRng};
@@ -26,6 +28,8 @@ pub struct Arm {
     /// The last position reading (the true position when there is no sensor noise).
     x: Point,
     rng: CoreRng,
+    /// A chain's kinematics, built once from `cfg.chain`.
+    chain: Option<Chain>,
 }
 
 impl Arm {
@@ -33,7 +37,8 @@ impl Arm {
         cfg.validate()?;
         let n = cfg.link_lengths.len();
         let rng = rng_from_seed(cfg.noise_seed);
-        let mut arm = Arm { cfg, theta: vec![0.0; n], x: [0.0; MAX_TASK_DIM], rng };
+        let chain = cfg.chain.as_ref().map(Chain::new);
+        let mut arm = Arm { cfg, theta: vec![0.0; n], x: [0.0; MAX_TASK_DIM], rng, chain };
         arm.reset();
         Ok(arm)
     }
@@ -105,14 +110,18 @@ impl Arm {
     }
 
     /// The Jacobian of `forward` (task_dim x n, row-major) where it is written out: the planar
-    /// arm. False for the spatial arm (callers differentiate numerically).
+    /// arm and chains. False for the spatial arm (callers differentiate numerically).
     pub fn jacobian(&self, theta: &[f64], out: &mut [f64]) -> bool {
-        match self.cfg.kind {
-            ArmKind::Planar => {
+        match (self.cfg.kind, &self.chain) {
+            (ArmKind::Planar, _) => {
                 planar_jacobian(&self.cfg.link_lengths, theta, out);
                 true
             }
-            ArmKind::Spatial => false,
+            (ArmKind::Chain, Some(chain)) => {
+                chain.jacobian(theta, out);
+                true
+            }
+            _ => false,
         }
     }
 
@@ -121,6 +130,7 @@ impl Arm {
         match self.cfg.kind {
             ArmKind::Planar => planar_forward(&self.cfg.link_lengths, theta),
             ArmKind::Spatial => spatial_forward(&self.cfg.link_lengths, theta),
+            ArmKind::Chain => self.chain.as_ref().expect("a validated chain arm has its chain").forward(theta),
         }
     }
 

@@ -102,6 +102,9 @@ impl Body for Arm {
         self.config().motor_noise == 0.0 && self.config().sensor_noise == 0.0
     }
     fn set_link_length(&mut self, link: usize, length: f64) -> bool {
+        if self.config().kind == crate::arm::ArmKind::Chain {
+            return false;
+        }
         Arm::set_link_length(self, link, length);
         true
     }

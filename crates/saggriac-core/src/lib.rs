@@ -10,6 +10,7 @@ pub mod arm;
 pub mod ask_tell;
 pub mod block_index;
 pub mod body;
+pub mod chain;
 pub mod checkpoint;
 pub mod chunked;
 pub mod competence;

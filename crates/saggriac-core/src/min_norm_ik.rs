@@ -69,9 +69,15 @@ impl Kinematics for BodyKinematics<'_> {
 /// The least-norm configuration reaching `goal` (first `m` coordinates) for a body with `n`
 /// joints limited to +-`limit`; `tolerance` is the residual that counts as reached.
 pub fn min_norm_ik(fk: &mut dyn Kinematics, n: usize, m: usize, limit: f64, goal: &Point, tolerance: f64) -> IkSolution {
+    min_norm_ik_from(fk, n, m, limit, goal, tolerance, None)
+}
+
+/// `min_norm_ik` with one more start, such as a configuration known to reach the goal.
+pub fn min_norm_ik_from(fk: &mut dyn Kinematics, n: usize, m: usize, limit: f64, goal: &Point, tolerance: f64, extra: Option<&[f64]>) -> IkSolution {
     let mut rng = crate::rng::rng_from_seed(0x1c0f_f1e5);
     let mut starts: Vec<Vec<f64>> = START_BENDS.iter().map(|b| vec![b.clamp(-limit, limit); n]).collect();
     starts.extend((0..SCATTERED_STARTS).map(|_| (0..n).map(|_| crate::rng::uniform(&mut rng, -limit / 2.0, limit / 2.0)).collect()));
+    starts.extend(extra.map(|t| t.to_vec()));
     // First onto the goal from every start; then the norm is lowered from each start that got
     // there. A goal no start reaches keeps the closest configuration.
     let mut sqp = Sqp { fk, n, m, limit, goal, tolerance };

@@ -4,7 +4,7 @@ use crate::arm::{Arm, ArmConfig};
 use crate::body::Body;
 use crate::config::evaluation::{EvalConfig, TestConfigs};
 use crate::error::{invalid, Result};
-use crate::min_norm_ik::{min_norm_ik, BodyKinematics, Kinematics};
+use crate::min_norm_ik::{min_norm_ik_from, BodyKinematics, Kinematics};
 use crate::rng::{rng_from_seed, uniform, CoreRng};
 use crate::task_space::{point, sub, Point};
 
@@ -33,6 +33,9 @@ pub const IK_TOLERANCE: f64 = 1e-9;
 fn position_at(body: &mut dyn Body, theta: &[f64]) -> Point {
     BodyKinematics(body).position(theta)
 }
+
+/// Test goals, each with a configuration known to reach it where there is one (a chain's).
+type Drawn = (Vec<Point>, Vec<Option<Vec<f64>>>);
 
 /// Goals uniform in the reachable part of the goal box, by rejection.
 fn draw_goals(rng: &mut CoreRng, r: f64, goal_low: &[f64], goal_high: &[f64], n_goals: usize) -> Result<Vec<Point>> {
@@ -72,7 +75,16 @@ impl TestSet {
         let r: f64 = arm.link_lengths.iter().sum();
         let (n, m, lim) = (arm.link_lengths.len(), goal_low.len(), arm.joint_limit);
         let mut rng = rng_from_seed(seed);
-        let goals = draw_goals(&mut rng, r, goal_low, goal_high, eval.n_test_goals)?;
+        // A chain's reachable set is no ball about the origin: goals come from a cloud of its positions.
+        // Each goal of a chain comes with a configuration reaching it: one more start for the IK.
+        let chain = arm.chain.as_ref().map(crate::chain::Chain::new);
+        let draw = |rng: &mut CoreRng, k: usize| -> Result<Drawn> {
+            Ok(match &chain {
+                Some(chain) => crate::chain::reachable_goals(chain, lim, goal_low, goal_high, k, rng)?.into_iter().map(|(g, t)| (g, Some(t))).unzip(),
+                None => draw_goals(rng, r, goal_low, goal_high, k)?.into_iter().map(|g| (g, None)).unzip(),
+            })
+        };
+        let (goals, mut known) = draw(&mut rng, eval.n_test_goals)?;
         let (configs, true_x, ik_residuals): (Vec<Vec<f64>>, Vec<Point>, Vec<f64>) = match eval.test_configs {
             TestConfigs::Uniform => {
                 let configs: Vec<Vec<f64>> = (0..eval.n_test_configs).map(|_| (0..n).map(|_| uniform(&mut rng, -lim, lim)).collect()).collect();
@@ -80,10 +92,11 @@ impl TestSet {
             }
             TestConfigs::IkMinNorm => {
                 // The test goals in order, then more from the same distribution if needed.
-                let extra = draw_goals(&mut rng, r, goal_low, goal_high, eval.n_test_configs.saturating_sub(goals.len()))?;
-                let targets = goals.iter().chain(&extra).take(eval.n_test_configs);
+                let (extra, extra_known) = draw(&mut rng, eval.n_test_configs.saturating_sub(goals.len()))?;
+                known.extend(extra_known);
+                let targets = goals.iter().chain(&extra).zip(&known).take(eval.n_test_configs);
                 let mut kinematics = BodyKinematics(&mut *body);
-                let solved: Vec<_> = targets.map(|g| min_norm_ik(&mut kinematics, n, m, lim, g, IK_TOLERANCE * r)).collect();
+                let solved: Vec<_> = targets.map(|(g, k)| min_norm_ik_from(&mut kinematics, n, m, lim, g, IK_TOLERANCE * r, k.as_deref())).collect();
                 let residuals = solved.iter().map(|s| s.residual).collect();
                 (solved.into_iter().map(|s| s.theta).collect(), Vec::new(), residuals)
             }

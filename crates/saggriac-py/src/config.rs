@@ -4,6 +4,7 @@
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use saggriac_core::arm::{ArmConfig, ArmKind};
+use saggriac_core::chain::{Chain, ChainSpec};
 use saggriac_core::config::evaluation::TestConfigs;
 use saggriac_core::config::high_level::CompetenceKind;
 use saggriac_core::config::Paradigm;
@@ -21,7 +22,7 @@ pub const KEYS: &[&str] = &[
     "bandwidth", "min_c", "eps_c", "competence", "g_max", "zeta", "min_child", "p_interest", "p_global", "p_lowest", "reset_every",
     "n_test_goals", "n_test_configs", "test_configs", "eval_tolerance", "eval_patience", "eval_timeout_factor", "eval_timeout_min",
     "eval_schedule", "knn_index", "warm_start_recent", "babble_step", "actuator_candidates", "actuator_reset_every", "paradigm", "episodic_noise", "episodic_refine", "episodic_k", "motor_noise", "sensor_noise", "body_change_step",
-    "body_change_link", "body_change_length",
+    "body_change_link", "body_change_length", "chain",
 ];
 
 /// The core names a rule's parameter by the struct that owns it (`tolerance` of `Evaluation`);
@@ -76,12 +77,25 @@ pub fn run_config_from_dict(d: &Bound<'_, PyDict>) -> PyResult<RunConfig> {
     if n_joints == 0 {
         return Err(to_py(py, invalid("Config", "n_joints", "an int >= 1", 0)));
     }
-    c.arm = match links {
+    c.arm = match links.clone() {
         Some(l) => ArmConfig { link_lengths: l, ..ArmConfig::uniform(1, 1.0, limit, max_step) },
         None => ArmConfig::uniform(n_joints, length, limit, max_step),
     };
     let body: String = get(d, "body", ArmKind::Planar.name().to_string(), "a str")?;
     c.arm.kind = ArmKind::parse(&body).map_err(|e| to_py(py, in_config_terms(e)))?;
+    let chain: Option<Vec<f64>> = get(d, "chain", None, "a list of floats")?;
+    match (chain, c.arm.kind) {
+        (Some(flat), ArmKind::Chain) => {
+            if links.is_some() {
+                return Err(to_py(py, invalid("Config", "link_lengths", "not given with body 'chain' (the chain's geometry gives its links)", "a list")));
+            }
+            let spec = ChainSpec::from_flat(&flat).map_err(|e| to_py(py, in_config_terms(e)))?;
+            c.arm = Chain::arm_config(spec, c.arm.clone());
+        }
+        (None, ArmKind::Chain) => return Err(to_py(py, invalid("Config", "chain", "the chain's geometry for body 'chain' (saggriac.mujoco_arm.MujocoArm.chain() gives it)", "None"))),
+        (Some(_), _) => return Err(to_py(py, invalid("Config", "chain", format!("None unless body is 'chain' (body is '{body}')"), "a list"))),
+        (None, _) => {}
+    }
     c.arm.motor_noise = get(d, "motor_noise", 0.0, "a float")?;
     c.arm.sensor_noise = get(d, "sensor_noise", 0.0, "a float")?;
     let change_step: Option<u64> = get(d, "body_change_step", None, "an int >= 1")?;

@@ -1,6 +1,6 @@
 //! saggriac._core: a thin PyO3 layer over saggriac-core. It converts types and errors only;
 //! the algorithm lives in the core crate. One file per core component: config, body (a Python
-//! environment), goal_selection (a Python selector, the region tree), ask_tell, competence,
+//! environment), chain (its kinematics), goal_selection (a Python selector, the region tree), ask_tell, competence,
 //! evaluation,
 //! recorder, run_loop; every error conversion in errors.rs.
 
@@ -8,6 +8,7 @@ use pyo3::prelude::*;
 
 mod ask_tell;
 mod body;
+mod chain;
 mod competence;
 mod config;
 mod errors;
@@ -34,5 +35,9 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("IK_TOLERANCE", saggriac_core::test_set::IK_TOLERANCE)?;
     m.add_function(wrap_pyfunction!(validate_config, m)?)?;
     m.add_function(wrap_pyfunction!(competence::competence, m)?)?;
+    m.add_function(wrap_pyfunction!(chain::chain_forward, m)?)?;
+    m.add_function(wrap_pyfunction!(chain::chain_points, m)?)?;
+    m.add_function(wrap_pyfunction!(chain::chain_link_lengths, m)?)?;
+    m.add_function(wrap_pyfunction!(chain::chain_cloud, m)?)?;
     Ok(())
 }

@@ -167,6 +167,9 @@ impl RunConfig {
         self.eval.validate(self.n_steps)?;
         self.episodic.validate(self.arm.link_lengths.len())?;
         if let Some(b) = self.body_change {
+            if self.arm.kind == body::ArmKind::Chain {
+                return Err(invalid("Run", "body_change_step", "none for body 'chain' (its links cannot change length)", b.step));
+            }
             let n = self.arm.link_lengths.len();
             if b.link >= n {
                 return Err(invalid("Run", "body_change_link", format!("an int in [0, {n}) (a link of the {n}-joint arm)"), b.link));

@@ -76,7 +76,16 @@ fn boundary_3d(low: &[f64], high: &[f64], reach: f64, k: usize) -> Vec<Point> {
 /// reachable points of the goal space, then to the other, at speed v.
 pub fn actuator_reset_period(cfg: &RunConfig, rest: Point) -> usize {
     let reach: f64 = cfg.arm.link_lengths.iter().sum();
-    let pts = reachable_boundary(&cfg.goal_low, &cfg.goal_high, reach, 200);
+    let pts = match &cfg.arm.chain {
+        // A chain's reachable set is no ball: a fixed sample of its positions in the goal box.
+        Some(spec) => {
+            let mut rng = crate::rng::rng_from_seed(0x5eed_c4a1);
+            let inside = |p: &Point| (0..cfg.goal_low.len()).all(|i| p[i] >= cfg.goal_low[i] && p[i] <= cfg.goal_high[i]);
+            let chain = crate::chain::Chain::new(spec);
+            crate::chain::reachable_cloud(&chain, cfg.arm.joint_limit, 2_000, &mut rng).into_iter().filter(inside).collect()
+        }
+        None => reachable_boundary(&cfg.goal_low, &cfg.goal_high, reach, 200),
+    };
     let d = |a: Point, b: Point| distance(&a, &b);
     let mut best = (0.0, rest, rest);
     for (i, &a) in pts.iter().enumerate() {
