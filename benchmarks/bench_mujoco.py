@@ -11,7 +11,8 @@ the same seed:
 - "native": `Config.from_preset("pusher")`, the same kinematics read out of the model once
   (`saggriac.bodies.PUSHER_CHAIN`), stepped in Rust.
 - "arm3d": the built-in 15-joint spatial arm.
-Prints, per case, the wall time, the micro-actions executed (learning steps plus the test
+First the body alone: micro-actions per second of `MujocoArm.step` called from Python, against
+the native chain's forward kinematics in Rust on as many configurations. Then, per run, the wall time, the micro-actions executed (learning steps plus the test
 reaches' steps, from run.json's profile) and their rate, and the final errors (the mujoco and
 native runs see the same test set; their positions differ in the last bits, so their runs may
 part after a while). Needs the MuJoCo extra. A benchmark, not a test.
@@ -68,6 +69,18 @@ def main() -> None:
     a = p.parse_args()
     pusher = saggriac.Config.from_preset("pusher", condition=a.condition, n_steps=a.steps, n_evals=2)
     arm3d = saggriac.Config.from_preset("arm3d", condition=a.condition, n_steps=a.steps, n_evals=2)
+    arm, rng = pusher_arm(), np.random.default_rng(a.seed)
+    moves = rng.uniform(-0.02, 0.02, (a.steps, 7))
+    arm.reset()
+    t = time.perf_counter()
+    for d in moves:
+        arm.step(d)
+    through_python = a.steps / (time.perf_counter() - t)
+    thetas = np.clip(np.cumsum(moves, axis=0), -1.0, 1.0)
+    t = time.perf_counter()
+    saggriac._core.chain_forward(list(pusher.chain), thetas)
+    in_rust = a.steps / (time.perf_counter() - t)
+    print(f"body alone, {a.steps} micro-actions: MujocoArm.step from Python {through_python:,.0f}/s; native chain kinematics {in_rust:,.0f}/s ({in_rust / through_python:.0f} times)")
     rows = [measure("native", pusher, a.seed), measure("mujoco", pusher, a.seed, PusherInPresetUnits()), measure("arm3d", arm3d, a.seed)]
     print(f"{'case':8} {'wall s':>8} {'micro-actions':>14} {'per s':>10} {'final reach':>12} {'final pred':>11}")
     for r in rows:
