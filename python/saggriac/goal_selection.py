@@ -12,12 +12,18 @@ the same code the run loop uses.
 
 from __future__ import annotations
 
+import os
+import tempfile
+from pathlib import Path
 from typing import Any, Protocol, runtime_checkable
 
 import numpy as np
 
 from . import _core
-from .errors import InputError, ParameterError
+from .errors import InputError, ParameterError, StorageError
+
+#: The first bytes of a teacher saved by ``save(path)``.
+MAGIC = b"saggriac-teacher\n"
 
 #: Names of the mode codes in ``history()["asked_mode"]`` and ``last_mode``.
 MODES = {0: "initial", 1: "interest", 2: "global", 3: "lowest_competence", 4: "random", 5: "external"}
@@ -75,9 +81,13 @@ class _AskTellSelector:
         for name, value in params.items():
             params[name] = _float_param(owner, name, value) if name.startswith("p_") else _int_param(owner, name, value, 0, 2**63)
         self._inner = _core.AskTell(self._kind, lo.tolist(), hi.tolist(), seed, **params)
-        self.seed = seed
         self.last_mode: str | None = None
         self.last_region: int | None = None
+
+    @property
+    def seed(self) -> int:
+        """The seed of the teacher's generator."""
+        return int(self._inner.seed)
 
     @property
     def dim(self) -> int:
@@ -144,6 +154,57 @@ class _AskTellSelector:
     def __repr__(self) -> str:
         return f"{type(self).__name__}(dim={self.dim}, seed={self.seed}, regions={self.n_regions})"
 
+    # Saving: pickle (and copy.deepcopy) go through the core's own encoding, so a restored
+    # teacher asks exactly the goals the original would have asked next.
+    def __getstate__(self) -> dict[str, Any]:
+        return {"teacher": bytes(self._inner.save()), "last_mode": self.last_mode, "last_region": self.last_region}
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        inner = _core.AskTell.restore(state["teacher"])
+        if inner.kind != self._kind:
+            raise InputError(f"The saved teacher is a {inner.kind!r} teacher, not a {type(self).__name__}.")
+        self._inner = inner
+        self.last_mode, self.last_region = state["last_mode"], state["last_region"]
+
+    def save(self, path: str | os.PathLike[str], overwrite: bool = False) -> Path:
+        """Write the teacher (parameters, state, history) to the file ``path``, atomically;
+        :func:`load_selector` reads it back. An existing file is replaced only with
+        ``overwrite=True``."""
+        path = Path(path)
+        if path.is_dir():
+            raise StorageError(f"{path} is a folder; give the path of a file to save the teacher to.")
+        if path.exists() and not overwrite:
+            raise StorageError(f"{path} exists; pass overwrite=True to replace it.")
+        data = MAGIC + bytes(self._inner.save())
+        try:
+            fd, tmp = tempfile.mkstemp(dir=path.parent if str(path.parent) else ".", prefix=f".{path.name}.", suffix=".tmp")
+            with os.fdopen(fd, "wb") as f:
+                f.write(data)
+                f.flush()
+                os.fsync(f.fileno())
+            os.replace(tmp, path)
+        except OSError as e:
+            if "tmp" in locals() and os.path.exists(tmp):
+                os.unlink(tmp)
+            raise StorageError(f"Cannot save the teacher to {path}: {e.strerror or e}.") from e
+        return path
+
+
+def load_selector(path: str | os.PathLike[str]) -> _AskTellSelector:
+    """The teacher saved by ``save(path)``, as an instance of its class, continuing where it stopped."""
+    path = Path(path)
+    try:
+        data = path.read_bytes()
+    except OSError as e:
+        raise StorageError(f"Cannot read {path}: {e.strerror or e}.") from e
+    if not data.startswith(MAGIC):
+        raise InputError(f"{path} is not a teacher saved by saggriac (it does not start with {MAGIC!r}).")
+    inner = _core.AskTell.restore(data[len(MAGIC) :])
+    cls = _CLASSES[inner.kind]
+    obj = cls.__new__(cls)
+    obj._inner, obj.last_mode, obj.last_region = inner, None, None
+    return obj
+
 
 class SaggRiacSelector(_AskTellSelector):
     """SAGG-RIAC's high level over the box [low, high] of any dimension.
@@ -167,3 +228,6 @@ class RandomSelector(_AskTellSelector):
 
     def __init__(self, low: Any, high: Any, seed: int = 0) -> None:
         super().__init__(low, high, seed)
+
+
+_CLASSES: dict[str, type[_AskTellSelector]] = {"sagg_riac": SaggRiacSelector, "random": RandomSelector}

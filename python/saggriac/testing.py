@@ -154,7 +154,9 @@ def check_environment(env: Any, n_steps: int = 50, seed: int = 0) -> None:
 def check_goal_selector(selector: Any, n_goals: int = 200, seed: int = 0) -> None:
     """Check that ``selector`` follows the goal-selector protocol: ``low``/``high`` bounds,
     ``sample()`` returning finite goals inside them, ``update(goal, competence)`` accepting a
-    competence in [-1, 0] for each."""
+    competence in [-1, 0] for each. A selector with a ``save`` method (saggriac's teachers) must
+    also come back from pickle, and from ``save(path)`` and ``saggriac.load_selector``, asking
+    exactly the goals it would have asked next."""
     for method in ("sample", "update"):
         if not callable(getattr(selector, method, None)):
             raise ConformanceError(f"goal_selector needs a '{method}' method (sample() -> goal, update(goal, competence)).")
@@ -170,3 +172,31 @@ def check_goal_selector(selector: Any, n_goals: int = 200, seed: int = 0) -> Non
         if not np.all(np.isfinite(g)) or np.any(g < lo) or np.any(g > hi):
             raise ConformanceError(f"goal_selector.sample() must return a finite goal within [low, high]; got {g.tolist()} (call {i + 1}).")
         selector.update(g, -float(rng.uniform(0.0, 1.0)))
+    if callable(getattr(selector, "save", None)):
+        _check_restore(selector, n_goals, rng)
+
+
+def _check_restore(selector: Any, n_goals: int, rng: np.random.Generator) -> None:
+    import os
+    import pickle
+    import tempfile
+
+    from .goal_selection import load_selector
+
+    try:
+        copies = [("pickle", pickle.loads(pickle.dumps(selector)))]
+        with tempfile.TemporaryDirectory() as d:
+            path = os.path.join(d, "teacher.bin")
+            selector.save(path)
+            copies.append(("save(path) and load_selector", load_selector(path)))
+    except Exception as e:
+        raise ConformanceError(f"goal_selector has a save method, so it must come back from pickle and from save(path) / saggriac.load_selector; that failed: {type(e).__name__}: {e}") from e
+    for i in range(n_goals):
+        g = np.asarray(selector.sample(), dtype=np.float64)
+        for how, other in copies:
+            h = np.asarray(other.sample(), dtype=np.float64)
+            if not np.array_equal(g, h):
+                raise ConformanceError(f"goal_selector restored by {how} must ask the same goals as the original; goal {i + 1} after the restore differs ({h.tolist()} against {g.tolist()}).")
+        c = -float(rng.uniform(0.0, 1.0))
+        for s in (selector, *(o for _, o in copies)):
+            s.update(g, c)

@@ -2,11 +2,35 @@
 //! competence it obtained. This is how later work uses SAGG-RIAC as a curriculum "teacher". The
 //! wrapper checks every input, and keeps the history of what was asked and told.
 
+use serde::{Deserialize, Serialize};
+
 use crate::error::{Error, Result};
-use crate::goal_selection::{GoalChoice, GoalSelector, ModeProbabilities, RandomGoals, SaggRiac};
+use crate::goal_selection::{GoalChoice, GoalSelector, ModeProbabilities, SelectorState};
 use crate::region_tree::RegionTreeConfig;
+use crate::teachers::TeacherSpec;
+
+/// Bumped whenever the saved layout changes; older saves are then refused.
+const FORMAT: u32 = 1;
+/// CRC-32C of the encoding, as checkpoints have: a damaged save is refused, never half-read.
+const CHECKSUM: crc::Crc<u32> = crc::Crc::<u32>::new(&crc::CRC_32_ISCSI);
+
+/// What `AskTell::save` writes: the teacher's parameters, its state and the history.
+#[derive(Serialize, Deserialize)]
+struct Saved {
+    format: u32,
+    version: String,
+    spec: TeacherSpec,
+    state: SelectorState,
+    asked: Vec<f64>,
+    asked_mode: Vec<u8>,
+    asked_region: Vec<i64>,
+    told: Vec<f64>,
+    told_competence: Vec<f64>,
+    told_region: Vec<i64>,
+}
 
 pub struct AskTell {
+    spec: TeacherSpec,
     selector: Box<dyn GoalSelector>,
     /// Sampled goals, row by row, with their mode and region (-1: none).
     pub asked: Vec<f64>,
@@ -19,18 +43,69 @@ pub struct AskTell {
 }
 
 impl AskTell {
-    pub fn new(selector: Box<dyn GoalSelector>) -> Self {
-        AskTell { selector, asked: Vec::new(), asked_mode: Vec::new(), asked_region: Vec::new(), told: Vec::new(), told_competence: Vec::new(), told_region: Vec::new() }
+    /// The teacher `spec` describes, with an empty history.
+    pub fn new(spec: TeacherSpec) -> Result<Self> {
+        let selector = spec.build()?;
+        Ok(AskTell { spec, selector, asked: Vec::new(), asked_mode: Vec::new(), asked_region: Vec::new(), told: Vec::new(), told_competence: Vec::new(), told_region: Vec::new() })
     }
 
     /// SAGG-RIAC over the box [low, high] of any dimension.
     pub fn sagg_riac(low: &[f64], high: &[f64], tree: RegionTreeConfig, modes: ModeProbabilities, seed: u64) -> Result<Self> {
-        Ok(Self::new(Box::new(SaggRiac::new(low, high, tree, modes, seed)?)))
+        Self::new(TeacherSpec::SaggRiac { low: low.to_vec(), high: high.to_vec(), tree, modes, seed })
     }
 
     /// Goals uniform in [low, high] (SAGG-Random's high level).
     pub fn random(low: &[f64], high: &[f64], seed: u64) -> Result<Self> {
-        Ok(Self::new(Box::new(RandomGoals::new(low, high, seed)?)))
+        Self::new(TeacherSpec::Random { low: low.to_vec(), high: high.to_vec(), seed })
+    }
+
+    pub fn spec(&self) -> &TeacherSpec {
+        &self.spec
+    }
+
+    /// Everything needed to continue later: the parameters, the state (generator included) and
+    /// the history. `restore` gives a teacher that asks exactly the goals this one would have.
+    pub fn save(&self) -> Result<Vec<u8>> {
+        let state = self.selector.save().ok_or_else(|| Error::InvalidInput(format!("The {} teacher cannot be saved.", self.spec.kind())))?;
+        let saved = Saved {
+            format: FORMAT,
+            version: env!("CARGO_PKG_VERSION").to_string(),
+            spec: self.spec.clone(),
+            state,
+            asked: self.asked.clone(),
+            asked_mode: self.asked_mode.clone(),
+            asked_region: self.asked_region.clone(),
+            told: self.told.clone(),
+            told_competence: self.told_competence.clone(),
+            told_region: self.told_region.clone(),
+        };
+        postcard::to_stdvec_crc32(&saved, CHECKSUM.digest()).map_err(|e| Error::InvalidInput(format!("Could not encode the teacher: {e}.")))
+    }
+
+    /// The teacher `save` wrote.
+    pub fn restore(bytes: &[u8]) -> Result<Self> {
+        let refuse = |why: String| Error::InvalidInput(format!("{why} It cannot be restored; save the teacher again."));
+        let s: Saved = match postcard::take_from_bytes_crc32::<Saved>(bytes, CHECKSUM.digest()) {
+            Ok((s, [])) => s,
+            Ok(_) => return Err(refuse("The saved teacher is damaged: bytes follow its end.".into())),
+            Err(postcard::Error::DeserializeBadCrc) => return Err(refuse("The saved teacher is damaged: its checksum does not match its content.".into())),
+            Err(e) => return Err(refuse(format!("The data is damaged or not a saved saggriac teacher ({e})."))),
+        };
+        if s.format != FORMAT {
+            return Err(refuse(format!(
+                "The saved teacher has format {} but this saggriac ({}) reads format {FORMAT}; it was written by saggriac {}.",
+                s.format,
+                env!("CARGO_PKG_VERSION"),
+                s.version
+            )));
+        }
+        let mut t = AskTell::new(s.spec)?;
+        if !t.selector.load(&s.state) {
+            return Err(refuse(format!("The saved state does not belong to a {} teacher.", t.spec.kind())));
+        }
+        (t.asked, t.asked_mode, t.asked_region) = (s.asked, s.asked_mode, s.asked_region);
+        (t.told, t.told_competence, t.told_region) = (s.told, s.told_competence, s.told_region);
+        Ok(t)
     }
 
     pub fn selector(&self) -> &dyn GoalSelector {
@@ -122,5 +197,36 @@ mod tests {
         assert!(a.told_competence.is_empty());
         assert_eq!(a.selector().tree().unwrap().n_measurements(), 0);
         assert_eq!(a.update_batch(&[0.1, 0.1, 0.2, 0.2], &[-0.1, -0.2]).unwrap(), vec![0, 0]);
+    }
+
+    /// Half a session, a save, a restore: the restored teacher asks the same goals as one that
+    /// never stopped, and keeps the history.
+    #[test]
+    fn a_restored_teacher_continues_exactly() {
+        let make = || AskTell::sagg_riac(&[0.0, 0.0, 0.0], &[1.0, 1.0, 1.0], RegionTreeConfig { g_max: 10, zeta: 5, min_child: 2 }, ModeProbabilities::default(), 3).unwrap();
+        let competence = |g: &[f64]| -(g[0] - 0.3).abs() - 0.5 * g[1];
+        let (mut a, mut b) = (make(), make());
+        for _ in 0..300 {
+            let g = a.sample().goal;
+            a.update(&g, competence(&g)).unwrap();
+            let g = b.sample().goal;
+            b.update(&g, competence(&g)).unwrap();
+        }
+        let bytes = b.save().unwrap();
+        let mut b = AskTell::restore(&bytes).unwrap();
+        assert_eq!((b.asked.len(), b.told_competence.len()), (900, 300));
+        for _ in 0..300 {
+            let (ga, gb) = (a.sample(), b.sample());
+            assert_eq!(ga, gb);
+            a.update(&ga.goal, competence(&ga.goal)).unwrap();
+            b.update(&gb.goal, competence(&gb.goal)).unwrap();
+        }
+        assert_eq!(a.selector().tree().unwrap().regions().len(), b.selector().tree().unwrap().regions().len());
+        // A damaged save is refused, naming the problem.
+        let mut bad = bytes.clone();
+        bad[bytes.len() / 2] ^= 1;
+        let e = AskTell::restore(&bad).err().unwrap().to_string();
+        assert!(e.contains("damaged"), "{e}");
+        assert!(AskTell::restore(b"not a teacher").is_err());
     }
 }

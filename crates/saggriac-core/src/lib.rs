@@ -35,6 +35,7 @@ pub mod rng;
 pub mod run_loop;
 pub mod sensorimotor_model;
 pub mod task_space;
+pub mod teachers;
 pub mod test_set;
 
 pub use config::{Condition, RunConfig};

@@ -42,6 +42,29 @@ impl PyAskTell {
         Ok(PyAskTell { inner: wrap(py, inner)? })
     }
 
+    /// save() -> bytes: parameters, state and history (AskTell.restore rebuilds the teacher).
+    fn save<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyBytes>> {
+        let bytes = wrap(py, self.inner.save())?;
+        Ok(pyo3::types::PyBytes::new(py, &bytes))
+    }
+
+    /// restore(data: bytes) -> AskTell: the teacher `save` wrote, continuing where it stopped.
+    #[staticmethod]
+    fn restore(py: Python<'_>, data: &[u8]) -> PyResult<Self> {
+        Ok(PyAskTell { inner: wrap(py, AskTell::restore(data))? })
+    }
+
+    /// The teacher's name ("sagg_riac", "random", ...).
+    #[getter]
+    fn kind(&self) -> &'static str {
+        self.inner.spec().kind()
+    }
+
+    #[getter]
+    fn seed(&self) -> u64 {
+        self.inner.spec().seed()
+    }
+
     #[getter]
     fn dim(&self) -> usize {
         self.inner.dim()

@@ -58,7 +58,7 @@ impl CompetenceConfig {
     }
 }
 
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct RegionTreeConfig {
     /// A leaf holding more than g_max measurements is split.
     pub g_max: usize,
@@ -87,7 +87,7 @@ impl RegionTreeConfig {
     }
 }
 
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ModeProbabilities {
     pub p_interest: f64,
     pub p_global: f64,

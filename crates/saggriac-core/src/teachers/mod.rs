@@ -1,0 +1,43 @@
+//! The teachers: goal selectors of the curriculum literature behind one ask/tell API
+//! (`crate::ask_tell`). A `TeacherSpec` names a teacher and every parameter it was built with, so
+//! that a saved teacher (`AskTell::save`) can be rebuilt and continue exactly where it stopped.
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::Result;
+use crate::goal_selection::{GoalSelector, ModeProbabilities, RandomGoals, SaggRiac};
+use crate::region_tree::RegionTreeConfig;
+
+/// A teacher and its parameters.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub enum TeacherSpec {
+    /// SAGG-RIAC's high level (Baranes & Oudeyer, IROS 2010).
+    SaggRiac { low: Vec<f64>, high: Vec<f64>, tree: RegionTreeConfig, modes: ModeProbabilities, seed: u64 },
+    /// Goals uniform in the box (SAGG-Random).
+    Random { low: Vec<f64>, high: Vec<f64>, seed: u64 },
+}
+
+impl TeacherSpec {
+    /// The teacher's name, as the Python classes and the CLI know it.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            TeacherSpec::SaggRiac { .. } => "sagg_riac",
+            TeacherSpec::Random { .. } => "random",
+        }
+    }
+
+    /// The seed of the teacher's generator.
+    pub fn seed(&self) -> u64 {
+        match self {
+            TeacherSpec::SaggRiac { seed, .. } | TeacherSpec::Random { seed, .. } => *seed,
+        }
+    }
+
+    /// A new teacher with these parameters (checked).
+    pub fn build(&self) -> Result<Box<dyn GoalSelector>> {
+        Ok(match self {
+            TeacherSpec::SaggRiac { low, high, tree, modes, seed } => Box::new(SaggRiac::new(low, high, *tree, *modes, *seed)?),
+            TeacherSpec::Random { low, high, seed } => Box::new(RandomGoals::new(low, high, *seed)?),
+        })
+    }
+}

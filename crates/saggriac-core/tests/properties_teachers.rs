@@ -1,0 +1,76 @@
+//! Property tests of the teachers behind the ask/tell API: a teacher saved at any point and
+//! restored asks exactly the goals it would have asked, and every goal lies in its box.
+
+mod common;
+
+use proptest::prelude::*;
+
+use common::{cases, TestResult};
+use saggriac_core::ask_tell::AskTell;
+use saggriac_core::goal_selection::ModeProbabilities;
+use saggriac_core::region_tree::RegionTreeConfig;
+use saggriac_core::rng::{rng_from_seed, uniform};
+use saggriac_core::teachers::TeacherSpec;
+
+fn spec() -> impl Strategy<Value = TeacherSpec> {
+    let bounds = (1usize..=6)
+        .prop_flat_map(|d| proptest::collection::vec((-10.0..10.0f64, 1e-3..10.0f64), d))
+        .prop_map(|b| (b.iter().map(|(l, _)| *l).collect::<Vec<f64>>(), b.iter().map(|(l, w)| l + w).collect::<Vec<f64>>()));
+    let tree = (2usize..=30, 2usize..=20).prop_flat_map(|(g_max, zeta)| (Just(g_max), Just(zeta), 1usize..=g_max.div_ceil(2))).prop_map(|(g_max, zeta, min_child)| RegionTreeConfig {
+        g_max,
+        zeta,
+        min_child,
+    });
+    (bounds, tree, any::<u64>(), 0usize..2).prop_map(|((low, high), tree, seed, kind)| match kind {
+        0 => TeacherSpec::SaggRiac { low, high, tree, modes: ModeProbabilities::default(), seed },
+        _ => TeacherSpec::Random { low, high, seed },
+    })
+}
+
+/// A competence with structure (a slope and a noisy patch), from the goal and a generator.
+fn competence(goal: &[f64], rng: &mut saggriac_core::rng::CoreRng) -> f64 {
+    (-0.5 - 0.4 * (goal[0] * 0.7).sin() + 0.05 * uniform(rng, -1.0, 1.0)).clamp(-1.0, 0.0)
+}
+
+fn run_case(spec: TeacherSpec, before: usize, after: usize, batch: bool, seed: u64) -> TestResult {
+    let mut a = AskTell::new(spec.clone()).map_err(|e| TestCaseError::fail(e.to_string()))?;
+    let mut rng = rng_from_seed(seed);
+    let d = a.dim();
+    let (low, high) = (a.selector().low().to_vec(), a.selector().high().to_vec());
+    let step = |t: &mut AskTell, rng: &mut saggriac_core::rng::CoreRng| -> Vec<f64> {
+        let g = t.sample().goal;
+        let c = competence(&g, rng);
+        t.update(&g, c).unwrap();
+        g
+    };
+    for _ in 0..before {
+        step(&mut a, &mut rng);
+    }
+    let mut b = AskTell::restore(&a.save().unwrap()).map_err(|e| TestCaseError::fail(e.to_string()))?;
+    prop_assert_eq!(b.spec(), &spec);
+    prop_assert_eq!(&b.told_competence, &a.told_competence);
+    if batch {
+        // Batches: the same goals as one at a time, and updates of a whole batch.
+        let (ga, gb) = (a.sample_batch(after), b.sample_batch(after));
+        prop_assert_eq!(&ga, &gb);
+        let cs: Vec<f64> = ga.chunks_exact(d).map(|g| competence(g, &mut rng)).collect();
+        prop_assert_eq!(a.update_batch(&ga, &cs).unwrap(), b.update_batch(&gb, &cs).unwrap());
+    }
+    for _ in 0..after {
+        let mut rb = rng.clone();
+        let ga = step(&mut a, &mut rng);
+        let gb = step(&mut b, &mut rb);
+        prop_assert_eq!(&ga, &gb);
+        prop_assert!(ga.iter().zip(low.iter().zip(&high)).all(|(g, (l, h))| g >= l && g <= h), "goal {:?} outside [{:?}, {:?}]", ga, low, high);
+    }
+    Ok(())
+}
+
+proptest! {
+    #![proptest_config(cases(32))]
+
+    #[test]
+    fn a_restored_teacher_continues_exactly(spec in spec(), before in 0usize..400, after in 1usize..150, batch in any::<bool>(), seed in any::<u64>()) {
+        run_case(spec, before, after, batch, seed)?;
+    }
+}

@@ -1,0 +1,85 @@
+"""Saving and restoring teachers: pickle, copy, a file; each continues with the same goals."""
+
+import copy
+import pickle
+
+import numpy as np
+import pytest
+
+import saggriac as sg
+
+TEACHERS = [
+    lambda: sg.SaggRiacSelector([0.0, -1.0, 5.0], [1.0, 1.0, 6.0], seed=7, g_max=12, zeta=6),
+    lambda: sg.RandomSelector([0.0], [2.0], seed=9),
+]
+
+
+def competence(g):
+    return float(np.clip(-0.5 + 0.3 * np.sin(4 * g[0]), -1, 0))
+
+
+@pytest.mark.parametrize("make", TEACHERS)
+@pytest.mark.parametrize("how", ["pickle", "deepcopy", "file"])
+def test_a_restored_teacher_asks_the_same_goals(make, how, tmp_path):
+    t = make()
+    for _ in range(150):
+        g = t.sample()
+        t.update(g, competence(g))
+    if how == "pickle":
+        u = pickle.loads(pickle.dumps(t))
+    elif how == "deepcopy":
+        u = copy.deepcopy(t)
+    else:
+        u = sg.load_selector(t.save(tmp_path / "teacher.bin"))
+    assert type(u) is type(t) and u.seed == t.seed
+    for k, v in t.history().items():
+        assert np.array_equal(u.history()[k], v)
+    for _ in range(150):
+        g, h = t.sample(), u.sample()
+        assert np.array_equal(g, h) and t.last_mode == u.last_mode
+        t.update(g, competence(g))
+        u.update(h, competence(h))
+    assert np.array_equal(t.sample_batch(20), u.sample_batch(20))
+
+
+@pytest.mark.parametrize("make", TEACHERS)
+def test_check_goal_selector_covers_restoring(make):
+    sg.testing.check_goal_selector(make())
+
+
+class Forgetful(sg.RandomSelector):
+    """Restores to a fresh generator: not the same goals."""
+
+    def __setstate__(self, state):
+        super().__setstate__(state)
+        self._inner = sg._core.AskTell("random", [0.0], [2.0], 1234)
+
+
+def test_a_teacher_that_forgets_on_restore_fails_the_check():
+    with pytest.raises(sg.ConformanceError, match="restored by pickle must ask the same goals"):
+        sg.testing.check_goal_selector(Forgetful([0.0], [2.0], seed=9))
+
+
+def test_saving_never_overwrites_or_misreads(tmp_path):
+    t = sg.SaggRiacSelector([0, 0], [1, 1], seed=1)
+    mine = tmp_path / "notes.txt"
+    mine.write_text("my notes")
+    with pytest.raises(sg.StorageError, match="exists; pass overwrite=True"):
+        t.save(mine)
+    assert mine.read_text() == "my notes"
+    with pytest.raises(sg.StorageError, match="is a folder"):
+        t.save(tmp_path)
+    with pytest.raises(sg.InputError, match="not a teacher saved by saggriac"):
+        sg.load_selector(mine)
+    path = t.save(tmp_path / "t.bin")
+    data = path.read_bytes()
+    damaged = tmp_path / "damaged.bin"
+    damaged.write_bytes(data[:-9] + bytes([data[-9] ^ 0xFF]) + data[-8:])
+    with pytest.raises(sg.InputError, match="damaged"):
+        sg.load_selector(damaged)
+    with pytest.raises(sg.StorageError, match="Cannot read"):
+        sg.load_selector(tmp_path / "missing.bin")
+    t.save(path, overwrite=True)
+    assert sg.load_selector(path).sample().shape == (2,)
+    # No temporary file is left behind.
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["damaged.bin", "notes.txt", "t.bin"]
