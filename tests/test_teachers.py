@@ -11,11 +11,14 @@ import saggriac as sg
 TEACHERS = [
     lambda: sg.SaggRiacSelector([0.0, -1.0, 5.0], [1.0, 1.0, 6.0], seed=7, g_max=12, zeta=6),
     lambda: sg.RandomSelector([0.0], [2.0], seed=9),
+    lambda: sg.RiacSelector([0.0, -1.0], [1.0, 1.0], seed=3, max_region_size=20, split_attempts=10),
+    lambda: sg.DiscreteLpSelector(6, seed=4),
 ]
 
 
-def competence(g):
-    return float(np.clip(-0.5 + 0.3 * np.sin(4 * g[0]), -1, 0))
+def competence(g, teacher=None):
+    c = float(np.clip(-0.5 + 0.3 * np.sin(4 * g[0]), -1, 0))
+    return c + 1.0 if isinstance(teacher, sg.DiscreteLpSelector) else c
 
 
 @pytest.mark.parametrize("make", TEACHERS)
@@ -24,7 +27,7 @@ def test_a_restored_teacher_asks_the_same_goals(make, how, tmp_path):
     t = make()
     for _ in range(150):
         g = t.sample()
-        t.update(g, competence(g))
+        t.update(g, competence(g, t))
     if how == "pickle":
         u = pickle.loads(pickle.dumps(t))
     elif how == "deepcopy":
@@ -37,8 +40,8 @@ def test_a_restored_teacher_asks_the_same_goals(make, how, tmp_path):
     for _ in range(150):
         g, h = t.sample(), u.sample()
         assert np.array_equal(g, h) and t.last_mode == u.last_mode
-        t.update(g, competence(g))
-        u.update(h, competence(h))
+        t.update(g, competence(g, t))
+        u.update(h, competence(h, u))
     assert np.array_equal(t.sample_batch(20), u.sample_batch(20))
 
 
@@ -83,3 +86,35 @@ def test_saving_never_overwrites_or_misreads(tmp_path):
     assert sg.load_selector(path).sample().shape == (2,)
     # No temporary file is left behind.
     assert sorted(p.name for p in tmp_path.iterdir()) == ["damaged.bin", "notes.txt", "t.bin"]
+
+
+def test_riac_focuses_where_competence_progresses():
+    t = sg.RiacSelector([0.0, 0.0], [1.0, 1.0], seed=1, max_region_size=60)
+    for k in range(3000):
+        g = t.sample()
+        # Competence rises over time for x < 0.3 only.
+        t.update(g, min(0.0, -1.0 + k / 3000.0) if g[0] < 0.3 else -0.5)
+    leaves = t.leaves()
+    assert t.n_regions > 1 and np.all(leaves["high"] - leaves["low"] >= 1 / 6 - 1e-12)
+    late = t.history()["asked_goal"][-1000:]
+    assert np.mean(late[:, 0] < 0.3) > 0.45  # uniform would give 0.3
+
+
+def test_discrete_lp_prefers_the_task_being_learnt():
+    t = sg.DiscreteLpSelector(5, seed=2)
+    rng = np.random.default_rng(0)
+    learnt = np.zeros(5)
+    for _ in range(2000):
+        i = t.sample_task()
+        learnt[i] += 1
+        # Task 3 is learnable: its success grows with practice. The others stay at 0 or 1.
+        p = {3: min(1.0, learnt[3] / 300.0), 0: 1.0}.get(i, 0.0)
+        t.update(i, float(rng.random() < p))
+    counts = np.bincount(t.history()["asked_goal"][:1500, 0].astype(int), minlength=5)
+    assert counts[3] == counts.max() and counts.min() > 0, counts
+    with pytest.raises(sg.InputError, match="whole number in \\[0, 5\\)"):
+        t.update(2.5, 0.5)
+    with pytest.raises(sg.InputError, match="success rate in \\[0, 1\\]"):
+        t.update(2, -0.5)
+    with pytest.raises(sg.ParameterError, match="'n_tasks' parameter of DiscreteLpSelector"):
+        sg.DiscreteLpSelector(0)

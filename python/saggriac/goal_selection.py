@@ -72,6 +72,8 @@ def _float_param(owner: str, name: str, value: Any) -> float:
 
 class _AskTellSelector:
     _kind = ""
+    #: The competences the teacher takes (saggriac.testing.check_goal_selector tells these).
+    competence_range = (-1.0, 0.0)
 
     def __init__(self, low: Any, high: Any, seed: int, **params: Any) -> None:
         owner = type(self).__name__
@@ -230,4 +232,58 @@ class RandomSelector(_AskTellSelector):
         super().__init__(low, high, seed)
 
 
-_CLASSES: dict[str, type[_AskTellSelector]] = {"sagg_riac": SaggRiacSelector, "random": RandomSelector}
+class RiacSelector(_AskTellSelector):
+    """RIAC as the baseline of Portelas et al. (CoRL 2019), after R-IAC (Baranes & Oudeyer,
+    IEEE TAMD 2009), over the box [low, high] of any dimension.
+
+    A region's absolute learning progress (ALP) is the change of mean competence between the
+    older and the newer half of what it recorded. A region holding more than ``max_region_size``
+    measurements is split by the best of ``split_attempts`` random cuts: the one whose children's
+    ALP differ most, each child keeping at least ``min_child_share`` of the measurements and
+    ``min_dims_range_ratio`` of the box's width in every dimension. Goals: a region drawn by ALP,
+    uniform in it (``p_alp``); uniform in the box (``p_random``); or near the worst goal of a
+    region drawn by ALP (the rest).
+    """
+
+    _kind = "riac"
+
+    def __init__(self, low: Any, high: Any, seed: int = 0, *, max_region_size: int = 200, split_attempts: int = 50, min_child_share: float = 0.25, min_dims_range_ratio: float = 1 / 6, p_alp: float = 0.7, p_random: float = 0.2) -> None:
+        owner = type(self).__name__
+        lo, hi = _vector("low", low), _vector("high", high)
+        ints = {k: _int_param(owner, k, v, 0, 2**63) for k, v in (("max_region_size", max_region_size), ("split_attempts", split_attempts))}
+        floats = {k: _float_param(owner, k, v) for k, v in (("min_child_share", min_child_share), ("min_dims_range_ratio", min_dims_range_ratio), ("p_alp", p_alp), ("p_random", p_random))}
+        self._inner = _core.AskTell.riac(lo.tolist(), hi.tolist(), _int_param(owner, "seed", seed, 0, 2**64), **ints, **floats)
+        self.last_mode, self.last_region = None, None
+
+
+class DiscreteLpSelector(_AskTellSelector):
+    """Learning progress over a list of ``n_tasks`` tasks (Kanitscheider et al., "Multi-task
+    curriculum learning in a complex, visual, hard-exploration domain: Minecraft", 2021).
+
+    Goals are task indices (``sample()`` gives ``[i]``; ``sample_task()`` the int), and the
+    competence told is a success rate in [0, 1]. Each task keeps a fast moving average of its
+    success and a slow one following it (step ``alpha``); its progress is the gap between the
+    two after the paper's reweighting (``theta``), which stretches small success rates. Tasks
+    with progress are drawn in proportion to the sigmoid of their z-scored progress, the others
+    not at all; with no progress anywhere, uniformly.
+    """
+
+    _kind = "discrete_lp"
+    competence_range = (0.0, 1.0)
+
+    def __init__(self, n_tasks: int, seed: int = 0, *, alpha: float = 0.1, theta: float = 0.1) -> None:
+        owner = type(self).__name__
+        n = _int_param(owner, "n_tasks", n_tasks, 0, 2**32)
+        self._inner = _core.AskTell.discrete_lp(n, _int_param(owner, "seed", seed, 0, 2**64), _float_param(owner, "alpha", alpha), _float_param(owner, "theta", theta))
+        self.last_mode, self.last_region = None, None
+
+    def sample_task(self) -> int:
+        """The next task's index."""
+        return int(self.sample()[0])
+
+    def update(self, goal: Any, competence: float) -> int | None:
+        """Report the success rate in [0, 1] obtained on task ``goal`` (an index, or ``[index]``)."""
+        return super().update(np.atleast_1d(np.asarray(goal, dtype=np.float64)), competence)
+
+
+_CLASSES: dict[str, type[_AskTellSelector]] = {"sagg_riac": SaggRiacSelector, "random": RandomSelector, "riac": RiacSelector, "discrete_lp": DiscreteLpSelector}

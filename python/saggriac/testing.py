@@ -154,7 +154,7 @@ def check_environment(env: Any, n_steps: int = 50, seed: int = 0) -> None:
 def check_goal_selector(selector: Any, n_goals: int = 200, seed: int = 0) -> None:
     """Check that ``selector`` follows the goal-selector protocol: ``low``/``high`` bounds,
     ``sample()`` returning finite goals inside them, ``update(goal, competence)`` accepting a
-    competence in [-1, 0] for each. A selector with a ``save`` method (saggriac's teachers) must
+    competence in [-1, 0] for each (in its ``competence_range`` if it has one). A selector with a ``save`` method (saggriac's teachers) must
     also come back from pickle, and from ``save(path)`` and ``saggriac.load_selector``, asking
     exactly the goals it would have asked next."""
     for method in ("sample", "update"):
@@ -162,6 +162,7 @@ def check_goal_selector(selector: Any, n_goals: int = 200, seed: int = 0) -> Non
             raise ConformanceError(f"goal_selector needs a '{method}' method (sample() -> goal, update(goal, competence)).")
     lo, hi = _bounds(selector, "goal_selector", "low", "high")
     rng = np.random.default_rng(seed)
+    c_lo, c_hi = getattr(selector, "competence_range", (-1.0, 0.0))
     for i in range(n_goals):
         try:
             g = np.asarray(selector.sample(), dtype=np.float64)
@@ -171,12 +172,12 @@ def check_goal_selector(selector: Any, n_goals: int = 200, seed: int = 0) -> Non
             raise ConformanceError(f"goal_selector.sample() must return shape {lo.shape}; got {g.shape} (call {i + 1}).")
         if not np.all(np.isfinite(g)) or np.any(g < lo) or np.any(g > hi):
             raise ConformanceError(f"goal_selector.sample() must return a finite goal within [low, high]; got {g.tolist()} (call {i + 1}).")
-        selector.update(g, -float(rng.uniform(0.0, 1.0)))
+        selector.update(g, float(rng.uniform(c_lo, c_hi)))
     if callable(getattr(selector, "save", None)):
-        _check_restore(selector, n_goals, rng)
+        _check_restore(selector, n_goals, rng, (c_lo, c_hi))
 
 
-def _check_restore(selector: Any, n_goals: int, rng: np.random.Generator) -> None:
+def _check_restore(selector: Any, n_goals: int, rng: np.random.Generator, competences: tuple[float, float]) -> None:
     import os
     import pickle
     import tempfile
@@ -197,6 +198,6 @@ def _check_restore(selector: Any, n_goals: int, rng: np.random.Generator) -> Non
             h = np.asarray(other.sample(), dtype=np.float64)
             if not np.array_equal(g, h):
                 raise ConformanceError(f"goal_selector restored by {how} must ask the same goals as the original; goal {i + 1} after the restore differs ({h.tolist()} against {g.tolist()}).")
-        c = -float(rng.uniform(0.0, 1.0))
+        c = float(rng.uniform(*competences))
         for s in (selector, *(o for _, o in copies)):
             s.update(g, c)

@@ -148,7 +148,10 @@ impl AskTell {
                 return Err(Error::InvalidInput(format!("goal{at} must lie in the goal space [low, high]; coordinate {i} is {} but the bounds are [{}, {}].", goal[i], lo[i], hi[i])));
             }
         }
-        Ok(())
+        self.selector.check_told(goal, competence).map_err(|e| match (e, row) {
+            (Error::InvalidInput(m), Some(r)) => Error::InvalidInput(m.replacen("goal ", &format!("goal (row {r}) "), 1).replacen("competence ", &format!("competence (row {r}) "), 1)),
+            (e, _) => e,
+        })
     }
 
     /// Tell the competence obtained at `goal`; returns the region that recorded it (-1: none).

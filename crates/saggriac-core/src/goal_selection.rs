@@ -34,6 +34,15 @@ pub struct GoalChoice {
     pub region: Option<usize>,
 }
 
+/// One leaf of `GoalSelector::leaf_table`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LeafRow {
+    pub low: Vec<f64>,
+    pub high: Vec<f64>,
+    pub interest: f64,
+    pub n_measurements: usize,
+}
+
 /// A goal selector, usable inside the run loop or on its own.
 pub trait GoalSelector: Send + Sync {
     fn low(&self) -> &[f64];
@@ -54,6 +63,11 @@ pub trait GoalSelector: Send + Sync {
     fn tree(&self) -> Option<&RegionTree> {
         None
     }
+    /// The leaves of a selector with regions but no `RegionTree` (RIAC): bounds, interest and
+    /// measurements held.
+    fn leaf_table(&self) -> Vec<LeafRow> {
+        Vec::new()
+    }
     /// The selector's state for a checkpoint (None: this selector cannot be checkpointed).
     fn save(&self) -> Option<SelectorState> {
         None
@@ -61,6 +75,11 @@ pub trait GoalSelector: Send + Sync {
     /// Restore a state saved by `save` on a selector built with the same parameters.
     fn load(&mut self, _state: &SelectorState) -> bool {
         false
+    }
+    /// Checks of a told goal and competence beyond the box and finiteness (a task index, a
+    /// success rate), made before anything is recorded.
+    fn check_told(&self, _goal: &[f64], _competence: f64) -> Result<()> {
+        Ok(())
     }
     /// True once a user's selector has failed; the run loop stops.
     fn failed(&self) -> bool {
@@ -76,8 +95,26 @@ fn uniform_in(rng: &mut CoreRng, low: &[f64], high: &[f64]) -> Vec<f64> {
 /// measurement in order (replaying them rebuilds the same tree, splits and interests included).
 #[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub enum SelectorState {
-    SaggRiac { rng: CoreRng, points: Vec<f64>, values: Vec<f64> },
-    Random { rng: CoreRng },
+    SaggRiac {
+        rng: CoreRng,
+        points: Vec<f64>,
+        values: Vec<f64>,
+    },
+    Random {
+        rng: CoreRng,
+    },
+    /// RIAC (`crate::teachers::riac`): its regions replay from the measurements.
+    Riac {
+        rng: CoreRng,
+        points: Vec<f64>,
+        values: Vec<f64>,
+    },
+    /// The discrete learning-progress teacher: both moving averages of every task.
+    DiscreteLp {
+        rng: CoreRng,
+        fast: Vec<f64>,
+        slow: Vec<f64>,
+    },
 }
 
 /// SAGG-RIAC's high level.

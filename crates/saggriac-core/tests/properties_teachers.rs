@@ -10,6 +10,8 @@ use saggriac_core::ask_tell::AskTell;
 use saggriac_core::goal_selection::ModeProbabilities;
 use saggriac_core::region_tree::RegionTreeConfig;
 use saggriac_core::rng::{rng_from_seed, uniform};
+use saggriac_core::teachers::discrete_lp::DiscreteLpConfig;
+use saggriac_core::teachers::riac::RiacConfig;
 use saggriac_core::teachers::TeacherSpec;
 
 fn spec() -> impl Strategy<Value = TeacherSpec> {
@@ -21,25 +23,42 @@ fn spec() -> impl Strategy<Value = TeacherSpec> {
         zeta,
         min_child,
     });
-    (bounds, tree, any::<u64>(), 0usize..2).prop_map(|((low, high), tree, seed, kind)| match kind {
+    let riac = (5usize..=60, 1usize..=20, 0.05..0.5f64, 0.01..0.5f64).prop_map(|(max_region_size, split_attempts, min_child_share, min_dims_range_ratio)| RiacConfig {
+        max_region_size,
+        split_attempts,
+        min_child_share,
+        min_dims_range_ratio,
+        ..RiacConfig::default()
+    });
+    let lp = (1usize..=12, 0.01..1.0f64, 0.01..0.99f64).prop_map(|(n_tasks, alpha, theta)| DiscreteLpConfig { n_tasks, alpha, theta });
+    (bounds, tree, riac, lp, any::<u64>(), 0usize..4).prop_map(|((low, high), tree, riac, lp, seed, kind)| match kind {
         0 => TeacherSpec::SaggRiac { low, high, tree, modes: ModeProbabilities::default(), seed },
-        _ => TeacherSpec::Random { low, high, seed },
+        1 => TeacherSpec::Random { low, high, seed },
+        2 => TeacherSpec::Riac { low, high, cfg: riac, seed },
+        _ => TeacherSpec::DiscreteLp { cfg: lp, seed },
     })
 }
 
-/// A competence with structure (a slope and a noisy patch), from the goal and a generator.
-fn competence(goal: &[f64], rng: &mut saggriac_core::rng::CoreRng) -> f64 {
-    (-0.5 - 0.4 * (goal[0] * 0.7).sin() + 0.05 * uniform(rng, -1.0, 1.0)).clamp(-1.0, 0.0)
+/// A competence with structure (a slope and a noisy patch), from the goal and a generator; a
+/// success rate in [0, 1] for the discrete teacher.
+fn competence(goal: &[f64], rng: &mut saggriac_core::rng::CoreRng, success: bool) -> f64 {
+    let c = (-0.5 - 0.4 * (goal[0] * 0.7).sin() + 0.05 * uniform(rng, -1.0, 1.0)).clamp(-1.0, 0.0);
+    if success {
+        c + 1.0
+    } else {
+        c
+    }
 }
 
 fn run_case(spec: TeacherSpec, before: usize, after: usize, batch: bool, seed: u64) -> TestResult {
     let mut a = AskTell::new(spec.clone()).map_err(|e| TestCaseError::fail(e.to_string()))?;
     let mut rng = rng_from_seed(seed);
     let d = a.dim();
+    let success = matches!(spec, TeacherSpec::DiscreteLp { .. });
     let (low, high) = (a.selector().low().to_vec(), a.selector().high().to_vec());
     let step = |t: &mut AskTell, rng: &mut saggriac_core::rng::CoreRng| -> Vec<f64> {
         let g = t.sample().goal;
-        let c = competence(&g, rng);
+        let c = competence(&g, rng, success);
         t.update(&g, c).unwrap();
         g
     };
@@ -53,7 +72,7 @@ fn run_case(spec: TeacherSpec, before: usize, after: usize, batch: bool, seed: u
         // Batches: the same goals as one at a time, and updates of a whole batch.
         let (ga, gb) = (a.sample_batch(after), b.sample_batch(after));
         prop_assert_eq!(&ga, &gb);
-        let cs: Vec<f64> = ga.chunks_exact(d).map(|g| competence(g, &mut rng)).collect();
+        let cs: Vec<f64> = ga.chunks_exact(d).map(|g| competence(g, &mut rng, success)).collect();
         prop_assert_eq!(a.update_batch(&ga, &cs).unwrap(), b.update_batch(&gb, &cs).unwrap());
     }
     for _ in 0..after {

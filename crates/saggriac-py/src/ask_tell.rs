@@ -7,6 +7,9 @@ use saggriac_core::ask_tell::AskTell;
 use saggriac_core::error::invalid;
 use saggriac_core::goal_selection::ModeProbabilities;
 use saggriac_core::region_tree::RegionTreeConfig;
+use saggriac_core::teachers::discrete_lp::DiscreteLpConfig;
+use saggriac_core::teachers::riac::RiacConfig;
+use saggriac_core::teachers::TeacherSpec;
 use saggriac_core::Error;
 
 use crate::errors::{to_py, wrap};
@@ -40,6 +43,38 @@ impl PyAskTell {
             other => other,
         });
         Ok(PyAskTell { inner: wrap(py, inner)? })
+    }
+
+    /// riac(low, high, seed, ...) -> AskTell: RIAC (Portelas et al., CoRL 2019 baseline).
+    #[staticmethod]
+    #[pyo3(signature = (low, high, seed, max_region_size=200, split_attempts=50, min_child_share=0.25, min_dims_range_ratio=1.0/6.0, p_alp=0.7, p_random=0.2))]
+    #[allow(clippy::too_many_arguments)]
+    fn riac(
+        py: Python<'_>,
+        low: Vec<f64>,
+        high: Vec<f64>,
+        seed: u64,
+        max_region_size: usize,
+        split_attempts: usize,
+        min_child_share: f64,
+        min_dims_range_ratio: f64,
+        p_alp: f64,
+        p_random: f64,
+    ) -> PyResult<Self> {
+        let cfg = RiacConfig { max_region_size, split_attempts, min_child_share, min_dims_range_ratio, p_alp, p_random };
+        let inner = AskTell::new(TeacherSpec::Riac { low, high, cfg, seed }).map_err(|e| match e {
+            Error::InvalidParameter { param, rule, value, .. } => Error::InvalidParameter { owner: "RiacSelector", param: if param == "bounds" { "low/high".into() } else { param }, rule, value },
+            other => other,
+        });
+        Ok(PyAskTell { inner: wrap(py, inner)? })
+    }
+
+    /// discrete_lp(n_tasks, seed, alpha, theta) -> AskTell: learning progress over a task list
+    /// (Kanitscheider et al., 2021).
+    #[staticmethod]
+    #[pyo3(signature = (n_tasks, seed, alpha=0.1, theta=0.1))]
+    fn discrete_lp(py: Python<'_>, n_tasks: usize, seed: u64, alpha: f64, theta: f64) -> PyResult<Self> {
+        Ok(PyAskTell { inner: wrap(py, AskTell::new(TeacherSpec::DiscreteLp { cfg: DiscreteLpConfig { n_tasks, alpha, theta }, seed }))? })
     }
 
     /// save() -> bytes: parameters, state and history (AskTell.restore rebuilds the teacher).
@@ -109,6 +144,17 @@ impl PyAskTell {
     fn regions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let d = PyDict::new(py);
         let dim = self.inner.dim();
+        let leaves = self.inner.selector().leaf_table();
+        if !leaves.is_empty() {
+            // A selector with leaves but no region tree (RIAC): its leaves only.
+            let n = leaves.len();
+            d.set_item("low", rows(py, leaves.iter().flat_map(|r| r.low.clone()).collect(), dim)?)?;
+            d.set_item("high", rows(py, leaves.iter().flat_map(|r| r.high.clone()).collect(), dim)?)?;
+            d.set_item("interest", leaves.iter().map(|r| r.interest).collect::<Vec<_>>().into_pyarray(py))?;
+            d.set_item("n_measurements", leaves.iter().map(|r| r.n_measurements as u64).collect::<Vec<_>>().into_pyarray(py))?;
+            d.set_item("is_leaf", vec![true; n].into_pyarray(py))?;
+            return Ok(d);
+        }
         let regs = self.inner.selector().tree().map(|t| t.regions().to_vec()).unwrap_or_default();
         d.set_item("low", rows(py, regs.iter().flat_map(|r| r.low.clone()).collect(), dim)?)?;
         d.set_item("high", rows(py, regs.iter().flat_map(|r| r.high.clone()).collect(), dim)?)?;

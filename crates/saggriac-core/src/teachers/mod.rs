@@ -2,11 +2,16 @@
 //! (`crate::ask_tell`). A `TeacherSpec` names a teacher and every parameter it was built with, so
 //! that a saved teacher (`AskTell::save`) can be rebuilt and continue exactly where it stopped.
 
+pub mod discrete_lp;
+pub mod riac;
+
 use serde::{Deserialize, Serialize};
 
 use crate::error::Result;
 use crate::goal_selection::{GoalSelector, ModeProbabilities, RandomGoals, SaggRiac};
 use crate::region_tree::RegionTreeConfig;
+use discrete_lp::{DiscreteLp, DiscreteLpConfig};
+use riac::{Riac, RiacConfig};
 
 /// A teacher and its parameters.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -15,6 +20,10 @@ pub enum TeacherSpec {
     SaggRiac { low: Vec<f64>, high: Vec<f64>, tree: RegionTreeConfig, modes: ModeProbabilities, seed: u64 },
     /// Goals uniform in the box (SAGG-Random).
     Random { low: Vec<f64>, high: Vec<f64>, seed: u64 },
+    /// RIAC as the baseline of Portelas et al. (CoRL 2019).
+    Riac { low: Vec<f64>, high: Vec<f64>, cfg: RiacConfig, seed: u64 },
+    /// Learning progress over a task list (Kanitscheider et al., 2021).
+    DiscreteLp { cfg: DiscreteLpConfig, seed: u64 },
 }
 
 impl TeacherSpec {
@@ -23,13 +32,15 @@ impl TeacherSpec {
         match self {
             TeacherSpec::SaggRiac { .. } => "sagg_riac",
             TeacherSpec::Random { .. } => "random",
+            TeacherSpec::Riac { .. } => "riac",
+            TeacherSpec::DiscreteLp { .. } => "discrete_lp",
         }
     }
 
     /// The seed of the teacher's generator.
     pub fn seed(&self) -> u64 {
         match self {
-            TeacherSpec::SaggRiac { seed, .. } | TeacherSpec::Random { seed, .. } => *seed,
+            TeacherSpec::SaggRiac { seed, .. } | TeacherSpec::Random { seed, .. } | TeacherSpec::Riac { seed, .. } | TeacherSpec::DiscreteLp { seed, .. } => *seed,
         }
     }
 
@@ -38,6 +49,8 @@ impl TeacherSpec {
         Ok(match self {
             TeacherSpec::SaggRiac { low, high, tree, modes, seed } => Box::new(SaggRiac::new(low, high, *tree, *modes, *seed)?),
             TeacherSpec::Random { low, high, seed } => Box::new(RandomGoals::new(low, high, *seed)?),
+            TeacherSpec::Riac { low, high, cfg, seed } => Box::new(Riac::new(low, high, *cfg, *seed)?),
+            TeacherSpec::DiscreteLp { cfg, seed } => Box::new(DiscreteLp::new(*cfg, *seed)?),
         })
     }
 }
