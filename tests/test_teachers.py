@@ -13,6 +13,8 @@ TEACHERS = [
     lambda: sg.RandomSelector([0.0], [2.0], seed=9),
     lambda: sg.RiacSelector([0.0, -1.0], [1.0, 1.0], seed=3, max_region_size=20, split_attempts=10),
     lambda: sg.DiscreteLpSelector(6, seed=4),
+    lambda: sg.AlpGmmSelector([0.0, -1.0], [1.0, 1.0], seed=5, fit_rate=40, bootstrap=40, max_components=4),
+    lambda: sg.CovarGmmSelector([0.0], [3.0], seed=6, fit_rate=40, bootstrap=40, max_components=4),
 ]
 
 
@@ -118,3 +120,31 @@ def test_discrete_lp_prefers_the_task_being_learnt():
         t.update(2, -0.5)
     with pytest.raises(sg.ParameterError, match="'n_tasks' parameter of DiscreteLpSelector"):
         sg.DiscreteLpSelector(0)
+
+
+@pytest.mark.parametrize("cls", [sg.AlpGmmSelector, sg.CovarGmmSelector])
+def test_mixture_teachers_focus_where_competence_progresses(cls):
+    t = cls([0.0, 0.0], [1.0, 1.0], seed=2, fit_rate=150, bootstrap=150)
+    for k in range(3000):
+        g = t.sample()
+        t.update(g, min(0.0, -1.0 + k / 1500.0) if g[0] < 0.3 else -0.5)
+    # While competence still rises there (it saturates at goal 1500).
+    during = t.history()["asked_goal"][500:1500]
+    assert np.mean(during[:, 0] < 0.3) > 0.5  # uniform would give 0.3
+    assert np.all((t.history()["asked_goal"] >= 0) & (t.history()["asked_goal"] <= 1))
+
+
+@pytest.mark.parametrize(
+    "make, param",
+    [
+        (lambda: sg.AlpGmmSelector([0], [1], max_components=300), "max_components"),
+        (lambda: sg.AlpGmmSelector([0], [1], random_task_ratio=2.0), "random_task_ratio"),
+        (lambda: sg.CovarGmmSelector([0], [1], absolute_lp="yes"), "absolute_lp"),
+        (lambda: sg.CovarGmmSelector([1], [0]), "low/high"),
+        (lambda: sg.RiacSelector([0], [1], split_attempts=0), "split_attempts"),
+    ],
+)
+def test_teacher_parameters_are_checked(make, param):
+    with pytest.raises(sg.ParameterError) as e:
+        make()
+    assert e.value.param == param

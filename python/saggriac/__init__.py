@@ -10,7 +10,7 @@ Quick start::
 from . import _core, environments, testing
 from .competence import competence
 from .config import PRESETS, Config
-from .goal_selection import DiscreteLpSelector, RandomSelector, RiacSelector, SaggRiacSelector, load_selector
+from .goal_selection import AlpGmmSelector, CovarGmmSelector, DiscreteLpSelector, RandomSelector, RiacSelector, SaggRiacSelector, load_selector
 from .errors import ConformanceError, InputError, ParameterError, SaggriacError, StorageError
 from .result import RunResult
 from .runner import resume, run
@@ -18,4 +18,4 @@ from .study import Study, load_study, run_study
 
 __version__ = _core.__version__
 
-__all__ = ["Config", "PRESETS", "run", "resume", "RunResult", "SaggRiacSelector", "RandomSelector", "RiacSelector", "DiscreteLpSelector", "load_selector", "Study", "run_study", "load_study", "SaggriacError", "ConformanceError", "ParameterError", "InputError", "StorageError", "competence", "__version__"]
+__all__ = ["Config", "PRESETS", "run", "resume", "RunResult", "SaggRiacSelector", "RandomSelector", "RiacSelector", "DiscreteLpSelector", "AlpGmmSelector", "CovarGmmSelector", "load_selector", "Study", "run_study", "load_study", "SaggriacError", "ConformanceError", "ParameterError", "InputError", "StorageError", "competence", "__version__"]

@@ -286,4 +286,56 @@ class DiscreteLpSelector(_AskTellSelector):
         return super().update(np.atleast_1d(np.asarray(goal, dtype=np.float64)), competence)
 
 
-_CLASSES: dict[str, type[_AskTellSelector]] = {"sagg_riac": SaggRiacSelector, "random": RandomSelector, "riac": RiacSelector, "discrete_lp": DiscreteLpSelector}
+class _MixtureSelector(_AskTellSelector):
+    _make = ""
+
+    def __init__(self, low: Any, high: Any, seed: int, **params: Any) -> None:
+        owner = type(self).__name__
+        lo, hi = _vector("low", low), _vector("high", high)
+        for k, v in params.items():
+            if k in ("fit_rate", "max_components", "bootstrap"):
+                params[k] = _int_param(owner, k, v, 0, 2**63)
+            elif k == "absolute_lp":
+                if not isinstance(v, (bool, np.bool_)):
+                    raise ParameterError(f"The 'absolute_lp' parameter of {owner} must be a bool. Got {v!r} instead.", "absolute_lp", repr(v))
+                params[k] = bool(v)
+            else:
+                params[k] = _float_param(owner, k, v)
+        self._inner = getattr(_core.AskTell, self._make)(lo.tolist(), hi.tolist(), _int_param(owner, "seed", seed, 0, 2**64), **params)
+        self.last_mode, self.last_region = None, None
+
+
+class AlpGmmSelector(_MixtureSelector):
+    """ALP-GMM (Portelas, Colas, Hofmann & Oudeyer, CoRL 2019) over the box [low, high].
+
+    A told task's absolute learning progress (ALP) is |competence - competence of the nearest
+    earlier task|. Every ``fit_rate`` tasks, Gaussian mixtures of 2 to ``max_components``
+    components are fitted to the last ``fit_rate`` (task, ALP) pairs and the one of lowest AIC
+    is kept. Goals are uniform for the first ``bootstrap`` tasks and then with probability
+    ``random_task_ratio``; otherwise from a component drawn in proportion to its mean ALP.
+    Tasks are scaled to [0, 1] per dimension inside the teacher.
+    """
+
+    _kind, _make = "alp_gmm", "alp_gmm"
+
+    def __init__(self, low: Any, high: Any, seed: int = 0, *, fit_rate: int = 250, max_components: int = 10, random_task_ratio: float = 0.2, bootstrap: int = 250) -> None:
+        super().__init__(low, high, seed, fit_rate=fit_rate, max_components=max_components, random_task_ratio=random_task_ratio, bootstrap=bootstrap)
+
+
+class CovarGmmSelector(_MixtureSelector):
+    """Covar-GMM (Moulin-Frier, Nguyen & Oudeyer, 2014) over the box [low, high].
+
+    Gaussian mixtures over (time, task, competence) of the last ``fit_rate`` tasks, refitted
+    every ``fit_rate`` tasks with the number of components chosen by AIC. A component's progress
+    is its covariance of time and competence; goals come from a component drawn in proportion
+    to its absolute progress (positive progress only with ``absolute_lp=False``), with the
+    bootstrap and random share of :class:`AlpGmmSelector`.
+    """
+
+    _kind, _make = "covar_gmm", "covar_gmm"
+
+    def __init__(self, low: Any, high: Any, seed: int = 0, *, fit_rate: int = 250, max_components: int = 10, random_task_ratio: float = 0.2, bootstrap: int = 250, absolute_lp: bool = True) -> None:
+        super().__init__(low, high, seed, fit_rate=fit_rate, max_components=max_components, random_task_ratio=random_task_ratio, bootstrap=bootstrap, absolute_lp=absolute_lp)
+
+
+_CLASSES: dict[str, type[_AskTellSelector]] = {"sagg_riac": SaggRiacSelector, "random": RandomSelector, "riac": RiacSelector, "discrete_lp": DiscreteLpSelector, "alp_gmm": AlpGmmSelector, "covar_gmm": CovarGmmSelector}

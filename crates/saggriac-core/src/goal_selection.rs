@@ -91,6 +91,9 @@ fn uniform_in(rng: &mut CoreRng, low: &[f64], high: &[f64]) -> Vec<f64> {
     low.iter().zip(high).map(|(l, h)| uniform(rng, *l, *h)).collect()
 }
 
+/// A mixture as saved: weights, then means and covariances flattened (`Gmm::to_flat`).
+pub type SavedGmm = (Vec<f64>, (Vec<f64>, Vec<f64>));
+
 /// What a checkpoint keeps of a built-in selector: its generator, and for SAGG-RIAC every
 /// measurement in order (replaying them rebuilds the same tree, splits and interests included).
 #[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
@@ -114,6 +117,16 @@ pub enum SelectorState {
         rng: CoreRng,
         fast: Vec<f64>,
         slow: Vec<f64>,
+    },
+    /// ALP-GMM and Covar-GMM: generators, what was told, the fitting window and the mixture
+    /// (weights, then means and covariances flattened).
+    Mixture {
+        rng: CoreRng,
+        fit_rng: CoreRng,
+        points: Vec<f64>,
+        values: Vec<f64>,
+        window: Vec<f64>,
+        gmm: Option<SavedGmm>,
     },
 }
 

@@ -10,6 +10,8 @@ use saggriac_core::ask_tell::AskTell;
 use saggriac_core::goal_selection::ModeProbabilities;
 use saggriac_core::region_tree::RegionTreeConfig;
 use saggriac_core::rng::{rng_from_seed, uniform};
+use saggriac_core::teachers::alp_gmm::AlpGmmConfig;
+use saggriac_core::teachers::covar_gmm::CovarGmmConfig;
 use saggriac_core::teachers::discrete_lp::DiscreteLpConfig;
 use saggriac_core::teachers::riac::RiacConfig;
 use saggriac_core::teachers::TeacherSpec;
@@ -31,11 +33,19 @@ fn spec() -> impl Strategy<Value = TeacherSpec> {
         ..RiacConfig::default()
     });
     let lp = (1usize..=12, 0.01..1.0f64, 0.01..0.99f64).prop_map(|(n_tasks, alpha, theta)| DiscreteLpConfig { n_tasks, alpha, theta });
-    (bounds, tree, riac, lp, any::<u64>(), 0usize..4).prop_map(|((low, high), tree, riac, lp, seed, kind)| match kind {
+    let mixture = (10usize..=60, 2usize..=5, 0.0..1.0f64, 0usize..80).prop_map(|(fit_rate, max_components, random_task_ratio, bootstrap)| AlpGmmConfig {
+        fit_rate,
+        max_components,
+        random_task_ratio,
+        bootstrap,
+    });
+    (bounds, tree, riac, lp, mixture, any::<bool>(), any::<u64>(), 0usize..6).prop_map(|((low, high), tree, riac, lp, mixture, absolute_lp, seed, kind)| match kind {
         0 => TeacherSpec::SaggRiac { low, high, tree, modes: ModeProbabilities::default(), seed },
         1 => TeacherSpec::Random { low, high, seed },
         2 => TeacherSpec::Riac { low, high, cfg: riac, seed },
-        _ => TeacherSpec::DiscreteLp { cfg: lp, seed },
+        3 => TeacherSpec::DiscreteLp { cfg: lp, seed },
+        4 => TeacherSpec::AlpGmm { low, high, cfg: mixture, seed },
+        _ => TeacherSpec::CovarGmm { low, high, cfg: CovarGmmConfig { mixture, absolute_lp }, seed },
     })
 }
 

@@ -7,6 +7,8 @@ use saggriac_core::ask_tell::AskTell;
 use saggriac_core::error::invalid;
 use saggriac_core::goal_selection::ModeProbabilities;
 use saggriac_core::region_tree::RegionTreeConfig;
+use saggriac_core::teachers::alp_gmm::AlpGmmConfig;
+use saggriac_core::teachers::covar_gmm::CovarGmmConfig;
 use saggriac_core::teachers::discrete_lp::DiscreteLpConfig;
 use saggriac_core::teachers::riac::RiacConfig;
 use saggriac_core::teachers::TeacherSpec;
@@ -22,6 +24,14 @@ pub struct PyAskTell {
 fn rows<'py>(py: Python<'py>, flat: Vec<f64>, d: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {
     let n = flat.len() / d.max(1);
     flat.into_pyarray(py).reshape([n, d])
+}
+
+/// Messages name the Python class and its `low/high` arguments, not the core's parts.
+fn named(r: saggriac_core::Result<AskTell>, owner: &'static str) -> saggriac_core::Result<AskTell> {
+    r.map_err(|e| match e {
+        Error::InvalidParameter { param, rule, value, .. } => Error::InvalidParameter { owner, param: if param == "bounds" { "low/high".into() } else { param }, rule, value },
+        other => other,
+    })
 }
 
 #[pymethods]
@@ -75,6 +85,24 @@ impl PyAskTell {
     #[pyo3(signature = (n_tasks, seed, alpha=0.1, theta=0.1))]
     fn discrete_lp(py: Python<'_>, n_tasks: usize, seed: u64, alpha: f64, theta: f64) -> PyResult<Self> {
         Ok(PyAskTell { inner: wrap(py, AskTell::new(TeacherSpec::DiscreteLp { cfg: DiscreteLpConfig { n_tasks, alpha, theta }, seed }))? })
+    }
+
+    /// alp_gmm(low, high, seed, ...) -> AskTell: ALP-GMM (Portelas et al., CoRL 2019).
+    #[staticmethod]
+    #[pyo3(signature = (low, high, seed, fit_rate=250, max_components=10, random_task_ratio=0.2, bootstrap=250))]
+    #[allow(clippy::too_many_arguments)]
+    fn alp_gmm(py: Python<'_>, low: Vec<f64>, high: Vec<f64>, seed: u64, fit_rate: usize, max_components: usize, random_task_ratio: f64, bootstrap: usize) -> PyResult<Self> {
+        let cfg = AlpGmmConfig { fit_rate, max_components, random_task_ratio, bootstrap };
+        Ok(PyAskTell { inner: wrap(py, named(AskTell::new(TeacherSpec::AlpGmm { low, high, cfg, seed }), "AlpGmmSelector"))? })
+    }
+
+    /// covar_gmm(low, high, seed, ...) -> AskTell: Covar-GMM (Moulin-Frier, Nguyen & Oudeyer, 2014).
+    #[staticmethod]
+    #[pyo3(signature = (low, high, seed, fit_rate=250, max_components=10, random_task_ratio=0.2, bootstrap=250, absolute_lp=true))]
+    #[allow(clippy::too_many_arguments)]
+    fn covar_gmm(py: Python<'_>, low: Vec<f64>, high: Vec<f64>, seed: u64, fit_rate: usize, max_components: usize, random_task_ratio: f64, bootstrap: usize, absolute_lp: bool) -> PyResult<Self> {
+        let cfg = CovarGmmConfig { mixture: AlpGmmConfig { fit_rate, max_components, random_task_ratio, bootstrap }, absolute_lp };
+        Ok(PyAskTell { inner: wrap(py, named(AskTell::new(TeacherSpec::CovarGmm { low, high, cfg, seed }), "CovarGmmSelector"))? })
     }
 
     /// save() -> bytes: parameters, state and history (AskTell.restore rebuilds the teacher).

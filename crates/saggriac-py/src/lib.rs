@@ -13,6 +13,7 @@ mod competence;
 mod config;
 mod errors;
 mod evaluation;
+mod gmm;
 mod goal_selection;
 mod recorder;
 mod run_loop;
@@ -39,5 +40,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(chain::chain_points, m)?)?;
     m.add_function(wrap_pyfunction!(chain::chain_link_lengths, m)?)?;
     m.add_function(wrap_pyfunction!(chain::chain_cloud, m)?)?;
+    m.add_function(wrap_pyfunction!(gmm::gmm_fit, m)?)?;
     Ok(())
 }

@@ -2,7 +2,10 @@
 //! (`crate::ask_tell`). A `TeacherSpec` names a teacher and every parameter it was built with, so
 //! that a saved teacher (`AskTell::save`) can be rebuilt and continue exactly where it stopped.
 
+pub mod alp_gmm;
+pub mod covar_gmm;
 pub mod discrete_lp;
+pub mod gmm;
 pub mod riac;
 
 use serde::{Deserialize, Serialize};
@@ -10,6 +13,8 @@ use serde::{Deserialize, Serialize};
 use crate::error::Result;
 use crate::goal_selection::{GoalSelector, ModeProbabilities, RandomGoals, SaggRiac};
 use crate::region_tree::RegionTreeConfig;
+use alp_gmm::{AlpGmm, AlpGmmConfig};
+use covar_gmm::{CovarGmm, CovarGmmConfig};
 use discrete_lp::{DiscreteLp, DiscreteLpConfig};
 use riac::{Riac, RiacConfig};
 
@@ -24,6 +29,10 @@ pub enum TeacherSpec {
     Riac { low: Vec<f64>, high: Vec<f64>, cfg: RiacConfig, seed: u64 },
     /// Learning progress over a task list (Kanitscheider et al., 2021).
     DiscreteLp { cfg: DiscreteLpConfig, seed: u64 },
+    /// ALP-GMM (Portelas et al., CoRL 2019).
+    AlpGmm { low: Vec<f64>, high: Vec<f64>, cfg: AlpGmmConfig, seed: u64 },
+    /// Covar-GMM (Moulin-Frier, Nguyen & Oudeyer, 2014).
+    CovarGmm { low: Vec<f64>, high: Vec<f64>, cfg: CovarGmmConfig, seed: u64 },
 }
 
 impl TeacherSpec {
@@ -34,13 +43,20 @@ impl TeacherSpec {
             TeacherSpec::Random { .. } => "random",
             TeacherSpec::Riac { .. } => "riac",
             TeacherSpec::DiscreteLp { .. } => "discrete_lp",
+            TeacherSpec::AlpGmm { .. } => "alp_gmm",
+            TeacherSpec::CovarGmm { .. } => "covar_gmm",
         }
     }
 
     /// The seed of the teacher's generator.
     pub fn seed(&self) -> u64 {
         match self {
-            TeacherSpec::SaggRiac { seed, .. } | TeacherSpec::Random { seed, .. } | TeacherSpec::Riac { seed, .. } | TeacherSpec::DiscreteLp { seed, .. } => *seed,
+            TeacherSpec::SaggRiac { seed, .. }
+            | TeacherSpec::Random { seed, .. }
+            | TeacherSpec::Riac { seed, .. }
+            | TeacherSpec::DiscreteLp { seed, .. }
+            | TeacherSpec::AlpGmm { seed, .. }
+            | TeacherSpec::CovarGmm { seed, .. } => *seed,
         }
     }
 
@@ -51,6 +67,8 @@ impl TeacherSpec {
             TeacherSpec::Random { low, high, seed } => Box::new(RandomGoals::new(low, high, *seed)?),
             TeacherSpec::Riac { low, high, cfg, seed } => Box::new(Riac::new(low, high, *cfg, *seed)?),
             TeacherSpec::DiscreteLp { cfg, seed } => Box::new(DiscreteLp::new(*cfg, *seed)?),
+            TeacherSpec::AlpGmm { low, high, cfg, seed } => Box::new(AlpGmm::new(low, high, *cfg, *seed)?),
+            TeacherSpec::CovarGmm { low, high, cfg, seed } => Box::new(CovarGmm::new(low, high, *cfg, *seed)?),
         })
     }
 }
