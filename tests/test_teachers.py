@@ -148,3 +148,15 @@ def test_teacher_parameters_are_checked(make, param):
     with pytest.raises(sg.ParameterError) as e:
         make()
     assert e.value.param == param
+
+
+@pytest.mark.parametrize("teacher", ["riac", "alp_gmm", "covar_gmm"])
+def test_a_teacher_chooses_the_goals_of_a_run(teacher, tmp_path):
+    cfg = sg.Config.from_preset("exp1", teacher=teacher, n_steps=3000, n_evals=2)
+    a = sg.run(cfg, seed=4)
+    own = sg.run(cfg.replace(teacher="own"), seed=4)
+    assert not a.goals[["goal_x", "goal_y"]].equals(own.goals[["goal_x", "goal_y"]])
+    # Deterministic, and the same when the run is checkpointed as it goes.
+    b = sg.run(cfg, seed=4, out_dir=tmp_path / "b", checkpoint_every=1000)
+    assert a.attempts.equals(b.attempts) and np.array_equal(a.reach_error, b.reach_error)
+    assert sg.RunResult.load(tmp_path / "b").config.teacher == teacher

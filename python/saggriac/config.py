@@ -93,6 +93,9 @@ class Config:
     p_global: float = 0.2
     p_lowest: float = 0.1
     reset_every: int = 2
+    # Beyond the paper: the teacher choosing sagg_riac's goals. "own" is SAGG-RIAC's high level;
+    # "riac", "alp_gmm", "covar_gmm" replace it, with their papers' defaults (docs/teachers.md).
+    teacher: str = "own"
     # Evaluation (SPEC.md).
     n_test_goals: int = 100
     n_test_configs: int = 100

@@ -8,7 +8,7 @@ use std::time::Instant;
 
 use crate::arm::Arm;
 use crate::body::Body;
-use crate::config::{Condition, Paradigm, RunConfig};
+use crate::config::{Condition, Paradigm, RunConfig, Teacher};
 use crate::error::{invalid, Result};
 use crate::evaluation::{Evaluator, TestSet};
 use crate::goal_selection::{GoalSelector, RandomGoals, SaggRiac};
@@ -21,6 +21,9 @@ use crate::parts::Parts;
 use crate::recorder::{AttemptRow, Counters, GoalRow, MetricRow, Recorder, Timers};
 use crate::rng::{child_seed, rng_from_seed};
 use crate::sensorimotor_model::SensorimotorModel;
+use crate::teachers::alp_gmm::{AlpGmm, AlpGmmConfig};
+use crate::teachers::covar_gmm::{CovarGmm, CovarGmmConfig};
+use crate::teachers::riac::{Riac, RiacConfig};
 
 /// Which low-level controller acts under a configuration: one line per controller.
 fn low_level_for(cfg: &RunConfig, actuator_reset: usize) -> Box<dyn LowLevel> {
@@ -144,7 +147,15 @@ impl Learner {
             }
         }
         let own: Box<dyn GoalSelector> = match cfg.condition {
-            Condition::SaggRiac => Box::new(SaggRiac::new(&cfg.goal_low, &cfg.goal_high, cfg.tree, cfg.modes, child_seed(seed, 1))?),
+            Condition::SaggRiac => {
+                let (low, high, s) = (&cfg.goal_low, &cfg.goal_high, child_seed(seed, 1));
+                match cfg.teacher {
+                    Teacher::Own => Box::new(SaggRiac::new(low, high, cfg.tree, cfg.modes, s)?),
+                    Teacher::Riac => Box::new(Riac::new(low, high, RiacConfig::default(), s)?),
+                    Teacher::AlpGmm => Box::new(AlpGmm::new(low, high, AlpGmmConfig::default(), s)?),
+                    Teacher::CovarGmm => Box::new(CovarGmm::new(low, high, CovarGmmConfig::default(), s)?),
+                }
+            }
             Condition::SaggRandom | Condition::ActuatorRandom => Box::new(RandomGoals::new(&cfg.goal_low, &cfg.goal_high, child_seed(seed, 1))?),
             Condition::ActuatorRiac => {
                 // R-IAC's space: joint angles within their limits, commands within the babbling step.

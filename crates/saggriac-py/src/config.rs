@@ -6,7 +6,7 @@ use pyo3::types::PyDict;
 use saggriac_core::arm::{ArmConfig, ArmKind};
 use saggriac_core::chain::{Chain, ChainSpec};
 use saggriac_core::config::evaluation::TestConfigs;
-use saggriac_core::config::high_level::CompetenceKind;
+use saggriac_core::config::high_level::{CompetenceKind, Teacher};
 use saggriac_core::config::Paradigm;
 use saggriac_core::error::invalid;
 use saggriac_core::memory::IndexKind;
@@ -22,7 +22,7 @@ pub const KEYS: &[&str] = &[
     "bandwidth", "min_c", "eps_c", "competence", "g_max", "zeta", "min_child", "p_interest", "p_global", "p_lowest", "reset_every",
     "n_test_goals", "n_test_configs", "test_configs", "eval_tolerance", "eval_patience", "eval_timeout_factor", "eval_timeout_min",
     "eval_schedule", "knn_index", "warm_start_recent", "babble_step", "actuator_candidates", "actuator_reset_every", "paradigm", "episodic_noise", "episodic_refine", "episodic_k", "motor_noise", "sensor_noise", "body_change_step",
-    "body_change_link", "body_change_length", "chain",
+    "body_change_link", "body_change_length", "chain", "teacher",
 ];
 
 /// The core names a rule's parameter by the struct that owns it (`tolerance` of `Evaluation`);
@@ -120,6 +120,8 @@ pub fn run_config_from_dict(d: &Bound<'_, PyDict>) -> PyResult<RunConfig> {
     c.local.bandwidth = get(d, "bandwidth", c.local.bandwidth, "a float")?;
     c.competence.min_c = get(d, "min_c", c.competence.min_c, "a float")?;
     c.competence.eps_c = get(d, "eps_c", c.competence.eps_c, "a float")?;
+    let teacher: String = get(d, "teacher", c.teacher.name().to_string(), "a str")?;
+    c.teacher = Teacher::parse(&teacher).map_err(|e| to_py(py, in_config_terms(e)))?;
     let kind: String = get(d, "competence", c.competence.kind.name().to_string(), "a str")?;
     c.competence.kind = CompetenceKind::parse(&kind).ok_or_else(|| to_py(py, invalid("Config", "competence", "one of 'relative', 'absolute'", format!("'{kind}'"))))?;
     c.tree.g_max = get(d, "g_max", c.tree.g_max, "an int >= 2")?;

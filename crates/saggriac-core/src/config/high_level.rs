@@ -114,6 +114,36 @@ impl ModeProbabilities {
     }
 }
 
+/// Which teacher chooses the goals of the goal-babbling condition (beyond the paper). `Own` is
+/// the condition's own high level: SAGG-RIAC's (the paper's), or uniform goals for SAGG-Random.
+/// The others replace SAGG-RIAC's high level, with their papers' default parameters
+/// (`crate::teachers`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Teacher {
+    #[default]
+    Own,
+    Riac,
+    AlpGmm,
+    CovarGmm,
+}
+
+impl Teacher {
+    pub const NAMES: [&'static str; 4] = ["own", "riac", "alp_gmm", "covar_gmm"];
+
+    pub fn parse(s: &str) -> Result<Self> {
+        match s {
+            "own" => Ok(Teacher::Own),
+            "riac" => Ok(Teacher::Riac),
+            "alp_gmm" => Ok(Teacher::AlpGmm),
+            "covar_gmm" => Ok(Teacher::CovarGmm),
+            _ => Err(invalid("Run", "teacher", "one of 'own', 'riac', 'alp_gmm', 'covar_gmm'", format!("'{s}'"))),
+        }
+    }
+    pub fn name(&self) -> &'static str {
+        Self::NAMES[*self as usize]
+    }
+}
+
 /// Bounds must be finite, of equal non-zero length, and strictly ordered.
 pub fn check_bounds(owner: &'static str, low: &[f64], high: &[f64]) -> Result<()> {
     if low.is_empty() || low.len() != high.len() {

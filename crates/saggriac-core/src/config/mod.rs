@@ -10,7 +10,7 @@ pub mod model;
 
 pub use body::{ArmConfig, ArmKind, BodyChange};
 pub use evaluation::EvalConfig;
-pub use high_level::{check_bounds, CompetenceConfig, ModeProbabilities, RegionTreeConfig};
+pub use high_level::{check_bounds, CompetenceConfig, ModeProbabilities, RegionTreeConfig, Teacher};
 pub use low_level::{EpisodicConfig, ExplorationConfig, ReachingConfig};
 pub use model::{IndexKind, LocalModelConfig, MIN_RCOND};
 
@@ -95,6 +95,8 @@ pub struct RunConfig {
     pub competence: CompetenceConfig,
     pub tree: RegionTreeConfig,
     pub modes: ModeProbabilities,
+    /// Who chooses the goals of the goal-babbling condition (`Teacher::Own`: the paper's).
+    pub teacher: Teacher,
     /// The arm returns to rest every `reset_every` goal attempts (paper: r = 2).
     pub reset_every: usize,
     pub eval: EvalConfig,
@@ -129,6 +131,7 @@ impl Default for RunConfig {
             competence: CompetenceConfig::default(),
             tree: RegionTreeConfig::default(),
             modes: ModeProbabilities::default(),
+            teacher: Teacher::Own,
             reset_every: 2,
             eval: EvalConfig::default(),
             index: IndexKind::Blocks,
@@ -163,6 +166,14 @@ impl RunConfig {
         self.tree.validate()?;
         self.modes.validate()?;
         c.at_least("reset_every", self.reset_every, 1)?;
+        if self.teacher != Teacher::Own && self.condition != Condition::SaggRiac {
+            return Err(invalid(
+                "Run",
+                "teacher",
+                format!("'own' unless condition is 'sagg_riac' (the goal-babbling condition a teacher replaces the high level of; condition is '{}')", self.condition.name()),
+                format!("'{}'", self.teacher.name()),
+            ));
+        }
         c.positive("babble_step", self.babble_step)?;
         self.eval.validate(self.n_steps)?;
         self.episodic.validate(self.arm.link_lengths.len())?;
