@@ -73,30 +73,46 @@ impl Gmm {
         self.weights.len()
     }
 
-    /// log(weight_k) + log N(x | mean_k, cov_k) for every sample (rows) and component.
+    /// log(weight_k) + log N(x | mean_k, cov_k) for every sample (rows) and component. The
+    /// hot loop of every fit: triangular solves into one reused buffer, no allocation per sample.
     fn weighted_log_prob(&self, data: &[DVector<f64>]) -> Vec<Vec<f64>> {
-        let d = self.means[0].len() as f64;
-        let parts: Vec<(nalgebra::Cholesky<f64, nalgebra::Dyn>, f64)> = self
+        let d = self.means[0].len();
+        let k = self.n_components();
+        // Per component: its Cholesky factor row-major, its log-determinant, its log weight.
+        let factors: Vec<(Vec<f64>, f64, f64)> = self
             .covariances
             .iter()
-            .map(|c| {
-                // A covariance that lost definiteness to rounding gets the jitter scikit-learn would refuse at.
-                let ch = c.clone().cholesky().unwrap_or_else(|| (c + DMatrix::identity(c.nrows(), c.ncols()) * 1e-10).cholesky().expect("a covariance with reg_covar on its diagonal"));
-                let logdet = 2.0 * ch.l().diagonal().iter().map(|v| v.ln()).sum::<f64>();
-                (ch, logdet)
+            .zip(&self.weights)
+            .map(|(c, w)| {
+                // A covariance that lost definiteness to rounding gets a little jitter.
+                let ch = c.clone().cholesky().unwrap_or_else(|| (c + DMatrix::identity(d, d) * 1e-10).cholesky().expect("a covariance with reg_covar on its diagonal"));
+                let l = ch.l();
+                let flat: Vec<f64> = (0..d * d).map(|i| l[(i / d, i % d)]).collect();
+                let logdet = 2.0 * (0..d).map(|i| flat[i * d + i].ln()).sum::<f64>();
+                (flat, logdet, w.ln())
             })
             .collect();
+        let constant = d as f64 * LN_2PI;
+        let mut y = vec![0.0; d];
         data.iter()
             .map(|x| {
-                parts
-                    .iter()
-                    .zip(&self.means)
-                    .zip(&self.weights)
-                    .map(|(((ch, logdet), m), w)| {
-                        let y = ch.l().solve_lower_triangular(&(x - m)).expect("a triangular factor with a positive diagonal");
-                        w.ln() - 0.5 * (d * LN_2PI + logdet + y.norm_squared())
-                    })
-                    .collect()
+                let x = x.as_slice();
+                let mut row = Vec::with_capacity(k);
+                for ((l, logdet, lw), m) in factors.iter().zip(&self.means) {
+                    let m = m.as_slice();
+                    let mut sq = 0.0;
+                    for i in 0..d {
+                        let mut v = x[i] - m[i];
+                        for j in 0..i {
+                            v -= l[i * d + j] * y[j];
+                        }
+                        v /= l[i * d + i];
+                        y[i] = v;
+                        sq += v * v;
+                    }
+                    row.push(lw - 0.5 * (constant + logdet + sq));
+                }
+                row
             })
             .collect()
     }
@@ -118,25 +134,45 @@ impl Gmm {
     fn from_responsibilities(data: &[DVector<f64>], resp: &[Vec<f64>], reg_covar: f64) -> Gmm {
         let (n, k, d) = (data.len(), resp[0].len(), data[0].len());
         let mut gmm = Gmm { weights: Vec::with_capacity(k), means: Vec::with_capacity(k), covariances: Vec::with_capacity(k) };
+        let mut diff = vec![0.0; d];
         for j in 0..k {
             let nk = resp.iter().map(|r| r[j]).sum::<f64>() + 10.0 * f64::EPSILON;
-            let mut mean = DVector::zeros(d);
+            let mut mean = vec![0.0; d];
             for (x, r) in data.iter().zip(resp) {
-                mean += x * r[j];
+                for (m, v) in mean.iter_mut().zip(x.iter()) {
+                    *m += r[j] * v;
+                }
             }
-            mean /= nk;
-            let mut cov = DMatrix::zeros(d, d);
+            mean.iter_mut().for_each(|m| *m /= nk);
+            // The lower triangle of sum r (x - mean)(x - mean)^T, mirrored after.
+            let mut cov = vec![0.0; d * d];
             for (x, r) in data.iter().zip(resp) {
-                let diff = x - &mean;
-                cov += &diff * diff.transpose() * r[j];
+                let w = r[j];
+                if w == 0.0 {
+                    continue;
+                }
+                for (t, (v, m)) in diff.iter_mut().zip(x.iter().zip(&mean)) {
+                    *t = v - m;
+                }
+                for a in 0..d {
+                    let wa = w * diff[a];
+                    for b in 0..=a {
+                        cov[a * d + b] += wa * diff[b];
+                    }
+                }
             }
-            cov /= nk;
-            for i in 0..d {
-                cov[(i, i)] += reg_covar;
+            let mut c = DMatrix::zeros(d, d);
+            for a in 0..d {
+                for b in 0..=a {
+                    let v = cov[a * d + b] / nk;
+                    c[(a, b)] = v;
+                    c[(b, a)] = v;
+                }
+                c[(a, a)] += reg_covar;
             }
             gmm.weights.push(nk / n as f64);
-            gmm.means.push(mean);
-            gmm.covariances.push(cov);
+            gmm.means.push(DVector::from_vec(mean));
+            gmm.covariances.push(c);
         }
         gmm
     }
@@ -208,17 +244,27 @@ pub fn kmeans_start(data: &[DVector<f64>], k: usize, reg_covar: f64, rng: &mut C
         centres.push(data[pick].clone());
     }
     let mut labels = vec![0usize; n];
+    let d = data[0].len();
+    let (mut sums, mut counts) = (vec![0.0; k * d], vec![0usize; k]);
     for _ in 0..100 {
         let mut changed = false;
         for (i, x) in data.iter().enumerate() {
-            let best = (0..k).min_by(|&a, &b| (x - &centres[a]).norm_squared().total_cmp(&(x - &centres[b]).norm_squared())).unwrap_or(0);
+            let dist = |c: &DVector<f64>| x.iter().zip(c.iter()).map(|(a, b)| (a - b) * (a - b)).sum::<f64>();
+            let best = (0..k).min_by(|&a, &b| dist(&centres[a]).total_cmp(&dist(&centres[b]))).unwrap_or(0);
             changed |= best != labels[i];
             labels[i] = best;
         }
+        sums.iter_mut().for_each(|v| *v = 0.0);
+        counts.iter_mut().for_each(|v| *v = 0);
+        for (x, &l) in data.iter().zip(&labels) {
+            counts[l] += 1;
+            for (s, v) in sums[l * d..(l + 1) * d].iter_mut().zip(x.iter()) {
+                *s += v;
+            }
+        }
         for (j, c) in centres.iter_mut().enumerate() {
-            let members: Vec<&DVector<f64>> = data.iter().zip(&labels).filter(|(_, &l)| l == j).map(|(x, _)| x).collect();
-            if !members.is_empty() {
-                *c = members.iter().fold(DVector::zeros(c.len()), |s, x| s + *x) / members.len() as f64;
+            if counts[j] > 0 {
+                *c = DVector::from_iterator(d, sums[j * d..(j + 1) * d].iter().map(|s| s / counts[j] as f64));
             }
         }
         if !changed {
