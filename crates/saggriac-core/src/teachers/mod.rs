@@ -6,6 +6,7 @@ pub mod alp_gmm;
 pub mod covar_gmm;
 pub mod discrete_lp;
 pub mod gmm;
+pub(crate) mod mixture;
 pub mod riac;
 
 use serde::{Deserialize, Serialize};
