@@ -11,45 +11,14 @@
 //! mixtures (the paper leaves the scale open; without it a wide dimension would swamp ALP).
 
 use nalgebra::DVector;
-use serde::{Deserialize, Serialize};
 
-use crate::error::{invalid, Check, Result};
+use crate::error::Result;
 use crate::goal_selection::{GoalChoice, GoalSelector, SelectorState};
 use crate::kd_tree::KdTree;
 use crate::neighbours::{Neighbour, NeighbourIndex};
 use crate::teachers::gmm::Gmm;
+pub use crate::teachers::mixture::AlpGmmConfig;
 use crate::teachers::mixture::MixtureCore;
-
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct AlpGmmConfig {
-    /// Tasks between refits, and the window they are fitted on (250).
-    pub fit_rate: usize,
-    /// Mixtures of 2 to this many components are tried (10).
-    pub max_components: usize,
-    /// Share of uniform goals after the bootstrap (0.2).
-    pub random_task_ratio: f64,
-    /// Uniform goals first (250, as fit_rate).
-    pub bootstrap: usize,
-}
-
-impl Default for AlpGmmConfig {
-    fn default() -> Self {
-        AlpGmmConfig { fit_rate: 250, max_components: 10, random_task_ratio: 0.2, bootstrap: 250 }
-    }
-}
-
-impl AlpGmmConfig {
-    pub fn validate(&self, owner: &'static str) -> Result<()> {
-        let c = Check { owner };
-        c.at_least("fit_rate", self.fit_rate, 2)?;
-        c.at_least("max_components", self.max_components, 2)?;
-        c.probability("random_task_ratio", self.random_task_ratio)?;
-        if self.max_components > self.fit_rate {
-            return Err(invalid(owner, "max_components", format!("an int <= fit_rate (fit_rate = {})", self.fit_rate), self.max_components));
-        }
-        Ok(())
-    }
-}
 
 pub struct AlpGmm {
     core: MixtureCore,
