@@ -264,8 +264,8 @@ class DiscreteLpSelector(_AskTellSelector):
     competence told is a success rate in [0, 1]. Each task keeps a fast moving average of its
     success and a slow one following it (step ``alpha``); its progress is the gap between the
     two after the paper's reweighting (``theta``), which stretches small success rates. Tasks
-    with progress are drawn in proportion to the sigmoid of their z-scored progress, the others
-    not at all; with no progress anywhere, uniformly.
+    are drawn in proportion to the sigmoid of their progress z-scored over all tasks (so tasks
+    without progress keep some probability); with the same progress everywhere, uniformly.
     """
 
     _kind = "discrete_lp"

@@ -1,0 +1,210 @@
+"""The Syllabus extra: saggriac teachers as Syllabus curricula, over Syllabus's own task spaces.
+
+Skipped when Syllabus is not installed, unless SAGGRIAC_REQUIRE_EXTRAS=1 (CI sets it): then a
+missing extra fails."""
+
+import os
+import pickle
+import time
+
+import numpy as np
+import pytest
+
+if os.environ.get("SAGGRIAC_REQUIRE_EXTRAS") != "1":
+    pytest.importorskip("syllabus", reason='the Syllabus extra is not installed (pip install "saggriac[syllabus]")')
+
+import gymnasium
+from syllabus.core import GymnasiumSyncWrapper, TaskEnv, make_multiprocessing_curriculum
+from syllabus.task_space import BoxTaskSpace, DiscreteTaskSpace, MultiDiscreteTaskSpace
+
+import saggriac as sg
+from saggriac.errors import ConformanceError, ParameterError
+from saggriac.syllabus import SelectorCurriculum
+
+LOW, HIGH = [0.0, -2.0, 0.5], [1.0, 2.0, 0.75]
+
+
+def box_space():
+    return BoxTaskSpace(gymnasium.spaces.Box(np.array(LOW, np.float32), np.array(HIGH, np.float32), dtype=np.float32))
+
+
+def progress_of(task):
+    """A made-up task completion: high near one corner, in [0, 1]."""
+    t = np.asarray(task, dtype=np.float64)
+    return float(np.exp(-np.sum(((t - np.array(LOW)) / (np.array(HIGH) - np.array(LOW))) ** 2)))
+
+
+BOX_TEACHERS = {
+    "sagg_riac": lambda s: sg.SaggRiacSelector(LOW, HIGH, seed=s),
+    "riac": lambda s: sg.RiacSelector(LOW, HIGH, seed=s, max_region_size=30),
+    "alp_gmm": lambda s: sg.AlpGmmSelector(LOW, HIGH, seed=s, fit_rate=40, bootstrap=40),
+    "covar_gmm": lambda s: sg.CovarGmmSelector(LOW, HIGH, seed=s, fit_rate=40, bootstrap=40),
+    "random": lambda s: sg.RandomSelector(LOW, HIGH, seed=s),
+}
+
+
+@pytest.mark.parametrize("name", list(BOX_TEACHERS))
+def test_box_curriculum_asks_the_teachers_tasks_and_tells_it_each_episode(name):
+    space = box_space()
+    cur = SelectorCurriculum(space, BOX_TEACHERS[name](5))
+    bare = BOX_TEACHERS[name](5)
+    for i in range(150):
+        (task,) = cur.sample(k=1)
+        assert space.contains(task) and task.dtype == np.float32
+        g = bare.sample().astype(np.float32)
+        np.testing.assert_array_equal(task, g)
+        p = progress_of(task)
+        cur.update_on_episode(episode_return=-3.0, length=10, task=task, progress=p)
+        bare.update(g.astype(np.float64), p)
+    assert cur.told == 150
+    h = cur.selector.history()
+    np.testing.assert_array_equal(h["told_goal"], bare.history()["told_goal"])
+    np.testing.assert_array_equal(h["told_competence"], bare.history()["told_competence"])
+    # Batches of tasks, all inside the space.
+    tasks = cur.sample(k=64)
+    assert len(tasks) == 64 and all(space.contains(t) for t in tasks)
+
+
+def test_pickled_curriculum_continues_with_the_same_tasks():
+    cur = SelectorCurriculum(box_space(), sg.AlpGmmSelector(LOW, HIGH, seed=2, fit_rate=30, bootstrap=30))
+    for _ in range(100):
+        (t,) = cur.sample()
+        cur.update_on_episode(0.0, 5, t, progress_of(t))
+    copy = pickle.loads(pickle.dumps(cur))
+    for _ in range(100):
+        (a,), (b,) = cur.sample(), copy.sample()
+        np.testing.assert_array_equal(a, b)
+        cur.update_on_episode(0.0, 5, a, progress_of(a))
+        copy.update_on_episode(0.0, 5, b, progress_of(b))
+    assert copy.told == cur.told == 200
+
+
+def test_competence_is_progress_return_or_a_function():
+    space = box_space()
+    for competence, expected in [("progress", 0.25), ("return", -7.5), (lambda ret, length, task, p: ret / length, -0.75)]:
+        cur = SelectorCurriculum(space, sg.SaggRiacSelector(LOW, HIGH, seed=0), competence=competence)
+        (t,) = cur.sample()
+        cur.update_on_episode(episode_return=-7.5, length=10, task=t, progress=0.25)
+        assert cur.selector.history()["told_competence"].tolist() == [expected]
+
+
+def test_discrete_curriculum_draws_task_indices_by_learning_progress():
+    space = DiscreteTaskSpace(6)
+    cur = SelectorCurriculum(space, sg.DiscreteLpSelector(6, seed=1))
+    counts = np.zeros(6, dtype=int)
+    success = np.zeros(6)
+    for _ in range(3000):
+        (task,) = cur.sample()
+        assert isinstance(task, int) and space.contains(task)
+        counts[task] += 1
+        # Task 4 is being learnt; the others stay where they are.
+        if task == 4:
+            success[4] = min(1.0, success[4] + 0.002)
+        cur.update_on_episode(0.0, 1, task, success[task])
+    assert cur.told == 3000
+    assert counts[4] == counts.max() and counts[4] > 2 * np.delete(counts, 4).max()
+
+
+def test_bad_pairings_and_parameters_are_refused_with_the_rule():
+    space = box_space()
+    with pytest.raises(ParameterError, match="bounds"):
+        SelectorCurriculum(space, sg.SaggRiacSelector([0, 0, 0], [1, 1, 1]))
+    with pytest.raises(ParameterError, match="3-D"):
+        SelectorCurriculum(space, sg.SaggRiacSelector([0, 0], [1, 1]))
+    with pytest.raises(ConformanceError, match="DiscreteTaskSpace"):
+        SelectorCurriculum(space, sg.DiscreteLpSelector(4))
+    with pytest.raises(ConformanceError, match="DiscreteLpSelector"):
+        SelectorCurriculum(DiscreteTaskSpace(4), sg.RandomSelector([0], [3]))
+    with pytest.raises(ParameterError, match="4 tasks"):
+        SelectorCurriculum(DiscreteTaskSpace(4), sg.DiscreteLpSelector(5))
+    with pytest.raises(ConformanceError, match="BoxTaskSpace or DiscreteTaskSpace"):
+        SelectorCurriculum(MultiDiscreteTaskSpace([2, 3]), sg.DiscreteLpSelector(6))
+    with pytest.raises(ParameterError, match="random_start_tasks"):
+        SelectorCurriculum(space, sg.SaggRiacSelector(LOW, HIGH), random_start_tasks=10)
+    with pytest.raises(ParameterError, match="'competence'"):
+        SelectorCurriculum(space, sg.SaggRiacSelector(LOW, HIGH), competence="reward")
+    cur = SelectorCurriculum(space, sg.SaggRiacSelector(LOW, HIGH))
+    with pytest.raises(ParameterError, match="'k'"):
+        cur.sample(k=0)
+    # A task outside the box is refused by the teacher, which then holds nothing of it.
+    with pytest.raises(sg.InputError):
+        cur.update_on_episode(0.0, 1, np.array([5.0, 0.0, 0.6], np.float32), 1.0)
+    assert cur.told == 0 and len(cur.selector.history()["told_goal"]) == 0
+
+
+def test_log_metrics_reports_the_episodes_told():
+    cur = SelectorCurriculum(box_space(), sg.SaggRiacSelector(LOW, HIGH, seed=0))
+    for _ in range(70):
+        (t,) = cur.sample()
+        cur.update_on_episode(0.0, 1, t, progress_of(t))
+
+    class Writer:
+        def __init__(self):
+            self.scalars = {}
+
+        def add_scalar(self, name, value, step):
+            self.scalars[name] = (value, step)
+
+    w = Writer()
+    logs = cur.log_metrics(w, None, step=9)
+    assert ("curriculum/told", 70) in logs
+    assert w.scalars["curriculum/told"] == (70, 9)
+    assert w.scalars["curriculum/regions"][0] == cur.selector.n_regions >= 2
+
+
+class Still(gymnasium.Env):
+    observation_space = gymnasium.spaces.Box(-np.inf, np.inf, (3,), np.float64)
+    action_space = gymnasium.spaces.Box(-1.0, 1.0, (3,), np.float32)
+
+    def reset(self, *, seed=None, options=None):
+        super().reset(seed=seed)
+        self.steps = 0
+        return np.zeros(3), {}
+
+
+class PointEnv(TaskEnv, Still):
+    """A Syllabus task environment (its TaskEnv over a plain Env): the task is a target point
+    each episode reports progress on."""
+
+    def __init__(self):
+        super().__init__()
+        self.received = []
+
+    def change_task(self, new_task):
+        self.received.append(np.asarray(new_task).copy())
+
+    def observation(self, observation):
+        return observation
+
+    def step(self, action):
+        self.steps += 1
+        done = self.steps == 4
+        info = {"task_completion": progress_of(self.task)}
+        return np.zeros(3), -1.0, False, done, info
+
+
+def test_through_syllabus_sync_wrappers():
+    """Syllabus's own plumbing: the curriculum behind its update thread, the environment behind
+    its sync wrapper; the teacher is told every finished episode of the tasks it chose."""
+    space = box_space()
+    cur = make_multiprocessing_curriculum(SelectorCurriculum(space, sg.SaggRiacSelector(LOW, HIGH, seed=4)))
+    try:
+        inner = PointEnv()
+        env = GymnasiumSyncWrapper(inner, space, cur.components, buffer_size=1)
+        for _ in range(60):
+            env.reset()
+            for _ in range(4):
+                env.step(env.action_space.sample())
+        deadline = time.time() + 30
+        while cur.curriculum.told < 60 and time.time() < deadline:
+            time.sleep(0.01)
+    finally:
+        cur.stop()
+    teacher = cur.curriculum.selector
+    h = teacher.history()
+    assert cur.curriculum.told == 60
+    received = np.array(inner.received, dtype=np.float64)
+    assert len(received) == 60
+    np.testing.assert_array_equal(h["told_goal"], received)
+    np.testing.assert_array_equal(h["asked_goal"][:60].astype(np.float32), received.astype(np.float32))
+    np.testing.assert_allclose(h["told_competence"], [progress_of(t) for t in received])
