@@ -1,0 +1,213 @@
+"""Every teacher on the progress-niche benchmark, side by side, with paired statistics.
+
+    python benchmarks/teacher_niches.py --out niches/ [--seeds 20] [--updates 8000] [--distractors 0 4]
+
+The learner is :class:`saggriac.progress_niches.ProgressNiches` (a chain of niches that open one
+after another, noisy cells, impossible cells, and optional distractor dimensions). For every
+space (number of distractors), teacher and seed, the teacher asks ``--updates`` goals one at a
+time and is told the competence of each. Seed s gives the learner's noise and the teacher's
+generator (two children of SeedSequence(s)), so runs with the same seed are paired.
+
+Writes to ``--out``: ``runs.csv`` (one row per run), ``curves.csv`` (the score every ``--every``
+updates), ``comparisons.csv`` (every pair of teachers, paired t-tests, Holm within a space and a
+metric), ``results.md`` and ``niches.png``. The decision rule is the one of docs/teachers.md.
+"""
+
+from __future__ import annotations
+
+import argparse
+import itertools
+import multiprocessing as mp
+import time
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+from tqdm import tqdm
+
+import saggriac as sg
+from saggriac.progress_niches import KINDS, ProgressNiches
+from saggriac.statistics import holm, paired
+
+TEACHERS = ("sagg_riac", "riac", "alp_gmm", "covar_gmm", "discrete_lp", "random")
+NAMES = {"sagg_riac": "SAGG-RIAC", "riac": "RIAC", "alp_gmm": "ALP-GMM", "covar_gmm": "Covar-GMM", "discrete_lp": "discrete LP", "random": "random"}
+METRICS = ("final", "auc", "share_noisy", "share_impossible")
+
+
+def make_teacher(name: str, env: ProgressNiches, seed: int):
+    low, high = env.low.tolist(), env.high.tolist()
+    return {
+        "sagg_riac": lambda: sg.SaggRiacSelector(low, high, seed=seed),
+        "riac": lambda: sg.RiacSelector(low, high, seed=seed),
+        "alp_gmm": lambda: sg.AlpGmmSelector(low, high, seed=seed),
+        "covar_gmm": lambda: sg.CovarGmmSelector(low, high, seed=seed),
+        "discrete_lp": lambda: sg.DiscreteLpSelector(env.n_cells, seed=seed),
+        "random": lambda: sg.RandomSelector(low, high, seed=seed),
+    }[name]()
+
+
+def one_run(job: tuple[str, int, int, int, int]) -> tuple[dict, list[dict]]:
+    name, distractors, seed, updates, every = job
+    env_seq, teacher_seq = np.random.SeedSequence(seed).spawn(2)
+    env = ProgressNiches(int(env_seq.generate_state(1, np.uint64)[0] >> 1), distractors=distractors)
+    teacher = make_teacher(name, env, int(teacher_seq.generate_state(1, np.uint64)[0]))
+    kinds = [env.kind(c) for c in range(env.n_cells)]
+    counts = dict.fromkeys(KINDS, 0)
+    curve = []
+    start = time.perf_counter()
+    for t in range(1, updates + 1):
+        if name == "discrete_lp":
+            cell = teacher.sample_task()
+            c = env.attempt(env.centre(cell))
+            teacher.update(cell, c)
+        else:
+            g = teacher.sample()
+            cell = env.cell(g)
+            c = env.attempt(g)
+            teacher.update(g, c)
+        counts[kinds[cell]] += 1
+        if t % every == 0:
+            curve.append(dict(teacher=name, distractors=distractors, seed=seed, update=t, mastery=env.mastery(), unlocked=env.unlocked))
+    row = dict(teacher=name, distractors=distractors, seed=seed, final=env.mastery(), auc=float(np.mean([p["mastery"] for p in curve])), unlocked=env.unlocked,
+               share_noisy=counts["noisy"] / updates, share_impossible=counts["impossible"] / updates, share_niche=counts["niche"] / updates, seconds=time.perf_counter() - start)
+    return row, curve
+
+
+def compare(runs: pd.DataFrame) -> pd.DataFrame:
+    rows = []
+    for (d, metric) in itertools.product(sorted(runs.distractors.unique()), METRICS):
+        sub = runs[runs.distractors == d].pivot(index="seed", columns="teacher", values=metric)
+        names = [t for t in TEACHERS if t in sub.columns]
+        block = []
+        for a, b in itertools.combinations(names, 2):
+            block.append(dict(distractors=d, metric=metric, a=a, b=b, n=len(sub), **paired(sub[a].to_numpy(), sub[b].to_numpy())))
+        adj = holm([r["p_value"] for r in block])
+        for r, p in zip(block, adj):
+            r["p_holm"] = p
+        rows += block
+    return pd.DataFrame(rows)
+
+
+def winners(runs: pd.DataFrame, comps: pd.DataFrame, d: int, metric: str, higher: bool = True) -> tuple[str, list[str]]:
+    """The best mean, and the teachers not distinguishable from it (Holm p >= 0.05)."""
+    means = runs[runs.distractors == d].groupby("teacher")[metric].mean()
+    best = means.idxmax() if higher else means.idxmin()
+    c = comps[(comps.distractors == d) & (comps.metric == metric) & ((comps.a == best) | (comps.b == best))]
+    tied = sorted({r.a if r.b == best else r.b for r in c.itertuples() if not (r.p_holm < 0.05)})
+    return best, tied
+
+
+def report(runs: pd.DataFrame, comps: pd.DataFrame, args: argparse.Namespace) -> str:
+    out = [f"# Progress niches: {runs.seed.nunique()} seeds, {args.updates} updates\n",
+           f"`python benchmarks/teacher_niches.py --out {args.out} --seeds {args.seeds} --updates {args.updates} --distractors {' '.join(map(str, args.distractors))}`\n"]
+    for d in sorted(runs.distractors.unique()):
+        sub = runs[runs.distractors == d]
+        out.append(f"\n## {2 + d}-D task space ({d} distractor dimensions)\n")
+        out.append("| teacher | final score | area under the curve | niches open | goals in noisy cells | goals in impossible cells | seconds per run |")
+        out.append("|---|---|---|---|---|---|---|")
+        g = sub.groupby("teacher")
+        for t in TEACHERS:
+            if t not in g.groups:
+                continue
+            r = g.get_group(t)
+            out.append(f"| {NAMES[t]} | {r.final.mean():.3f} ± {r.final.std():.3f} | {r.auc.mean():.3f} ± {r.auc.std():.3f} | {r.unlocked.mean():.1f} | "
+                       f"{100 * r.share_noisy.mean():.1f} % | {100 * r.share_impossible.mean():.1f} % | {r.seconds.mean():.2f} |")
+        for metric, higher in (("final", True), ("auc", True), ("share_noisy", False)):
+            best, tied = winners(runs, comps, d, metric, higher)
+            word = "highest" if higher else "lowest"
+            tie = f"; not distinguishable from it (Holm p >= 0.05): {', '.join(NAMES[t] for t in tied)}" if tied else "; better than every other teacher (Holm p < 0.05)"
+            out.append(f"\n- {metric}: {word} mean {NAMES[best]}{tie}.")
+        out.append("\nPaired differences of the final score (row minus column, mean over seeds; * Holm p < 0.05):\n")
+        c = comps[(comps.distractors == d) & (comps.metric == "final")]
+        names = [t for t in TEACHERS if t in set(sub.teacher)]
+        out.append("| | " + " | ".join(NAMES[t] for t in names) + " |")
+        out.append("|---" * (len(names) + 1) + "|")
+        for a in names:
+            cells = []
+            for b in names:
+                if a == b:
+                    cells.append("")
+                    continue
+                r = c[((c.a == a) & (c.b == b)) | ((c.a == b) & (c.b == a))].iloc[0]
+                diff = r.mean_diff if r.a == a else -r.mean_diff
+                cells.append(f"{diff:+.3f}{'*' if r.p_holm < 0.05 else ''}")
+            out.append(f"| {NAMES[a]} | " + " | ".join(cells) + " |")
+    return "\n".join(out) + "\n"
+
+
+def figure(curves: pd.DataFrame, runs: pd.DataFrame, path: Path) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    spaces = sorted(curves.distractors.unique())
+    fig, axes = plt.subplots(2, len(spaces), figsize=(5.5 * len(spaces), 8), squeeze=False)
+    for col, d in enumerate(spaces):
+        ax = axes[0, col]
+        for t in TEACHERS:
+            c = curves[(curves.distractors == d) & (curves.teacher == t)]
+            if c.empty:
+                continue
+            m = c.groupby("update").mastery
+            x, mu, sd = m.mean().index, m.mean().to_numpy(), m.std().to_numpy()
+            (line,) = ax.plot(x, mu, label=NAMES[t])
+            ax.fill_between(x, mu - sd, mu + sd, color=line.get_color(), alpha=0.15)
+        ax.set_title(f"{2 + d}-D ({d} distractors): mean skill over the niches (±1 sd)")
+        ax.set_xlabel("updates")
+        ax.set_ylim(0, 1)
+        ax.legend(fontsize=8)
+        ax = axes[1, col]
+        sub = runs[runs.distractors == d].groupby("teacher")[["share_niche", "share_noisy", "share_impossible"]].mean()
+        names = [t for t in TEACHERS if t in sub.index]
+        bottom = np.zeros(len(names))
+        for key, colour in (("share_niche", "tab:green"), ("share_noisy", "tab:orange"), ("share_impossible", "tab:grey")):
+            v = sub.loc[names, key].to_numpy()
+            ax.bar([NAMES[t] for t in names], v, bottom=bottom, color=colour, label=key.replace("share_", "goals in ") + (" cells" if key != "share_niche" else "s"))
+            bottom += v
+        ax.set_title("where the goals went (mean over seeds)")
+        ax.set_ylim(0, 1)
+        ax.tick_params(axis="x", labelsize=8)
+        ax.legend(fontsize=8, loc="lower right")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def main() -> None:
+    p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    p.add_argument("--out", type=Path, required=True)
+    p.add_argument("--seeds", type=int, default=20, help="seeds 0 .. N-1")
+    p.add_argument("--first-seed", type=int, default=0)
+    p.add_argument("--updates", type=int, default=8000)
+    p.add_argument("--every", type=int, default=250)
+    p.add_argument("--distractors", type=int, nargs="+", default=[0, 4])
+    p.add_argument("--teachers", nargs="+", default=list(TEACHERS), choices=TEACHERS)
+    p.add_argument("--workers", type=int, default=2)
+    args = p.parse_args()
+    if args.seeds < 2 or args.updates < args.every or args.every < 1:
+        p.error("--seeds must be >= 2 and --updates >= --every >= 1")
+    args.out.mkdir(parents=True, exist_ok=True)
+    seeds = range(args.first_seed, args.first_seed + args.seeds)
+    # The costliest teachers first, so that the pool's idle tail is short.
+    order = sorted(args.teachers, key=lambda t: t not in ("alp_gmm", "covar_gmm"))
+    jobs = [(t, d, s, args.updates, args.every) for d in sorted(args.distractors, reverse=True) for t in order for s in seeds]
+    rows, curves = [], []
+    with mp.get_context("spawn").Pool(args.workers) as pool:
+        for row, curve in tqdm(pool.imap_unordered(one_run, jobs), total=len(jobs), desc="niche runs"):
+            rows.append(row)
+            curves += curve
+    runs = pd.DataFrame(rows).sort_values(["distractors", "teacher", "seed"]).reset_index(drop=True)
+    curves_df = pd.DataFrame(curves).sort_values(["distractors", "teacher", "seed", "update"]).reset_index(drop=True)
+    comps = compare(runs)
+    runs.to_csv(args.out / "runs.csv", index=False)
+    curves_df.to_csv(args.out / "curves.csv", index=False)
+    comps.to_csv(args.out / "comparisons.csv", index=False)
+    text = report(runs, comps, args)
+    (args.out / "results.md").write_text(text)
+    figure(curves_df, runs, args.out / "niches.png")
+    print(text)
+
+
+if __name__ == "__main__":
+    main()
