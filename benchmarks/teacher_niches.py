@@ -117,21 +117,22 @@ def report(runs: pd.DataFrame, comps: pd.DataFrame, args: argparse.Namespace) ->
             word = "highest" if higher else "lowest"
             tie = f"; not distinguishable from it (Holm p >= 0.05): {', '.join(NAMES[t] for t in tied)}" if tied else "; better than every other teacher (Holm p < 0.05)"
             out.append(f"\n- {metric}: {word} mean {NAMES[best]}{tie}.")
-        out.append("\nPaired differences of the final score (row minus column, mean over seeds; * Holm p < 0.05):\n")
-        c = comps[(comps.distractors == d) & (comps.metric == "final")]
         names = [t for t in TEACHERS if t in set(sub.teacher)]
-        out.append("| | " + " | ".join(NAMES[t] for t in names) + " |")
-        out.append("|---" * (len(names) + 1) + "|")
-        for a in names:
-            cells = []
-            for b in names:
-                if a == b:
-                    cells.append("")
-                    continue
-                r = c[((c.a == a) & (c.b == b)) | ((c.a == b) & (c.b == a))].iloc[0]
-                diff = r.mean_diff if r.a == a else -r.mean_diff
-                cells.append(f"{diff:+.3f}{'*' if r.p_holm < 0.05 else ''}")
-            out.append(f"| {NAMES[a]} | " + " | ".join(cells) + " |")
+        for metric, label in (("final", "final score"), ("auc", "area under the curve")):
+            out.append(f"\nPaired differences of the {label} (row minus column, mean over seeds; * Holm p < 0.05):\n")
+            c = comps[(comps.distractors == d) & (comps.metric == metric)]
+            out.append("| | " + " | ".join(NAMES[t] for t in names) + " |")
+            out.append("|---" * (len(names) + 1) + "|")
+            for a in names:
+                cells = []
+                for b in names:
+                    if a == b:
+                        cells.append("")
+                        continue
+                    r = c[((c.a == a) & (c.b == b)) | ((c.a == b) & (c.b == a))].iloc[0]
+                    diff = r.mean_diff if r.a == a else -r.mean_diff
+                    cells.append(f"{diff:+.3f}{'*' if r.p_holm < 0.05 else ''}")
+                out.append(f"| {NAMES[a]} | " + " | ".join(cells) + " |")
     return "\n".join(out) + "\n"
 
 
