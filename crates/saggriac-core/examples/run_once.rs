@@ -44,6 +44,7 @@ fn main() {
             "tf" => cfg.reaching.timeout_factor = f,
             "maxstep" => cfg.arm.max_joint_step = f,
             "warm" => cfg.warm_start_recent = f as usize,
+            "babble_step" => cfg.babble_step = f,
             _ => panic!("unknown key {k}"),
         }
     }
