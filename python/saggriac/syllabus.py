@@ -36,6 +36,7 @@ import numpy as np
 
 from .errors import ConformanceError, ParameterError
 from .goal_selection import DiscreteLpSelector
+from .gym.goals import _sample_batch
 
 COMPETENCES = ("progress", "return")
 
@@ -104,10 +105,7 @@ class SelectorCurriculum(Curriculum):
         """``k`` tasks from the teacher, as the task space encodes them."""
         if isinstance(k, bool) or not isinstance(k, (int, np.integer)) or k < 1:
             raise ParameterError(f"The 'k' parameter of SelectorCurriculum.sample must be an int >= 1. Got {k!r} instead.", "k", repr(k))
-        if hasattr(self.selector, "sample_batch"):
-            goals = np.asarray(self.selector.sample_batch(int(k)), dtype=np.float64)
-        else:
-            goals = np.array([np.asarray(self.selector.sample(), dtype=np.float64) for _ in range(int(k))])
+        goals = _sample_batch(self.selector, int(k))
         if self._discrete:
             return [int(g[0]) for g in goals]
         # The bounds are values of the Box's dtype and rounding is monotone, so a goal inside
