@@ -44,14 +44,14 @@ SKIP_PATHS = ("config.knn_index",)
 # forward-model test configurations the reference had ("uniform"); the least-norm IK ones
 # (issue 14) change the prediction error by design.
 # Configuration keys added since, with the value that means what the reference ran.
-ADDED_VALUES = {"config.test_configs": "uniform", "config.timeout_in_exploration": False, "config.competence": "relative", "config.actuator_candidates": 0, "config.chain": None, "config.teacher": "own"}
+ADDED_VALUES = {"config.test_configs": "uniform", "config.timeout_in_exploration": False, "config.competence": "relative", "config.actuator_candidates": 0, "config.chain": None, "config.teacher": "own", "config.interest_divisor": "window"}
 ADDED_PREFIXES = ("test_set.", "time_budget.")
 ADDED_COLUMNS = {"metrics": ("dx_error",)}
 
 SMALL: dict[str, Any] = dict(n_test_goals=30, n_test_configs=30, n_evals=8)
 # The behaviour the reference had, where later versions changed a default (older versions,
 # recording a reference, lack the keys).
-for _key, _value in (("test_configs", "uniform"), ("actuator_candidates", 0), ("babble_step", 0.01), ("competence", "relative")):
+for _key, _value in (("test_configs", "uniform"), ("actuator_candidates", 0), ("babble_step", 0.01), ("competence", "relative"), ("interest_divisor", "window")):
     if _key in {f.name for f in dataclasses.fields(saggriac.Config)}:
         SMALL[_key] = _value
 STEPS = {"exp1": 15000, "exp2": 30000, "explauto": 10000, "arm3d": 12000}

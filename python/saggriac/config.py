@@ -35,7 +35,9 @@ _REMOVED_INDEXES = ("kdtree", "kdtree_crate")
 # Keys added after runs were already being saved, with the value that reproduces what such a run
 # did: a run.json without "test_configs" tested its forward model at uniform configurations, and
 # one without "actuator_candidates" ran ACTUATOR-RIAC's free-proposal variant.
-_LEGACY_VALUES = {"test_configs": "uniform", "actuator_candidates": 0}
+# A run.json without "interest_divisor" (saggriac <= 0.2) divided a young region's eq. 2 by its
+# own window.
+_LEGACY_VALUES = {"test_configs": "uniform", "actuator_candidates": 0, "interest_divisor": "window"}
 
 
 @dataclass(frozen=True)
@@ -89,6 +91,9 @@ class Config:
     g_max: int = 50
     zeta: int = 20
     min_child: int = 5
+    # Eq. 2's denominator for a region holding fewer than zeta measurements: "zeta" as the
+    # paper prints it, or "window" (its own count, saggriac <= 0.2). See docs/parameters.md.
+    interest_divisor: str = "zeta"
     p_interest: float = 0.7
     p_global: float = 0.2
     p_lowest: float = 0.1

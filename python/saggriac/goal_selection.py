@@ -81,7 +81,13 @@ class _AskTellSelector:
         hi = _vector("high", high)
         seed = _int_param(owner, "seed", seed, 0, 2**64)
         for name, value in params.items():
-            params[name] = _float_param(owner, name, value) if name.startswith("p_") else _int_param(owner, name, value, 0, 2**63)
+            if name == "interest_divisor":
+                if not isinstance(value, str):
+                    raise ParameterError(f"The 'interest_divisor' parameter of {owner} must be one of 'zeta', 'window'. Got {value!r} instead.", name, repr(value))
+            elif name.startswith("p_"):
+                params[name] = _float_param(owner, name, value)
+            else:
+                params[name] = _int_param(owner, name, value, 0, 2**63)
         self._inner = _core.AskTell(self._kind, lo.tolist(), hi.tolist(), seed, **params)
         self.last_mode: str | None = None
         self.last_region: int | None = None
@@ -214,13 +220,15 @@ class SaggRiacSelector(_AskTellSelector):
     Goals come from a region drawn by interest (``p_interest``), from the whole box
     (``p_global``) or from the region of lowest mean competence (``p_lowest``). A region holding
     more than ``g_max`` measurements is split where the interest of its two halves differs most;
-    interest is the competence progress over the last ``zeta`` measurements.
+    interest is the competence progress over the last ``zeta`` measurements (eq. 2), divided by
+    ``zeta`` for every region as the paper prints it. ``interest_divisor="window"`` divides a
+    region holding fewer than ``zeta`` measurements by its own count instead (saggriac <= 0.2).
     """
 
     _kind = "sagg_riac"
 
-    def __init__(self, low: Any, high: Any, seed: int = 0, *, g_max: int = 50, zeta: int = 20, min_child: int = 5, p_interest: float = 0.7, p_global: float = 0.2, p_lowest: float = 0.1) -> None:
-        super().__init__(low, high, seed, g_max=g_max, zeta=zeta, min_child=min_child, p_interest=p_interest, p_global=p_global, p_lowest=p_lowest)
+    def __init__(self, low: Any, high: Any, seed: int = 0, *, g_max: int = 50, zeta: int = 20, min_child: int = 5, interest_divisor: str = "zeta", p_interest: float = 0.7, p_global: float = 0.2, p_lowest: float = 0.1) -> None:
+        super().__init__(low, high, seed, g_max=g_max, zeta=zeta, min_child=min_child, interest_divisor=interest_divisor, p_interest=p_interest, p_global=p_global, p_lowest=p_lowest)
 
 
 class RandomSelector(_AskTellSelector):

@@ -25,3 +25,12 @@ def derive_seeds(seed: int) -> tuple[int, int]:
     """(learner_seed, eval_seed) for a root seed."""
     learner, evaluation = np.random.SeedSequence(check_seed(seed)).spawn(2)
     return int(learner.generate_state(1, np.uint64)[0]), int(evaluation.generate_state(1, np.uint64)[0])
+
+
+def selector_seed(seed: int) -> int:
+    """The seed a run with root seed ``seed`` gives its own high level (SAGG-RIAC's region tree,
+    SAGG-Random's draws, or a ``Config(teacher=...)``): a selector built with it and the run's
+    parameters, passed as ``goal_selector=``, chooses exactly the run's own goals."""
+    from . import _core
+
+    return int(_core.child_seed(derive_seeds(seed)[0], 1))

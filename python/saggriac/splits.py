@@ -26,7 +26,7 @@ def replay_regions(attempts: pd.DataFrame, config: Config) -> pd.DataFrame:
     """The region tree that a SAGG-RIAC selector with ``config``'s tree parameters builds from
     the measurements of ``attempts`` (targets and competences, in order)."""
     dims = [c[len("target_") :] for c in attempts.columns if c.startswith("target_")]
-    sel = SaggRiacSelector(config.goal_low, config.goal_high, g_max=config.g_max, zeta=config.zeta, min_child=config.min_child)
+    sel = SaggRiacSelector(config.goal_low, config.goal_high, g_max=config.g_max, zeta=config.zeta, min_child=config.min_child, interest_divisor=config.interest_divisor)
     told = attempts[np.isfinite(attempts["competence"].to_numpy(float))]
     if len(told):
         sel.update_batch(told[[f"target_{d}" for d in dims]].to_numpy(float), told["competence"].to_numpy(float))

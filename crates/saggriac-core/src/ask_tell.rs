@@ -9,8 +9,9 @@ use crate::goal_selection::{GoalChoice, GoalSelector, ModeProbabilities, Selecto
 use crate::region_tree::RegionTreeConfig;
 use crate::teachers::TeacherSpec;
 
-/// Bumped whenever the saved layout changes; older saves are then refused.
-const FORMAT: u32 = 1;
+/// Bumped whenever the saved layout changes. Format 1 (saggriac <= 0.2, before SAGG-RIAC's tree
+/// had an eq.-2 divisor) is still read, as the `Window` reading it ran; older ones are refused.
+const FORMAT: u32 = 2;
 /// CRC-32C of the encoding, as checkpoints have: a damaged save is refused, never half-read.
 const CHECKSUM: crc::Crc<u32> = crc::Crc::<u32>::new(&crc::CRC_32_ISCSI);
 
@@ -27,6 +28,96 @@ struct Saved {
     told: Vec<f64>,
     told_competence: Vec<f64>,
     told_region: Vec<i64>,
+}
+
+enum DecodeError {
+    Trailing,
+    Postcard(postcard::Error),
+}
+
+fn decode<T: serde::de::DeserializeOwned>(bytes: &[u8]) -> std::result::Result<T, DecodeError> {
+    match postcard::take_from_bytes_crc32::<T>(bytes, CHECKSUM.digest()) {
+        Ok((s, [])) => Ok(s),
+        Ok(_) => Err(DecodeError::Trailing),
+        Err(e) => Err(DecodeError::Postcard(e)),
+    }
+}
+
+/// The layout of format 1 (saggriac <= 0.2): the same but for SAGG-RIAC's tree parameters.
+mod legacy {
+    use super::*;
+    use crate::config::high_level::InterestDivisor;
+    use crate::teachers::alp_gmm::AlpGmmConfig;
+    use crate::teachers::covar_gmm::CovarGmmConfig;
+    use crate::teachers::discrete_lp::DiscreteLpConfig;
+    use crate::teachers::riac::RiacConfig;
+
+    #[derive(Deserialize)]
+    pub struct TreeV1 {
+        g_max: usize,
+        zeta: usize,
+        min_child: usize,
+    }
+
+    /// `TeacherSpec` as format 1 wrote it (variants in the same order).
+    #[derive(Deserialize)]
+    pub enum SpecV1 {
+        SaggRiac { low: Vec<f64>, high: Vec<f64>, tree: TreeV1, modes: ModeProbabilities, seed: u64 },
+        Random { low: Vec<f64>, high: Vec<f64>, seed: u64 },
+        Riac { low: Vec<f64>, high: Vec<f64>, cfg: RiacConfig, seed: u64 },
+        DiscreteLp { cfg: DiscreteLpConfig, seed: u64 },
+        AlpGmm { low: Vec<f64>, high: Vec<f64>, cfg: AlpGmmConfig, seed: u64 },
+        CovarGmm { low: Vec<f64>, high: Vec<f64>, cfg: CovarGmmConfig, seed: u64 },
+    }
+
+    #[derive(Deserialize)]
+    pub struct SavedV1 {
+        pub _format: u32,
+        pub version: String,
+        pub spec: SpecV1,
+        pub state: SelectorState,
+        pub asked: Vec<f64>,
+        pub asked_mode: Vec<u8>,
+        pub asked_region: Vec<i64>,
+        pub told: Vec<f64>,
+        pub told_competence: Vec<f64>,
+        pub told_region: Vec<i64>,
+    }
+
+    impl From<SpecV1> for TeacherSpec {
+        fn from(s: SpecV1) -> Self {
+            match s {
+                // saggriac <= 0.2 divided a young region's eq. 2 by its own window.
+                SpecV1::SaggRiac { low, high, tree, modes, seed } => {
+                    let tree = RegionTreeConfig { g_max: tree.g_max, zeta: tree.zeta, min_child: tree.min_child, divisor: InterestDivisor::Window };
+                    TeacherSpec::SaggRiac { low, high, tree, modes, seed }
+                }
+                SpecV1::Random { low, high, seed } => TeacherSpec::Random { low, high, seed },
+                SpecV1::Riac { low, high, cfg, seed } => TeacherSpec::Riac { low, high, cfg, seed },
+                SpecV1::DiscreteLp { cfg, seed } => TeacherSpec::DiscreteLp { cfg, seed },
+                SpecV1::AlpGmm { low, high, cfg, seed } => TeacherSpec::AlpGmm { low, high, cfg, seed },
+                SpecV1::CovarGmm { low, high, cfg, seed } => TeacherSpec::CovarGmm { low, high, cfg, seed },
+            }
+        }
+    }
+
+    impl From<SavedV1> for Saved {
+        fn from(s: SavedV1) -> Self {
+            let spec = s.spec.into();
+            Saved {
+                format: FORMAT,
+                version: s.version,
+                spec,
+                state: s.state,
+                asked: s.asked,
+                asked_mode: s.asked_mode,
+                asked_region: s.asked_region,
+                told: s.told,
+                told_competence: s.told_competence,
+                told_region: s.told_region,
+            }
+        }
+    }
 }
 
 pub struct AskTell {
@@ -85,11 +176,14 @@ impl AskTell {
     /// The teacher `save` wrote.
     pub fn restore(bytes: &[u8]) -> Result<Self> {
         let refuse = |why: String| Error::InvalidInput(format!("{why} It cannot be restored; save the teacher again."));
-        let s: Saved = match postcard::take_from_bytes_crc32::<Saved>(bytes, CHECKSUM.digest()) {
-            Ok((s, [])) => s,
-            Ok(_) => return Err(refuse("The saved teacher is damaged: bytes follow its end.".into())),
-            Err(postcard::Error::DeserializeBadCrc) => return Err(refuse("The saved teacher is damaged: its checksum does not match its content.".into())),
-            Err(e) => return Err(refuse(format!("The data is damaged or not a saved saggriac teacher ({e})."))),
+        // The format comes first in every layout: read it alone, then the layout it names.
+        let format = postcard::take_from_bytes::<u32>(bytes).map(|(f, _)| f).unwrap_or(FORMAT);
+        let decoded = if format == 1 { decode::<legacy::SavedV1>(bytes).map(Saved::from) } else { decode::<Saved>(bytes) };
+        let s = match decoded {
+            Ok(s) => s,
+            Err(DecodeError::Trailing) => return Err(refuse("The saved teacher is damaged: bytes follow its end.".into())),
+            Err(DecodeError::Postcard(postcard::Error::DeserializeBadCrc)) => return Err(refuse("The saved teacher is damaged: its checksum does not match its content.".into())),
+            Err(DecodeError::Postcard(e)) => return Err(refuse(format!("The data is damaged or not a saved saggriac teacher ({e})."))),
         };
         if s.format != FORMAT {
             return Err(refuse(format!(
@@ -186,6 +280,34 @@ impl AskTell {
 mod tests {
     use super::*;
 
+    /// A SAGG-RIAC teacher saved by saggriac 0.2.0 (format 1; ac8c087, 200 goals told) restores
+    /// with the reading it ran, and asks the 20 goals 0.2.0 asked next, to the bit.
+    #[test]
+    fn a_teacher_saved_by_saggriac_0_2_continues_exactly() {
+        use crate::config::high_level::InterestDivisor;
+        use crate::rng::{rng_from_seed, uniform};
+        let bytes = include_bytes!("../tests/data/teacher_v1_sagg_riac.bin");
+        let next = include_str!("../tests/data/teacher_v1_sagg_riac.next");
+        let mut a = AskTell::restore(bytes).unwrap();
+        let TeacherSpec::SaggRiac { tree, .. } = a.spec() else { panic!("not SAGG-RIAC") };
+        assert_eq!((tree.g_max, tree.zeta, tree.min_child, tree.divisor), (12, 8, 2, InterestDivisor::Window));
+        assert_eq!(a.told_competence.len(), 200);
+        // The competences 0.2.0's generator drew, replayed: the first 200 went into the save.
+        let mut r = rng_from_seed(5);
+        for _ in 0..200 {
+            uniform(&mut r, 0.0, 1.0);
+        }
+        for line in next.lines() {
+            let bits: Vec<u64> = line.split(' ').map(|b| b.parse().unwrap()).collect();
+            let g = a.sample().goal;
+            assert_eq!((g[0].to_bits(), g[1].to_bits()), (bits[0], bits[1]));
+            a.update(&g, -uniform(&mut r, 0.0, 1.0) * (g[0] / 2.0)).unwrap();
+        }
+        // Saved again, it is a format-2 teacher that restores as itself.
+        let again = AskTell::restore(&a.save().unwrap()).unwrap();
+        assert_eq!(again.spec(), a.spec());
+    }
+
     #[test]
     fn rejects_bad_input_and_keeps_state() {
         let mut a = AskTell::sagg_riac(&[0.0, 0.0], &[1.0, 1.0], RegionTreeConfig::default(), ModeProbabilities::default(), 1).unwrap();
@@ -206,7 +328,7 @@ mod tests {
     /// never stopped, and keeps the history.
     #[test]
     fn a_restored_teacher_continues_exactly() {
-        let make = || AskTell::sagg_riac(&[0.0, 0.0, 0.0], &[1.0, 1.0, 1.0], RegionTreeConfig { g_max: 10, zeta: 5, min_child: 2 }, ModeProbabilities::default(), 3).unwrap();
+        let make = || AskTell::sagg_riac(&[0.0, 0.0, 0.0], &[1.0, 1.0, 1.0], RegionTreeConfig { g_max: 10, zeta: 5, min_child: 2, ..Default::default() }, ModeProbabilities::default(), 3).unwrap();
         let competence = |g: &[f64]| -(g[0] - 0.3).abs() - 0.5 * g[1];
         let (mut a, mut b) = (make(), make());
         for _ in 0..300 {

@@ -322,7 +322,7 @@ mod tests {
     /// mean competence.
     #[test]
     fn chooses_among_candidates_by_their_leaves() {
-        let cfg = RegionTreeConfig { g_max: 20, zeta: 10, min_child: 3 };
+        let cfg = RegionTreeConfig { g_max: 20, zeta: 10, min_child: 3, ..Default::default() };
         let mut s = SaggRiac::new(&[0.0, 0.0], &[1.0, 1.0], cfg, ModeProbabilities::default(), 3).unwrap();
         let cands = vec![vec![0.1, 0.5], vec![0.9, 0.5]];
         let first = s.choose(&cands).unwrap();
@@ -383,7 +383,7 @@ mod tests {
 
     #[test]
     fn same_seed_same_goals() {
-        let mk = || SaggRiac::new(&[0.0], &[1.0], RegionTreeConfig { g_max: 10, zeta: 4, min_child: 2 }, ModeProbabilities::default(), 3).unwrap();
+        let mk = || SaggRiac::new(&[0.0], &[1.0], RegionTreeConfig { g_max: 10, zeta: 4, min_child: 2, ..Default::default() }, ModeProbabilities::default(), 3).unwrap();
         let (mut a, mut b) = (mk(), mk());
         for i in 0..500 {
             let (ga, gb) = (a.sample(), b.sample());

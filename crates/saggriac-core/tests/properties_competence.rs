@@ -10,7 +10,7 @@ use proptest::prelude::*;
 
 use common::cases;
 use saggriac_core::competence::{competence, CompetenceConfig};
-use saggriac_core::interest::interest;
+use saggriac_core::interest::{interest, InterestDivisor};
 
 fn competence_config() -> impl Strategy<Value = CompetenceConfig> {
     (1e-6..10.0f64, 1e-6..0.999_999f64).prop_map(|(m, f)| CompetenceConfig { min_c: -m, eps_c: -m * f, ..Default::default() })
@@ -67,10 +67,15 @@ proptest! {
             (1usize..80, -1.0..=0.0f64).prop_map(|(n, v)| vec![v; n]),
         ],
         zeta in 2usize..50,
+        divisor in prop_oneof![Just(InterestDivisor::Zeta), Just(InterestDivisor::Window)],
     ) {
-        let i = interest(&vals, zeta);
+        let i = interest(&vals, zeta, divisor);
         prop_assert!(i.is_finite() && i >= 0.0, "interest {}", i);
         let window = &vals[vals.len() - vals.len().min(zeta)..];
+        // The readings differ only in the denominator: zeta as printed, or the window's length.
+        let other = interest(&vals, zeta, if divisor == InterestDivisor::Zeta { InterestDivisor::Window } else { InterestDivisor::Zeta });
+        let (by_zeta, by_w) = if divisor == InterestDivisor::Zeta { (i, other) } else { (other, i) };
+        prop_assert!((by_zeta * zeta as f64 - by_w * window.len() as f64).abs() <= 1e-9 * (by_w * window.len() as f64).max(1e-300), "zeta {} vs window {}", by_zeta, by_w);
         let max = window.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
         let min = window.iter().cloned().fold(f64::INFINITY, f64::min);
         if window.len() < 2 || max == min {

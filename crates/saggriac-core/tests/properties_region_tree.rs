@@ -9,6 +9,7 @@ mod common;
 use proptest::prelude::*;
 
 use common::{cases, TestResult};
+use saggriac_core::interest::InterestDivisor;
 use saggriac_core::region_tree::{RegionTree, RegionTreeConfig};
 use saggriac_core::rng::{index, rng_from_seed, uniform, unit, CoreRng};
 
@@ -17,8 +18,71 @@ fn interval() -> impl Strategy<Value = (f64, f64)> {
     prop_oneof![Just((0.0, 1.0)), Just((0.0, 1e-9)), Just((-1e12, 1e12)), Just((1e9, 1e9 + 1e-3)), (-100.0..100.0f64, 1e-6..1e3f64).prop_map(|(l, w)| (l, l + w)),]
 }
 
+fn divisor() -> impl Strategy<Value = InterestDivisor> {
+    prop_oneof![Just(InterestDivisor::Zeta), Just(InterestDivisor::Window)]
+}
+
 fn tree_config() -> impl Strategy<Value = RegionTreeConfig> {
-    (2usize..=12, 2usize..=12).prop_flat_map(|(g_max, zeta)| (Just(g_max), Just(zeta), 1usize..=g_max.div_ceil(2))).prop_map(|(g_max, zeta, min_child)| RegionTreeConfig { g_max, zeta, min_child })
+    (2usize..=12, 2usize..=12, divisor())
+        .prop_flat_map(|(g_max, zeta, divisor)| (Just(g_max), Just(zeta), 1usize..=g_max.div_ceil(2), Just(divisor)))
+        .prop_map(|(g_max, zeta, min_child, divisor)| RegionTreeConfig { g_max, zeta, min_child, divisor })
+}
+
+/// Eq. 2 written out term by term, with the paper's 1-based time index j over a region's n
+/// competences C_1..C_n. The window is the last m = min(n, zeta) of them, split into an older
+/// half j = n-m+1 .. n-m+h and a newer half j = n-h+1 .. n with h = floor(m / 2) (an odd m
+/// leaves its middle term out); the difference of the half-sums is divided by zeta as printed,
+/// or by m under the `Window` reading.
+fn eq2_by_hand(c: &[f64], zeta: usize, divisor: InterestDivisor) -> f64 {
+    let n = c.len();
+    let m = n.min(zeta);
+    let h = m / 2;
+    if h == 0 {
+        return 0.0;
+    }
+    let term = |j: usize| c[j - 1];
+    let mut older = 0.0;
+    for j in (n - m + 1)..=(n - m + h) {
+        older += term(j);
+    }
+    let mut newer = 0.0;
+    for j in (n - h + 1)..=n {
+        newer += term(j);
+    }
+    let denominator = match divisor {
+        InterestDivisor::Zeta => zeta as f64,
+        InterestDivisor::Window => m as f64,
+    };
+    (older - newer).abs() / denominator
+}
+
+/// Equal up to rounding: the brute force and the tree may add the same terms in another order.
+fn close(a: f64, b: f64, scale: f64) -> bool {
+    (a - b).abs() <= 1e-12 * scale.max(1e-300)
+}
+
+/// The best cut score of a leaf by brute force: every axis-aligned cut between distinct
+/// coordinates that gives each child at least min_child measurements, scored by eq. 2 by hand.
+fn best_cut_by_hand(t: &RegionTree, leaf: usize) -> Option<f64> {
+    let cfg = t.config();
+    let entries = &t.region(leaf).entries;
+    let mut best: Option<f64> = None;
+    for d in 0..t.dim() {
+        let mut cs: Vec<f64> = entries.iter().map(|&e| t.point(e as usize)[d]).collect();
+        cs.sort_by(f64::total_cmp);
+        cs.dedup();
+        for w in cs.windows(2) {
+            // Any cut strictly between two consecutive distinct coordinates parts them alike.
+            let side = |left: bool| -> Vec<f64> { entries.iter().filter(|&&e| (t.point(e as usize)[d] <= w[0]) == left).map(|&e| t.value(e as usize)).collect() };
+            let (l, r) = (side(true), side(false));
+            if l.len() < cfg.min_child || r.len() < cfg.min_child {
+                continue;
+            }
+            let score = (eq2_by_hand(&l, cfg.zeta, cfg.divisor) - eq2_by_hand(&r, cfg.zeta, cfg.divisor)).abs();
+            best = Some(best.map_or(score, |b: f64| b.max(score)));
+        }
+    }
+    best
 }
 
 /// How the measurement points are laid out, as fractions of the box in each dimension.
@@ -226,6 +290,16 @@ fn check_tree(t: &RegionTree) -> TestResult {
             prop_assert!(entries.is_empty());
         }
         prop_assert!(t.region(l).interest >= 0.0 && t.region(l).interest.is_finite());
+        // Eq. 2 by hand on the leaf's competences, in time order.
+        let vals: Vec<f64> = entries.iter().map(|&e| t.value(e as usize)).collect();
+        let scale = vals.iter().fold(0.0f64, |s, v| s.max(v.abs()));
+        let by_hand = eq2_by_hand(&vals, t.config().zeta, t.config().divisor);
+        prop_assert!(close(t.region(l).interest, by_hand, scale), "leaf {} interest {} vs eq. 2 by hand {}", l, t.region(l).interest, by_hand);
+        // The cut search finds the best score by hand whenever a cut obeys min_child.
+        if let Some(hand) = best_cut_by_hand(t, l) {
+            let found = t.best_cut(l).map(|c| c.2);
+            prop_assert!(found.is_some_and(|f| close(f, hand, scale)), "leaf {} best cut score {:?} vs by hand {}", l, found, hand);
+        }
     }
     let closed = closed_tops(t);
     for (id, &l) in owner.iter().enumerate() {
@@ -354,7 +428,7 @@ fn identical_measurements_do_not_pile_up_splits() {
 /// as b for `x < cut` to separate them.
 #[test]
 fn cut_between_adjacent_floats() {
-    let cfg = RegionTreeConfig { g_max: 2, zeta: 2, min_child: 1 };
+    let cfg = RegionTreeConfig { g_max: 2, zeta: 2, min_child: 1, ..Default::default() };
     let mut t = RegionTree::new(&[0.0], &[1.0], cfg).unwrap();
     let a = 0.5f64;
     let b = f64::from_bits(a.to_bits() + 1);

@@ -8,6 +8,7 @@ use proptest::prelude::*;
 use common::{cases, TestResult};
 use saggriac_core::ask_tell::AskTell;
 use saggriac_core::goal_selection::ModeProbabilities;
+use saggriac_core::interest::InterestDivisor;
 use saggriac_core::region_tree::RegionTreeConfig;
 use saggriac_core::rng::{rng_from_seed, uniform};
 use saggriac_core::teachers::alp_gmm::AlpGmmConfig;
@@ -20,11 +21,10 @@ fn spec() -> impl Strategy<Value = TeacherSpec> {
     let bounds = (1usize..=6)
         .prop_flat_map(|d| proptest::collection::vec((-10.0..10.0f64, 1e-3..10.0f64), d))
         .prop_map(|b| (b.iter().map(|(l, _)| *l).collect::<Vec<f64>>(), b.iter().map(|(l, w)| l + w).collect::<Vec<f64>>()));
-    let tree = (2usize..=30, 2usize..=20).prop_flat_map(|(g_max, zeta)| (Just(g_max), Just(zeta), 1usize..=g_max.div_ceil(2))).prop_map(|(g_max, zeta, min_child)| RegionTreeConfig {
-        g_max,
-        zeta,
-        min_child,
-    });
+    let divisor = prop_oneof![Just(InterestDivisor::Zeta), Just(InterestDivisor::Window)];
+    let tree = (2usize..=30, 2usize..=20, divisor)
+        .prop_flat_map(|(g_max, zeta, divisor)| (Just(g_max), Just(zeta), 1usize..=g_max.div_ceil(2), Just(divisor)))
+        .prop_map(|(g_max, zeta, min_child, divisor)| RegionTreeConfig { g_max, zeta, min_child, divisor });
     let riac = (5usize..=60, 1usize..=20, 0.05..0.5f64, 0.01..0.5f64).prop_map(|(max_region_size, split_attempts, min_child_share, min_dims_range_ratio)| RiacConfig {
         max_region_size,
         split_attempts,

@@ -4,6 +4,7 @@ use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, P
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use saggriac_core::ask_tell::AskTell;
+use saggriac_core::config::high_level::InterestDivisor;
 use saggriac_core::error::invalid;
 use saggriac_core::goal_selection::ModeProbabilities;
 use saggriac_core::region_tree::RegionTreeConfig;
@@ -36,13 +37,27 @@ fn named(r: saggriac_core::Result<AskTell>, owner: &'static str) -> saggriac_cor
 
 #[pymethods]
 impl PyAskTell {
-    /// AskTell(kind: "sagg_riac" | "random", low, high, seed, g_max, zeta, min_child, p_interest, p_global, p_lowest)
+    /// AskTell(kind: "sagg_riac" | "random", low, high, seed, g_max, zeta, min_child, interest_divisor, p_interest, p_global, p_lowest)
     #[new]
-    #[pyo3(signature = (kind, low, high, seed, g_max=50, zeta=20, min_child=5, p_interest=0.7, p_global=0.2, p_lowest=0.1))]
+    #[pyo3(signature = (kind, low, high, seed, g_max=50, zeta=20, min_child=5, interest_divisor="zeta", p_interest=0.7, p_global=0.2, p_lowest=0.1))]
     #[allow(clippy::too_many_arguments)]
-    fn new(py: Python<'_>, kind: &str, low: Vec<f64>, high: Vec<f64>, seed: u64, g_max: usize, zeta: usize, min_child: usize, p_interest: f64, p_global: f64, p_lowest: f64) -> PyResult<Self> {
+    fn new(
+        py: Python<'_>,
+        kind: &str,
+        low: Vec<f64>,
+        high: Vec<f64>,
+        seed: u64,
+        g_max: usize,
+        zeta: usize,
+        min_child: usize,
+        interest_divisor: &str,
+        p_interest: f64,
+        p_global: f64,
+        p_lowest: f64,
+    ) -> PyResult<Self> {
         let inner = match kind {
-            "sagg_riac" => AskTell::sagg_riac(&low, &high, RegionTreeConfig { g_max, zeta, min_child }, ModeProbabilities { p_interest, p_global, p_lowest }, seed),
+            "sagg_riac" => InterestDivisor::parse("SaggRiacSelector", interest_divisor)
+                .and_then(|divisor| AskTell::sagg_riac(&low, &high, RegionTreeConfig { g_max, zeta, min_child, divisor }, ModeProbabilities { p_interest, p_global, p_lowest }, seed)),
             "random" => AskTell::random(&low, &high, seed),
             other => return Err(to_py(py, invalid("GoalSelector", "kind", "one of 'sagg_riac', 'random'", format!("'{other}'")))),
         };

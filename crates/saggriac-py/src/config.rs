@@ -6,7 +6,7 @@ use pyo3::types::PyDict;
 use saggriac_core::arm::{ArmConfig, ArmKind};
 use saggriac_core::chain::{Chain, ChainSpec};
 use saggriac_core::config::evaluation::TestConfigs;
-use saggriac_core::config::high_level::{CompetenceKind, Teacher};
+use saggriac_core::config::high_level::{CompetenceKind, InterestDivisor, Teacher};
 use saggriac_core::config::Paradigm;
 use saggriac_core::error::invalid;
 use saggriac_core::memory::IndexKind;
@@ -19,7 +19,7 @@ use crate::errors::to_py;
 pub const KEYS: &[&str] = &[
     "condition", "n_steps", "body", "n_joints", "arm_length", "link_lengths", "joint_limit", "max_joint_step", "goal_low", "goal_high",
     "v", "n_subgoals", "eps_max", "timeout_factor", "timeout_min", "timeout_in_exploration", "q", "explore_step", "k_neighbours", "ridge", "pinv_rcond",
-    "bandwidth", "min_c", "eps_c", "competence", "g_max", "zeta", "min_child", "p_interest", "p_global", "p_lowest", "reset_every",
+    "bandwidth", "min_c", "eps_c", "competence", "g_max", "zeta", "min_child", "interest_divisor", "p_interest", "p_global", "p_lowest", "reset_every",
     "n_test_goals", "n_test_configs", "test_configs", "eval_tolerance", "eval_patience", "eval_timeout_factor", "eval_timeout_min",
     "eval_schedule", "knn_index", "warm_start_recent", "babble_step", "actuator_candidates", "actuator_reset_every", "paradigm", "episodic_noise", "episodic_refine", "episodic_k", "motor_noise", "sensor_noise", "body_change_step",
     "body_change_link", "body_change_length", "chain", "teacher",
@@ -127,6 +127,8 @@ pub fn run_config_from_dict(d: &Bound<'_, PyDict>) -> PyResult<RunConfig> {
     c.tree.g_max = get(d, "g_max", c.tree.g_max, "an int >= 2")?;
     c.tree.zeta = get(d, "zeta", c.tree.zeta, "an int >= 2")?;
     c.tree.min_child = get(d, "min_child", c.tree.min_child, "an int >= 1")?;
+    let divisor: String = get(d, "interest_divisor", c.tree.divisor.name().to_string(), "a str")?;
+    c.tree.divisor = InterestDivisor::parse("Config", &divisor).map_err(|e| to_py(py, e))?;
     c.modes.p_interest = get(d, "p_interest", c.modes.p_interest, "a float")?;
     c.modes.p_global = get(d, "p_global", c.modes.p_global, "a float")?;
     c.modes.p_lowest = get(d, "p_lowest", c.modes.p_lowest, "a float")?;

@@ -25,6 +25,13 @@ fn validate_config(config: &Bound<'_, pyo3::types::PyDict>) -> PyResult<()> {
     config::run_config_from_dict(config).map(|_| ())
 }
 
+/// child_seed(parent, stream) -> int: the core's seed of one component (SplitMix64 mixing; stream
+/// 1 is the high level, 2 the low level's generator).
+#[pyfunction]
+fn child_seed(parent: u64, stream: u64) -> u64 {
+    saggriac_core::rng::child_seed(parent, stream)
+}
+
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<run_loop::PyLearner>()?;
@@ -35,6 +42,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     // A test configuration further than this times the reach from its goal did not reach it.
     m.add("IK_TOLERANCE", saggriac_core::test_set::IK_TOLERANCE)?;
     m.add_function(wrap_pyfunction!(validate_config, m)?)?;
+    m.add_function(wrap_pyfunction!(child_seed, m)?)?;
     m.add_function(wrap_pyfunction!(competence::competence, m)?)?;
     m.add_function(wrap_pyfunction!(chain::chain_forward, m)?)?;
     m.add_function(wrap_pyfunction!(chain::chain_points, m)?)?;

@@ -58,6 +58,41 @@ impl CompetenceConfig {
     }
 }
 
+/// The denominator of eq. 2 for a region holding fewer than zeta measurements (for a full window
+/// both readings divide by zeta). The paper prints zeta and says nothing of young regions.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+pub enum InterestDivisor {
+    /// Eq. 2 as printed: every region's half-sums are divided by zeta, so a young region's
+    /// progress counts in proportion to the measurements behind it (saggriac >= 0.3).
+    #[default]
+    Zeta,
+    /// The region's own window w = min(|R|, zeta): a young region gets the scale of a full one
+    /// (saggriac <= 0.2; kept for comparisons and for the same bits as older builds).
+    Window,
+}
+
+impl InterestDivisor {
+    pub const NAMES: [&'static str; 2] = ["zeta", "window"];
+
+    pub fn parse(owner: &'static str, s: &str) -> Result<Self> {
+        match s {
+            "zeta" => Ok(InterestDivisor::Zeta),
+            "window" => Ok(InterestDivisor::Window),
+            _ => Err(invalid(owner, "interest_divisor", "one of 'zeta' (eq. 2 as printed), 'window' (saggriac <= 0.2)", format!("'{s}'"))),
+        }
+    }
+    pub fn name(&self) -> &'static str {
+        Self::NAMES[*self as usize]
+    }
+    /// The denominator of a window of `w` values under window length `zeta`.
+    pub fn of(&self, w: usize, zeta: usize) -> f64 {
+        match self {
+            InterestDivisor::Zeta => zeta as f64,
+            InterestDivisor::Window => w as f64,
+        }
+    }
+}
+
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct RegionTreeConfig {
     /// A leaf holding more than g_max measurements is split.
@@ -66,11 +101,13 @@ pub struct RegionTreeConfig {
     pub zeta: usize,
     /// Fewest measurements each child of a split must receive.
     pub min_child: usize,
+    /// Eq. 2's denominator for regions younger than zeta measurements.
+    pub divisor: InterestDivisor,
 }
 
 impl Default for RegionTreeConfig {
     fn default() -> Self {
-        RegionTreeConfig { g_max: 50, zeta: 20, min_child: 5 }
+        RegionTreeConfig { g_max: 50, zeta: 20, min_child: 5, divisor: InterestDivisor::Zeta }
     }
 }
 

@@ -10,7 +10,7 @@ pub mod model;
 
 pub use body::{ArmConfig, ArmKind, BodyChange};
 pub use evaluation::EvalConfig;
-pub use high_level::{check_bounds, CompetenceConfig, ModeProbabilities, RegionTreeConfig, Teacher};
+pub use high_level::{check_bounds, CompetenceConfig, InterestDivisor, ModeProbabilities, RegionTreeConfig, Teacher};
 pub use low_level::{EpisodicConfig, ExplorationConfig, ReachingConfig};
 pub use model::{IndexKind, LocalModelConfig, MIN_RCOND};
 

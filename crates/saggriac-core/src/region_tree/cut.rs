@@ -2,6 +2,8 @@
 //! children differ most in interest. A function of the leaf's measurements only, kept apart
 //! from the tree's bookkeeping.
 
+use crate::interest::InterestDivisor;
+
 /// The measurements of a tree (points row by row, values in time order) and its split rules.
 pub struct Cuts<'a> {
     pub points: &'a [f64],
@@ -9,6 +11,7 @@ pub struct Cuts<'a> {
     pub dim: usize,
     pub zeta: usize,
     pub min_child: usize,
+    pub divisor: InterestDivisor,
 }
 
 impl Cuts<'_> {
@@ -42,7 +45,7 @@ impl Cuts<'_> {
         }
         let older: f64 = window[w - half..].iter().rev().sum();
         let newer: f64 = window[..half].iter().rev().sum();
-        (older - newer).abs() / w as f64
+        (older - newer).abs() / self.divisor.of(w, zeta)
     }
 
     /// Choose the cut (dimension, position) that maximises |interest(left) - interest(right)|

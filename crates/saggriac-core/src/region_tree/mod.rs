@@ -228,7 +228,7 @@ impl RegionTree {
         let start = reg.entries.len().saturating_sub(zeta);
         self.window.clear();
         self.window.extend(reg.entries[start..].iter().map(|&e| self.values[e as usize]));
-        self.regions[leaf].interest = interest(&self.window, zeta);
+        self.regions[leaf].interest = interest(&self.window, zeta, self.cfg.divisor);
     }
 
     /// Choose the cut (dimension, position) that maximises |interest(left) - interest(right)|
@@ -239,7 +239,7 @@ impl RegionTree {
     }
 
     fn cuts(&self) -> Cuts<'_> {
-        Cuts { points: &self.points, values: &self.values, dim: self.dim, zeta: self.cfg.zeta, min_child: self.cfg.min_child }
+        Cuts { points: &self.points, values: &self.values, dim: self.dim, zeta: self.cfg.zeta, min_child: self.cfg.min_child, divisor: self.cfg.divisor }
     }
 
     /// Split a leaf; false when no cut can separate its measurements.

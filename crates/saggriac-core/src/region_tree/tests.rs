@@ -3,6 +3,7 @@
 
 use super::cut::midpoint;
 use super::*;
+use crate::interest::InterestDivisor;
 use crate::rng::{rng_from_seed, uniform};
 
 /// The tracked minimum and the draw's total weight equal a scan after every measurement,
@@ -11,7 +12,7 @@ use crate::rng::{rng_from_seed, uniform};
 #[test]
 fn min_interest_and_weight_total_match_a_scan_after_every_add() {
     for (seed, levels) in [(1u64, 0.0), (2, 4.0), (3, 1.0)] {
-        let cfg = RegionTreeConfig { g_max: 8, zeta: 6, min_child: 2 };
+        let cfg = RegionTreeConfig { g_max: 8, zeta: 6, min_child: 2, ..Default::default() };
         let mut t = RegionTree::new(&[0.0, 0.0], &[1.0, 1.0], cfg).unwrap();
         let mut r = rng_from_seed(seed);
         for i in 0..3000 {
@@ -60,7 +61,7 @@ fn best_cut_matches_its_definition() {
                 if l.len() < cfg.min_child.max(1) || r.len() < cfg.min_child.max(1) {
                     continue;
                 }
-                let score = (interest(&l, cfg.zeta) - interest(&r, cfg.zeta)).abs();
+                let score = (interest(&l, cfg.zeta, cfg.divisor) - interest(&r, cfg.zeta, cfg.divisor)).abs();
                 let imbalance = (2 * l.len()).abs_diff(n);
                 if best.is_none_or(|(s, imb, _, _)| score > s || (score == s && imbalance < imb)) {
                     best = Some((score, imbalance, d, cut));
@@ -69,26 +70,29 @@ fn best_cut_matches_its_definition() {
         }
         best.map(|(s, _, d, v)| (d, v, s))
     };
-    let mut r = rng_from_seed(9);
-    for (case, &(n, zeta, min_child, grid)) in [(10, 4, 1, 0.0), (63, 20, 5, 8.0), (64, 20, 5, 0.0), (65, 64, 3, 4.0), (130, 100, 5, 16.0), (200, 20, 1, 3.0), (200, 300, 5, 0.0)].iter().enumerate() {
-        let cfg = RegionTreeConfig { g_max: 200, zeta, min_child };
-        let mut t = RegionTree::new(&[0.0, 0.0, 0.0], &[1.0, 1.0, 1.0], cfg).unwrap();
-        for _ in 0..n {
-            // grid > 0: coarse coordinates and competences, so ties are common.
-            let mut q = || {
-                let v = uniform(&mut r, 0.0, 1.0);
-                if grid > 0.0 {
-                    (v * grid).floor() / grid
-                } else {
-                    v
-                }
-            };
-            let p = [q(), q(), q()];
-            t.add(&p, -q());
+    let cases = [(10, 4, 1, 0.0), (63, 20, 5, 8.0), (64, 20, 5, 0.0), (65, 64, 3, 4.0), (130, 100, 5, 16.0), (200, 20, 1, 3.0), (200, 300, 5, 0.0)];
+    for divisor in [InterestDivisor::Zeta, InterestDivisor::Window] {
+        let mut r = rng_from_seed(9);
+        for (case, &(n, zeta, min_child, grid)) in cases.iter().enumerate() {
+            let cfg = RegionTreeConfig { g_max: 200, zeta, min_child, divisor };
+            let mut t = RegionTree::new(&[0.0, 0.0, 0.0], &[1.0, 1.0, 1.0], cfg).unwrap();
+            for _ in 0..n {
+                // grid > 0: coarse coordinates and competences, so ties are common.
+                let mut q = || {
+                    let v = uniform(&mut r, 0.0, 1.0);
+                    if grid > 0.0 {
+                        (v * grid).floor() / grid
+                    } else {
+                        v
+                    }
+                };
+                let p = [q(), q(), q()];
+                t.add(&p, -q());
+            }
+            let (got, want) = (t.best_cut(0), reference(&t, 0));
+            assert!(want.is_some(), "case {case}");
+            assert_eq!(got.map(|(d, v, s)| (d, v.to_bits(), s.to_bits())), want.map(|(d, v, s)| (d, v.to_bits(), s.to_bits())), "case {case}, {divisor:?}");
         }
-        let (got, want) = (t.best_cut(0), reference(&t, 0));
-        assert!(want.is_some(), "case {case}");
-        assert_eq!(got.map(|(d, v, s)| (d, v.to_bits(), s.to_bits())), want.map(|(d, v, s)| (d, v.to_bits(), s.to_bits())), "case {case}");
     }
 }
 
@@ -142,7 +146,7 @@ fn leaves_partition_the_space_and_hold_their_points() {
 
 #[test]
 fn splits_only_above_g_max() {
-    let mut t = RegionTree::new(&[0.0], &[1.0], RegionTreeConfig { g_max: 10, zeta: 4, min_child: 2 }).unwrap();
+    let mut t = RegionTree::new(&[0.0], &[1.0], RegionTreeConfig { g_max: 10, zeta: 4, min_child: 2, ..Default::default() }).unwrap();
     for i in 0..10 {
         let (_, split) = t.add(&[i as f64 / 10.0], -0.5);
         assert!(!split);
@@ -157,7 +161,7 @@ fn splits_only_above_g_max() {
 fn cut_separates_progress_from_no_progress() {
     // Left half: competence improving over time; right half: constant. The cut must fall
     // between them.
-    let mut t = RegionTree::new(&[0.0], &[1.0], RegionTreeConfig { g_max: 20, zeta: 10, min_child: 2 }).unwrap();
+    let mut t = RegionTree::new(&[0.0], &[1.0], RegionTreeConfig { g_max: 20, zeta: 10, min_child: 2, ..Default::default() }).unwrap();
     for i in 0..21 {
         if i % 2 == 0 {
             t.add(&[0.1 + 0.01 * i as f64], -1.0 + 0.09 * i as f64);
@@ -171,7 +175,7 @@ fn cut_separates_progress_from_no_progress() {
 
 #[test]
 fn identical_points_wait_for_a_distinct_one() {
-    let mut t = RegionTree::new(&[0.0, 0.0], &[1.0, 2.0], RegionTreeConfig { g_max: 5, zeta: 4, min_child: 3 }).unwrap();
+    let mut t = RegionTree::new(&[0.0, 0.0], &[1.0, 2.0], RegionTreeConfig { g_max: 5, zeta: 4, min_child: 3, ..Default::default() }).unwrap();
     for _ in 0..20 {
         t.add(&[0.5, 0.5], -1.0);
     }
@@ -186,6 +190,6 @@ fn identical_points_wait_for_a_distinct_one() {
 #[test]
 fn bad_bounds_and_parameters() {
     assert!(RegionTree::new(&[0.0], &[0.0], RegionTreeConfig::default()).is_err());
-    let e = RegionTreeConfig { g_max: 1, zeta: 4, min_child: 1 }.validate().unwrap_err();
+    let e = RegionTreeConfig { g_max: 1, zeta: 4, min_child: 1, ..Default::default() }.validate().unwrap_err();
     assert_eq!(e.to_string(), "The 'g_max' parameter of RegionTree must be an int >= 2. Got 1 instead.");
 }

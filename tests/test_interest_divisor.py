@@ -1,0 +1,70 @@
+"""Eq. 2's denominator for young regions (issue 24): zeta as printed, or the region's own window."""
+
+import numpy as np
+import pytest
+
+import saggriac
+from saggriac import Config
+from saggriac.errors import ParameterError
+
+
+def root_interest(values, **kw):
+    sel = saggriac.SaggRiacSelector([0.0], [1.0], seed=0, g_max=50, zeta=20, **kw)
+    for i, c in enumerate(values):
+        sel.update([0.1 + 0.01 * i], c)
+    return float(sel.regions()["interest"][0])
+
+
+def test_young_region_divides_by_zeta_as_printed():
+    young = [-1, -1, -1, 0, 0, 0]
+    assert root_interest(young) == pytest.approx(0.15, abs=1e-15)
+    assert root_interest(young, interest_divisor="zeta") == pytest.approx(0.15, abs=1e-15)
+    assert root_interest(young, interest_divisor="window") == pytest.approx(0.5, abs=1e-15)
+    assert root_interest([-1.0] * 6) == 0.0
+    # A full window: both readings divide by zeta.
+    full = list(np.linspace(-1, 0, 30))
+    assert root_interest(full) == root_interest(full, interest_divisor="window")
+
+
+@pytest.mark.parametrize("bad", ["w", "ZETA", "", 20, None, True])
+def test_bad_divisor_is_named(bad):
+    with pytest.raises(ParameterError, match="interest_divisor") as e:
+        saggriac.SaggRiacSelector([0.0], [1.0], interest_divisor=bad)
+    assert e.value.param == "interest_divisor"
+    with pytest.raises(ParameterError, match="interest_divisor"):
+        Config(interest_divisor=bad)
+
+
+def test_runs_saved_before_the_key_read_back_as_window():
+    d = Config.from_preset("exp2").to_dict()
+    del d["interest_divisor"]
+    assert Config.from_saved(d).interest_divisor == "window"
+    assert Config.from_preset("exp2").interest_divisor == "zeta"
+
+
+@pytest.mark.parametrize("divisor", ["zeta", "window"])
+def test_the_run_and_the_selector_read_eq2_alike(divisor):
+    """A run's built-in high level and a SaggRiacSelector given the same seed and reading choose
+    the same goals."""
+    cfg = Config.from_preset("exp2", n_steps=6000, n_evals=1, n_test_goals=5, n_test_configs=5, interest_divisor=divisor, zeta=10, g_max=20)
+    built_in = saggriac.run(cfg, seed=3)
+    seed = saggriac.seeding.selector_seed(3)
+    sel = saggriac.SaggRiacSelector(cfg.goal_low, cfg.goal_high, seed=seed, g_max=20, zeta=10, interest_divisor=divisor)
+    user = saggriac.run(cfg, seed=3, goal_selector=sel)
+    cols = ["goal_x", "goal_y", "competence"]
+    np.testing.assert_array_equal(built_in.goals[cols].to_numpy(), user.goals[cols].to_numpy())
+
+
+def test_a_run_follows_its_reading():
+    """The key reaches the run's region tree: the two readings part after the first splits, and
+    each run's tree holds the interests its reading gives."""
+    cfg = Config.from_preset("exp1", n_steps=20000, n_evals=1, n_test_goals=5, n_test_configs=5)
+    a = saggriac.run(cfg, seed=101)
+    b = saggriac.run(cfg.replace(interest_divisor="window"), seed=101)
+    n = min(len(a.goals), len(b.goals))
+    assert not np.array_equal(a.goals["goal_x"].to_numpy()[:n], b.goals["goal_x"].to_numpy()[:n])
+    for res, divisor in ((a, "zeta"), (b, "window")):
+        att = res.attempts
+        sel = saggriac.SaggRiacSelector(cfg.goal_low, cfg.goal_high, interest_divisor=divisor)
+        sel.update_batch(np.clip(att[["target_x", "target_y"]].to_numpy(), cfg.goal_low, cfg.goal_high), att["competence"].to_numpy())
+        np.testing.assert_array_equal(np.sort(sel.leaves()["interest"]), np.sort(res.regions.query("is_leaf")["interest"].to_numpy()))
