@@ -3,7 +3,7 @@
     teacher = SaggRiacSelector(low=[0, 0], high=[1, 1], seed=0)
     for _ in range(1000):
         goal = teacher.sample()
-        competence = my_learner.try_goal(goal)   # any float, higher is better (paper: <= 0)
+        competence = my_learner.try_goal(goal)   # a float (|c| <= 1e100), higher is better (paper: <= 0)
         teacher.update(goal, competence)
 
 The region tree, the interest (competence progress) and the three goal modes are the Rust core's,
@@ -13,7 +13,6 @@ the same code the run loop uses.
 from __future__ import annotations
 
 import os
-import tempfile
 from pathlib import Path
 from typing import Any, Protocol, runtime_checkable
 
@@ -21,6 +20,7 @@ import numpy as np
 
 from . import _core
 from .errors import InputError, ParameterError, StorageError
+from .files import as_path, check_flag, starts_with, write_file
 
 #: The first bytes of a teacher saved by ``save(path)``.
 MAGIC = b"saggriac-teacher\n"
@@ -41,13 +41,24 @@ class GoalSelectorProtocol(Protocol):
     def update(self, goal: np.ndarray, competence: float) -> Any: ...
 
 
-def _vector(name: str, value: Any, dim: int | None = None) -> np.ndarray:
+def _numbers(name: str, value: Any) -> np.ndarray:
+    """``value`` as float64, refusing what is not already numbers: strings, bools and objects
+    would otherwise be coerced ('0.5' -> 0.5, True -> 1.0) without a word."""
     if value is None or isinstance(value, (str, bytes)):
         raise InputError(f"{name} must be an array of floats; got {value!r}.")
     try:
-        arr = np.ascontiguousarray(value, dtype=np.float64)
+        raw = np.asarray(value)
     except (TypeError, ValueError) as e:
         raise InputError(f"{name} must be an array of floats; got {value!r}.") from e
+    if raw.dtype.kind not in "iuf":
+        what = {"b": "bools", "U": "strings", "S": "bytes", "O": "objects that are not all numbers", "c": "complex numbers"}.get(raw.dtype.kind, f"values of type {raw.dtype}")
+        raise InputError(f"{name} must be an array of floats; got {what}: {value!r}.")
+    arr = np.asarray(raw, dtype=np.float64)
+    return np.ascontiguousarray(arr) if arr.ndim else arr
+
+
+def _vector(name: str, value: Any, dim: int | None = None) -> np.ndarray:
+    arr = _numbers(name, value)
     if arr.ndim != 1 or (dim is not None and arr.shape[0] != dim):
         want = f"shape ({dim},)" if dim is not None else "a 1-D array"
         raise InputError(f"{name} must have {want}; got shape {arr.shape}.")
@@ -118,24 +129,22 @@ class _AskTellSelector:
 
     def sample_batch(self, n: int) -> np.ndarray:
         """``n`` goals at once, shape (n, dim): as n calls of ``sample()`` without updates."""
-        if not isinstance(n, (int, np.integer)) or isinstance(n, bool) or n < 0:
-            raise InputError(f"n must be an int >= 0; got {n!r}.")
-        return self._inner.sample_batch(int(n))
+        n = _int_param(f"{type(self).__name__}.sample_batch", "n", n, 0, 2**63)
+        return self._inner.sample_batch(n)
 
     def update(self, goal: Any, competence: float) -> int | None:
         """Report the competence obtained for ``goal``. Returns the region that recorded it."""
         g = _vector("goal", goal, self.dim)
-        try:
-            c = float(competence)
-        except (TypeError, ValueError) as e:
-            raise InputError(f"competence must be a float; got {competence!r}.") from e
-        r = self._inner.update(g, c)
+        c = _numbers("competence", competence)
+        if c.ndim != 0:
+            raise InputError(f"competence must be one float; got shape {c.shape}.")
+        r = self._inner.update(g, float(c))
         return None if r < 0 else int(r)
 
     def update_batch(self, goals: Any, competences: Any) -> np.ndarray:
         """Report many competences at once (goals shape (n, dim)). A bad row changes nothing."""
-        g = np.ascontiguousarray(goals, dtype=np.float64)
-        c = np.ascontiguousarray(competences, dtype=np.float64)
+        g = _numbers("goals", goals)
+        c = _numbers("competences", competences)
         if g.ndim != 2 or c.ndim != 1 or g.shape[0] != c.shape[0]:
             raise InputError(f"goals must have shape (n, {self.dim}) and competences shape (n,); got {g.shape} and {c.shape}.")
         return self._inner.update_batch(g, c)
@@ -177,25 +186,15 @@ class _AskTellSelector:
     def save(self, path: str | os.PathLike[str], overwrite: bool = False) -> Path:
         """Write the teacher (parameters, state, history) to the file ``path``, atomically;
         :func:`load_selector` reads it back. An existing file is replaced only with
-        ``overwrite=True``."""
-        path = Path(path)
-        if path.is_dir():
+        ``overwrite=True``, and only if it is a teacher file saggriac saved: a link, a device, a
+        FIFO or any other file is refused before anything is written."""
+        owner = f"{type(self).__name__}.save"
+        check_flag(overwrite, "overwrite", owner)
+        path = as_path(path, "path", owner)
+        if path.is_dir() and not path.is_symlink():
             raise StorageError(f"{path} is a folder; give the path of a file to save the teacher to.")
-        if path.exists() and not overwrite:
-            raise StorageError(f"{path} exists; pass overwrite=True to replace it.")
         data = MAGIC + bytes(self._inner.save())
-        try:
-            fd, tmp = tempfile.mkstemp(dir=path.parent if str(path.parent) else ".", prefix=f".{path.name}.", suffix=".tmp")
-            with os.fdopen(fd, "wb") as f:
-                f.write(data)
-                f.flush()
-                os.fsync(f.fileno())
-            os.replace(tmp, path)
-        except OSError as e:
-            if "tmp" in locals() and os.path.exists(tmp):
-                os.unlink(tmp)
-            raise StorageError(f"Cannot save the teacher to {path}: {e.strerror or e}.") from e
-        return path
+        return write_file(path, lambda tmp: tmp.write_bytes(data), what="a teacher", overwrite=overwrite, ours=starts_with(MAGIC))
 
 
 def load_selector(path: str | os.PathLike[str]) -> _AskTellSelector:
@@ -291,7 +290,7 @@ class DiscreteLpSelector(_AskTellSelector):
 
     def update(self, goal: Any, competence: float) -> int | None:
         """Report the success rate in [0, 1] obtained on task ``goal`` (an index, or ``[index]``)."""
-        return super().update(np.atleast_1d(np.asarray(goal, dtype=np.float64)), competence)
+        return super().update(np.atleast_1d(_numbers("goal", goal)), competence)
 
 
 class _MixtureSelector(_AskTellSelector):

@@ -16,7 +16,32 @@ from matplotlib.ticker import FuncFormatter
 
 from . import _core
 from .config import Config
+from .files import write_file
 from .reachable import ReachableSet
+
+PNG = b"\x89PNG\r\n\x1a\n"
+#: Written into every figure's PNG metadata, so that saggriac recognises its own files.
+MARK = "saggriac"
+
+
+def _ours(path: Path) -> bool:
+    """A PNG saggriac wrote: it carries the mark, or it sits in a study folder's figures/ (made
+    before figures were marked)."""
+    try:
+        with open(path, "rb") as f:
+            head = f.read(4096)
+    except OSError:
+        return False
+    if not head.startswith(PNG):
+        return False
+    return MARK.encode() in head or (path.parent.name == "figures" and (path.parent.parent / "study.json").is_file())
+
+
+def _write_png(fig: Figure, path: str | Path, dpi: int, title: str = "") -> Path:
+    """Save ``fig`` as a PNG at ``path`` atomically; an existing file is replaced only if it is a
+    figure saggriac wrote."""
+    meta = {"Software": f"{MARK} {_core.__version__}", **({"Title": title} if title else {})}
+    return write_file(Path(path), lambda tmp: fig.savefig(tmp, dpi=dpi, format="png", metadata=meta), what="a figure", overwrite=True, ours=_ours)
 
 LABELS = {
     "sagg_riac": "SAGG-RIAC",
@@ -79,7 +104,7 @@ def plot_curves(frame: pd.DataFrame, path: str | Path, title: str = "", step_uni
     """Write :func:`curves_figure` to ``path`` (PNG; its title is also kept as the file's
     ``Title`` metadata)."""
     path = Path(path)
-    curves_figure(frame, title, step_unit).savefig(path, dpi=120, format="png", metadata={"Title": title} if title else None)
+    _write_png(curves_figure(frame, title, step_unit), path, dpi=120, title=title)
     return path
 
 
@@ -156,7 +181,7 @@ def goal_histograms_figure(run_dir: str | Path, n_windows: int = 4, bins: int = 
 def plot_goal_histograms(run_dir: str | Path, path: str | Path, n_windows: int = 4, bins: int = 40) -> Path:
     """Write :func:`goal_histograms_figure` of the run in ``run_dir`` to ``path`` (PNG)."""
     path = Path(path)
-    goal_histograms_figure(run_dir, n_windows, bins).savefig(path, dpi=110, format="png")
+    _write_png(goal_histograms_figure(run_dir, n_windows, bins), path, dpi=110)
     return path
 
 
@@ -240,7 +265,7 @@ def plot_arm(config: Config, path: str | Path) -> Path:
     ax.legend(loc="lower left", fontsize=8)
     ax.set_title(f"{n}-joint planar arm, total length {lengths.sum():g}")
     path = Path(path)
-    fig.savefig(path, dpi=110)
+    _write_png(fig, path, dpi=110)
     return path
 
 
@@ -276,7 +301,7 @@ def _plot_spatial_arm(lengths: np.ndarray, path: str | Path) -> Path:
     ax.legend(loc="upper left", fontsize=8)
     ax.set_title(f"{n}-joint spatial arm (joints alternately yaw and pitch), total length {r:g}")
     path = Path(path)
-    fig.savefig(path, dpi=110)
+    _write_png(fig, path, dpi=110)
     return path
 
 
@@ -309,5 +334,5 @@ def _plot_chain(config: Config, path: str | Path) -> Path:
     ax.legend(loc="upper left", fontsize=8)
     ax.set_title(f"{n}-joint chain (reach {config.reach:.3g}) in its goal box")
     path = Path(path)
-    fig.savefig(path, dpi=110)
+    _write_png(fig, path, dpi=110)
     return path

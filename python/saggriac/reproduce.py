@@ -3,9 +3,7 @@ figures (Fig. 2-5 style) and the statistics table, all written into one folder."
 
 from __future__ import annotations
 
-import contextlib
 import json
-import os
 from pathlib import Path
 from typing import Any
 
@@ -14,28 +12,20 @@ import pandas as pd
 from . import plots, splits, statistics
 from .config import CONDITIONS, PRESETS, Config
 from .errors import ParameterError, StorageError
+from .files import as_path, write_file
 from .reachable import ReachableSet
 from .result import RunResult
 from .study import Study, load_study, run_study
 
 FIGURES = "figures"
+#: A study of more seeds is a cluster's job: the seed list and per-run bookkeeping are held in memory.
+MAX_SEEDS = 100_000
 
 
 def _atomic(path: Path, write: Any) -> Path:
-    """Write through a temporary sibling and rename, so a half-written file never stands. If
-    anything fails the temporary file is removed; an OSError becomes a StorageError naming the
-    folder and the reason."""
-    tmp = path.with_name(f".{path.name}.tmp{path.suffix}")
-    try:
-        write(tmp)
-        os.replace(tmp, path)
-    except BaseException as e:
-        with contextlib.suppress(OSError):
-            tmp.unlink()
-        if isinstance(e, OSError) and not isinstance(e, StorageError):
-            raise StorageError(f"Cannot write {path.name} into {path.parent}: {e.strerror or e}.") from e
-        raise
-    return path
+    """Write a file of the study folder through a temporary sibling (``files.write_file``): it
+    replaces only a regular file of that name, never a link, folder or device put there."""
+    return write_file(path, write, what=path.name, overwrite=True)
 
 
 def matching_preset(config: Config) -> str | None:
@@ -70,10 +60,10 @@ def reproduce(
     figures and statistics. Finished runs in ``out_dir`` are reused (the study resumes)."""
     if experiment not in PRESETS:
         raise ParameterError(f"The 'experiment' parameter must be one of {', '.join(map(repr, PRESETS))}. Got {experiment!r} instead.", "experiment", repr(experiment))
-    if isinstance(seeds, bool) or not isinstance(seeds, int) or seeds < 1:
-        raise ParameterError(f"The 'seeds' parameter must be an int >= 1. Got {seeds!r} instead.", "seeds", repr(seeds))
+    if isinstance(seeds, bool) or not isinstance(seeds, int) or not 1 <= seeds <= MAX_SEEDS:
+        raise ParameterError(f"The 'seeds' parameter must be an int in [1, {MAX_SEEDS}]. Got {seeds!r} instead.", "seeds", repr(seeds))
     base = Config.from_preset(experiment, **({} if steps is None else {"n_steps": steps}))
-    out = Path(out_dir) if out_dir is not None else Path(f"reproduce-{experiment}")
+    out = as_path(out_dir, "out_dir", "reproduce") if out_dir is not None else Path(f"reproduce-{experiment}")
     study = Study(base=base, conditions=tuple(conditions), seeds=tuple(range(seeds)))
     run_study(study, out, backend=backend, n_workers=n_workers, scheduler=scheduler, progress=progress)
     return make_report(out)
@@ -94,14 +84,14 @@ def make_report(out_dir: str | Path, title: str | None = None) -> dict[str, Path
         raise StorageError(f"Cannot create {figs}: {e.strerror or e}.") from e
     title = title or study_title(study)
     written: dict[str, Path] = {}
-    written["curves"] = _atomic(figs / "curves.png", lambda p: plots.plot_curves(frame, p, title, "movements" if study.base.paradigm == "episodic" else "micro-actions"))
-    written["arm"] = _atomic(figs / "arm.png", lambda p: plots.plot_arm(study.base, p))
+    written["curves"] = plots.plot_curves(frame, figs / "curves.png", title, "movements" if study.base.paradigm == "episodic" else "micro-actions")
+    written["arm"] = plots.plot_arm(study.base, figs / "arm.png")
     for cond in ("sagg_riac", "sagg_random"):
         for task in study.tasks():
             run_dir = out / task.path
             if task.condition == cond and (run_dir / "run.json").exists():
                 name = f"goals_{cond}_seed{task.seed}.png"
-                written[f"goals_{cond}"] = _atomic(figs / name, lambda p, d=run_dir: plots.plot_goal_histograms(d, p))
+                written[f"goals_{cond}"] = plots.plot_goal_histograms(run_dir, figs / name)
                 break
     written.update(write_stats(out, frame))
     budget = time_budget_summary(out)

@@ -28,26 +28,14 @@ from typing import Any, Callable
 
 import pandas as pd
 
-from .errors import ParameterError, StorageError
+from .errors import StorageError
+from .files import _fsync, as_path, check_seal, seal  # noqa: F401 (as_path: runner, study and cli take it from here)
 
 MANIFEST = "run.json"
 TABLES = ("metrics", "goals", "attempts", "regions")
 RUN_FILES = frozenset([MANIFEST, *(f"{t}.parquet" for t in TABLES)])
 #: Checked before a run starts: a 200,000-step run directory takes about 1 MB; keep a margin.
 MIN_FREE_BYTES = 20_000_000
-
-
-def as_path(value: Any, param: str, owner: str) -> Path:
-    """A path argument, refused when empty (``Path('')`` would silently mean the current folder)."""
-    if isinstance(value, Path):
-        text = str(value)
-    elif isinstance(value, str):
-        text = value
-    else:
-        raise ParameterError(f"The '{param}' parameter of {owner} must be a path (str or pathlib.Path). Got {value!r} instead.", param, repr(value))
-    if not text.strip() or "\0" in text:
-        raise ParameterError(f"The '{param}' parameter of {owner} must name a folder. Got {value!r} instead.", param, repr(value))
-    return Path(value)
 
 
 def sibling(out: Path, suffix: str) -> Path:
@@ -258,14 +246,6 @@ def _rename_noreplace(src: Path, dst: Path) -> None:
     os.rename(src, dst)
 
 
-def _fsync(path: Path) -> None:
-    fd = os.open(path, os.O_RDONLY)
-    try:
-        os.fsync(fd)
-    finally:
-        os.close(fd)
-
-
 def replace_dir(out: Path, fill: Callable[[Path], None], what: str, replace: Callable[[Path], bool] | None = None) -> Path:
     """Make ``out`` hold exactly what ``fill`` writes into a fresh directory, atomically: it is
     filled as a temporary sibling, every file is flushed, then it is renamed into place.
@@ -325,7 +305,7 @@ def write_run(out: Path, manifest: dict[str, Any], tables: dict[str, pd.DataFram
             df.to_parquet(tmp / f"{name}.parquet", index=False)
             digests[f"{name}.parquet"] = _digest(tmp / f"{name}.parquet")
         manifest["tables"] = digests
-        (tmp / MANIFEST).write_text(json.dumps(manifest, indent=2, sort_keys=True))
+        (tmp / MANIFEST).write_text(json.dumps(seal(manifest), indent=2, sort_keys=True))
 
     return replace_dir(out, fill, "the run", replace=lambda p: overwrite and (p / MANIFEST).exists() and is_saggriac_run(p))
 
@@ -343,6 +323,7 @@ def _read_manifest(path: Path) -> dict[str, Any]:
         raise StorageError(f"{path / MANIFEST} is damaged: it cannot be read as JSON ({e}).") from None
     if not isinstance(manifest, dict) or not {"config", "seed"} <= set(manifest):
         raise StorageError(f"{path / MANIFEST} is damaged: it is not a saggriac manifest (no config and seed).")
+    check_seal(manifest, path / MANIFEST)
     return manifest
 
 

@@ -16,7 +16,6 @@ import re
 import shutil
 import signal
 import sys
-import tempfile
 import time
 import warnings
 from collections.abc import Callable, Iterable, Iterator, Mapping
@@ -32,7 +31,8 @@ import pyarrow.parquet as pq
 from . import _core
 from .config import Config, check_keys
 from .errors import ParameterError, SaggriacError, StorageError
-from .runner import run
+from .files import write_file
+from .runner import recover, run
 from .seeding import check_seed
 from .storage import MANIFEST, as_path, clear_stale_lock, run_damage
 
@@ -200,7 +200,15 @@ def run_task(task: Task, out_root: str | os.PathLike) -> str:
     # Idempotent, so a scheduler that retries a task whose result was already written is harmless.
     if not (out / MANIFEST).exists():
         # One thread per run: the study's workers already use every core.
-        run(Config(**task.config), seed=task.seed, out_dir=out, progress=False, threads=1)
+        try:
+            run(Config(**task.config), seed=task.seed, out_dir=out, progress=False, threads=1)
+        except StorageError as e:
+            result = getattr(e, "result", None)
+            if result is None:
+                raise
+            # The work is done but its folder cannot be written: keep it, and say where, in a
+            # message that survives the trip back from a worker process.
+            raise StorageError(recover(result, out, str(e))) from None
     return str(out)
 
 
@@ -239,20 +247,7 @@ def _default_workers() -> int:
 
 
 def _write_json_atomic(path: Path, data: dict[str, Any]) -> None:
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    try:
-        if hasattr(os, "fchmod"):  # mkstemp makes 0600; study.json is for everyone who may read the runs
-            umask = os.umask(0)
-            os.umask(umask)
-            os.fchmod(fd, 0o666 & ~umask)
-        with os.fdopen(fd, "w") as f:
-            json.dump(data, f, indent=2, sort_keys=True)
-            f.flush()
-            os.fsync(f.fileno())
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
+    write_file(path, lambda tmp: tmp.write_text(json.dumps(data, indent=2, sort_keys=True)), what=path.name, overwrite=True)
 
 
 @contextmanager
@@ -346,7 +341,7 @@ def _is_finished(out: Path, task: Task) -> bool | str:
     data = json.loads(manifest.read_text())
     try:
         same = data["seed"] == task.seed and Config.from_saved(data["config"]) == Config(**task.config)
-    except (KeyError, TypeError, ParameterError) as e:
+    except (KeyError, TypeError, ParameterError, StorageError) as e:
         return f"{manifest} does not describe a run this version of saggriac can read ({e})"
     if not same:
         raise StorageError(f"{run_dir} holds a finished run of another configuration or seed; delete it to have the run redone.")
@@ -419,12 +414,48 @@ def _import_distributed() -> Any:
 
 
 @contextmanager
+def local_cluster(n_workers: int) -> Iterator[Any]:
+    """A Dask LocalCluster of ``n_workers`` single-threaded worker processes on 127.0.0.1 that
+    serves no HTTP. Dask's scheduler always starts an HTTP server (on port 8787 when
+    ``dashboard_address=None``, with a warning and another port if 8787 is taken); here it has no
+    routes, listens on a free loopback port only while the cluster starts, and is then closed.
+    Workers serve no routes either."""
+    distributed = _import_distributed()
+    import dask
+
+    quiet = {"distributed.scheduler.http.routes": [], "distributed.worker.http.routes": []}
+    with dask.config.set(quiet):
+        cluster = distributed.LocalCluster(
+            n_workers=n_workers,
+            threads_per_worker=1,
+            processes=True,
+            host="127.0.0.1",
+            dashboard_address="127.0.0.1:0",
+            worker_dashboard_address="127.0.0.1:0",
+            scheduler_kwargs={"dashboard": False},
+        )
+    with cluster:
+        server = getattr(cluster.scheduler, "http_server", None)
+        if server is not None:
+            server.stop()
+        with distributed.Client(cluster, set_as_default=False) as client:
+            client.run(_stop_worker_http)
+        yield cluster
+
+
+def _stop_worker_http(dask_worker: Any) -> None:
+    """Run in each worker of :func:`local_cluster`: close its (route-less) HTTP server."""
+    server = getattr(dask_worker, "http_server", None)
+    if server is not None:
+        server.stop()
+
+
+@contextmanager
 def _dask_client(distributed: Any, scheduler: Any, n_workers: int) -> Iterator[Any]:
     if isinstance(scheduler, distributed.Client):
         yield scheduler  # the caller's client: theirs to close
     elif scheduler is None:
-        cluster = distributed.LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True, host="127.0.0.1", dashboard_address=None)
-        with cluster, distributed.Client(cluster, set_as_default=False) as client:
+        with local_cluster(n_workers) as cluster, distributed.Client(cluster, set_as_default=False) as client:
             yield client
     else:  # an address, or a cluster object (LocalCluster, dask_jobqueue.SLURMCluster, ...)
         try:

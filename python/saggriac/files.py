@@ -1,0 +1,150 @@
+"""Writing one file so that nothing a user has is lost: the one atomic single-file writer of
+saggriac (teachers, figures, study files), and the checks it makes first. Light: no pandas."""
+
+from __future__ import annotations
+
+import contextlib
+import hashlib
+import json
+import os
+import stat
+import tempfile
+from pathlib import Path
+from typing import Any, Callable
+
+from .errors import ParameterError, StorageError
+
+
+def as_path(value: Any, param: str, owner: str) -> Path:
+    """A path argument, refused when empty (``Path('')`` would silently mean the current folder)."""
+    if isinstance(value, Path):
+        text = str(value)
+    elif isinstance(value, str):
+        text = value
+    else:
+        raise ParameterError(f"The '{param}' parameter of {owner} must be a path (str or pathlib.Path). Got {value!r} instead.", param, repr(value))
+    if not text.strip() or "\0" in text:
+        raise ParameterError(f"The '{param}' parameter of {owner} must name a folder. Got {value!r} instead.", param, repr(value))
+    return Path(value)
+
+
+def check_flag(value: Any, param: str, owner: str) -> bool:
+    """A yes/no argument: only True or False (``overwrite="no"`` is truthy, so it is refused)."""
+    if not isinstance(value, bool):
+        raise ParameterError(f"The '{param}' parameter of {owner} must be True or False. Got {value!r} instead.", param, repr(value))
+    return value
+
+
+def _kind_of(mode: int) -> str:
+    for test, name in ((stat.S_ISDIR, "a folder"), (stat.S_ISCHR, "a character device"), (stat.S_ISBLK, "a block device"), (stat.S_ISFIFO, "a FIFO"), (stat.S_ISSOCK, "a socket")):
+        if test(mode):
+            return name
+    return "not a regular file"
+
+
+def write_file(path: Path, write: Callable[[Path], None], *, what: str, overwrite: bool = False, ours: Callable[[Path], bool] | None = None) -> Path:
+    """Write one file through a temporary sibling renamed into place, so a half-written file
+    never stands and a failure leaves nothing behind.
+
+    Something already at ``path`` is replaced only with ``overwrite`` and only if it is a regular
+    file (not a link, folder, device, FIFO or socket) that ``ours`` recognises as saggriac's;
+    anything else is refused before a byte is written. ``what`` names the file in messages."""
+    path = Path(path)
+    try:
+        st = os.lstat(path)
+    except FileNotFoundError:
+        st = None
+    except OSError as e:
+        raise StorageError(f"Cannot write {what} to {path}: {e.strerror or e}.") from None
+    if st is not None:
+        if stat.S_ISLNK(st.st_mode):
+            raise StorageError(f"{path} is a symbolic link; saggriac writes {what} only to a new path or over a regular file it wrote itself.")
+        if not stat.S_ISREG(st.st_mode):
+            raise StorageError(f"{path} is {_kind_of(st.st_mode)}; saggriac writes {what} only to a new path or over a regular file it wrote itself.")
+        if not overwrite:
+            raise StorageError(f"{path} exists; pass overwrite=True to replace it.")
+        if ours is not None and not ours(path):
+            raise StorageError(f"{path} is not {what} saggriac wrote; it is left alone. Choose another path.")
+    parent = path.parent if str(path.parent) else Path(".")
+    if not parent.is_dir():
+        raise StorageError(f"Cannot write {what} to {path}: {parent} is not a folder.")
+    tmp = None
+    try:
+        fd, name = tempfile.mkstemp(dir=parent, prefix=f".{path.name}.", suffix=".tmp")
+        os.close(fd)
+        tmp = Path(name)
+        # mkstemp makes 0600; the file is for whoever may read the folder.
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(tmp, 0o666 & ~umask)
+        write(tmp)
+        _fsync(tmp)
+        os.replace(tmp, path)
+    except BaseException as e:
+        if tmp is not None:
+            with contextlib.suppress(OSError):
+                tmp.unlink()
+        if isinstance(e, OSError) and not isinstance(e, StorageError):
+            raise StorageError(f"Cannot write {what} to {path}: {e.strerror or e}.") from e
+        raise
+    return path
+
+
+def starts_with(prefix: bytes) -> Callable[[Path], bool]:
+    """``ours`` for :func:`write_file`: a file whose first bytes are ``prefix``."""
+
+    def check(path: Path) -> bool:
+        try:
+            with open(path, "rb") as f:
+                return f.read(len(prefix)) == prefix
+        except OSError:
+            return False
+
+    return check
+
+
+def _fsync(path: Path) -> None:
+    fd = os.open(path, os.O_RDONLY)
+    try:
+        os.fsync(fd)
+    finally:
+        os.close(fd)
+
+
+
+
+# -- provenance: a checksum over a JSON record (run.json, checkpoint.json) -----------------------
+
+#: The first version whose run.json and checkpoint.json carry a checksum.
+SEALED_SINCE = (0, 3, 0)
+
+
+def json_checksum(record: dict[str, Any]) -> str:
+    """SHA-256 of the record without its "checksum" key, in a canonical encoding."""
+    body = {k: v for k, v in record.items() if k != "checksum"}
+    return hashlib.sha256(json.dumps(body, sort_keys=True, separators=(",", ":"), allow_nan=True).encode()).hexdigest()
+
+
+def seal(record: dict[str, Any]) -> dict[str, Any]:
+    """The record with its checksum, so that an edit of any value (a seed, a parameter, the list
+    of tables) is detected when it is read back."""
+    return {**record, "checksum": json_checksum(record)}
+
+
+def _version(text: Any) -> tuple[int, ...] | None:
+    try:
+        return tuple(int(p) for p in str(text).split("+")[0].split("-")[0].split("."))
+    except ValueError:
+        return None
+
+
+def check_seal(record: dict[str, Any], where: Path) -> None:
+    """Refuse a record whose checksum does not match its content, or a record of a version that
+    writes checksums without one (an edited key name, a hand-made file)."""
+    if "checksum" in record:
+        if record["checksum"] != json_checksum(record):
+            raise StorageError(f"{where} was changed or damaged: its checksum does not match its content (an edited seed, parameter or table list is not trusted).")
+        return
+    version = _version(record.get("version"))
+    if version is None or version >= SEALED_SINCE:
+        raise StorageError(f"{where} was changed or damaged: saggriac {record.get('version')!s} writes a checksum into it and there is none.")
