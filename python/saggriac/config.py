@@ -21,7 +21,7 @@ import numpy as np
 
 from . import _core
 from .bodies import PUSHER_CHAIN
-from .errors import ParameterError
+from .errors import ParameterError, StorageError
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -208,7 +208,17 @@ class Config:
     @classmethod
     def from_saved(cls, d: Mapping[str, Any]) -> Config:
         """The configuration a run.json or study.json recorded. Keys it predates take the values
-        that reproduce what it ran, not today's defaults."""
+        that reproduce what it ran, not today's defaults. Keys this version does not know (a
+        record of a newer saggriac) are refused with a message saying so."""
+        if not isinstance(d, Mapping):
+            raise StorageError(f"The saved configuration is not a JSON object (got {type(d).__name__}); the file is damaged.")
+        known = {f.name for f in dataclasses.fields(cls)}
+        unknown = sorted(str(k) for k in d if k not in known)
+        if unknown:
+            raise StorageError(
+                f"The saved configuration has parameters this saggriac ({_core.__version__}) does not know: {', '.join(unknown)}. "
+                "It was written by another version of saggriac; read it with that version."
+            )
         return cls(**{**{k: v for k, v in _LEGACY_VALUES.items() if k not in d}, **d})
 
     def replace(self, **changes: Any) -> Config:

@@ -20,6 +20,7 @@ from .config import Config
 from .errors import ParameterError, StorageError
 from .reachable import ReachableSet
 from .result import RunResult
+from .files import check_seal, seal
 from .seeding import check_seed, derive_seeds, environment_seed
 from .resources import check_run_fits, check_threads
 from .storage import MIN_FREE_BYTES, as_path, check_output_dir, replace_dir, sibling, target_lock, write_run
@@ -133,6 +134,20 @@ def _check_checkpointing(every: Any, out: Path | None, environment: Any, goal_se
         raise ParameterError("The 'checkpoint_every' parameter of run is not available with a user's environment or goal selector (saggriac cannot save their state).", "checkpoint_every", repr(every))
 
 
+def _check_provenance(ck: Path, info: dict[str, Any], every: Any) -> None:
+    """checkpoint.json's own values must agree with each other before anything is resumed."""
+    try:
+        seed = check_seed(info["seed"])
+    except ParameterError:
+        raise StorageError(f"The checkpoint {ck} is damaged: its seed {info['seed']!r} is not a seed.") from None
+    if derive_seeds(seed) != (info["learner_seed"], info["eval_seed"]):
+        raise StorageError(f"The checkpoint {ck} is inconsistent: its learner and evaluation seeds are not those of seed {seed}. Start the run over: run it again without --resume.")
+    if isinstance(every, bool) or not isinstance(every, int) or every < 1:
+        raise StorageError(f"The checkpoint {ck} is damaged: checkpoint_every is {every!r}, not an int >= 1.")
+    if not isinstance(info["overwrite"], bool):
+        raise StorageError(f"The checkpoint {ck} is damaged: overwrite is {info['overwrite']!r}, not true or false.")
+
+
 def checkpoint_dir(out: str | Path) -> Path:
     """Where the checkpoint of the run that will be written to ``out`` is kept."""
     out = Path(out)
@@ -145,7 +160,7 @@ def _write_checkpoint(out: Path, state: bytes, info: dict[str, Any], config: Con
 
     def fill(tmp: Path) -> None:
         (tmp / "state.bin").write_bytes(state)
-        (tmp / "checkpoint.json").write_text(json.dumps(meta, indent=2, sort_keys=True))
+        (tmp / "checkpoint.json").write_text(json.dumps(seal(meta), indent=2, sort_keys=True))
 
     replace_dir(checkpoint_dir(out), fill, "the checkpoint", replace=_is_checkpoint)
 
@@ -259,13 +274,19 @@ def resume(out_dir: str | Path, progress: bool = False, threads: int | None = No
     with target_lock(out):
         try:
             meta = json.loads((ck / "checkpoint.json").read_text())
-            config = Config.from_saved(meta["config"])
+            if not isinstance(meta, dict):
+                raise TypeError("not a JSON object")
             info = {k: meta[k] for k in ("seed", "learner_seed", "eval_seed", "overwrite")}
             every = meta["checkpoint_every"]
         except (OSError, ValueError, KeyError, TypeError, UnicodeDecodeError) as e:
             raise StorageError(f"The checkpoint {ck} is damaged: checkpoint.json cannot be read ({e}). Start the run over: run it again without --resume.") from None
+        check_seal(meta, ck / "checkpoint.json")
+        config = Config.from_saved(meta["config"])
+        _check_provenance(ck, info, every)
         check_output_dir(out, info["overwrite"], MIN_FREE_BYTES)
         learner = _core.Learner.restore(config.core_dict(), (ck / "state.bin").read_bytes())
+        if tuple(learner.seeds) != (info["learner_seed"], info["eval_seed"]):
+            raise StorageError(f"The checkpoint {ck} is inconsistent: state.bin was made by a run with other seeds than checkpoint.json records (seed {info['seed']}). Start the run over: run it again without --resume.")
         learner.set_threads(threads)
         info["resumed_at"] = learner.steps
         return _drive(learner, config, info, out, progress, every, {})

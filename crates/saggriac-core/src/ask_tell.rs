@@ -4,7 +4,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::error::{Error, Result};
+use crate::error::{invalid, Error, Result};
 use crate::goal_selection::{GoalChoice, GoalSelector, ModeProbabilities, SelectorState};
 use crate::region_tree::RegionTreeConfig;
 use crate::teachers::TeacherSpec;
@@ -12,6 +12,13 @@ use crate::teachers::TeacherSpec;
 /// Bumped whenever the saved layout changes. Format 1 (saggriac <= 0.2, before SAGG-RIAC's tree
 /// had an eq.-2 divisor) is still read, as the `Window` reading it ran; older ones are refused.
 const FORMAT: u32 = 2;
+/// Told competences are bounded so that every teacher's sums, squares and mixtures of them stay
+/// finite (a mixture teacher squares differences of competences).
+pub const MAX_COMPETENCE: f64 = 1e100;
+/// The most goals one `sample_batch` returns, and the most coordinates in all.
+pub const MAX_BATCH: usize = 10_000_000;
+pub const MAX_BATCH_VALUES: usize = 100_000_000;
+
 /// CRC-32C of the encoding, as checkpoints have: a damaged save is refused, never half-read.
 const CHECKSUM: crc::Crc<u32> = crc::Crc::<u32>::new(&crc::CRC_32_ISCSI);
 
@@ -218,12 +225,15 @@ impl AskTell {
     }
 
     /// `n` goals in a row, flattened row by row (no update in between, so the same tree).
-    pub fn sample_batch(&mut self, n: usize) -> Vec<f64> {
+    pub fn sample_batch(&mut self, n: usize) -> Result<Vec<f64>> {
+        if n > MAX_BATCH || n.saturating_mul(self.dim()) > MAX_BATCH_VALUES {
+            return Err(invalid("sample_batch", "n", format!("an int with n <= {MAX_BATCH} and n * dim <= {MAX_BATCH_VALUES} (dim = {})", self.dim()), n));
+        }
         let mut out = Vec::with_capacity(n * self.dim());
         for _ in 0..n {
             out.extend(self.sample().goal);
         }
-        out
+        Ok(out)
     }
 
     /// Check a told goal: the right length, finite, inside the box; a finite competence.
@@ -233,8 +243,8 @@ impl AskTell {
         if goal.len() != d {
             return Err(Error::InvalidInput(format!("goal{at} must have {d} coordinates, the dimension of the goal space; got {}.", goal.len())));
         }
-        if !competence.is_finite() {
-            return Err(Error::InvalidInput(format!("competence{at} must be a finite float; got {competence}.")));
+        if !(competence.is_finite() && competence.abs() <= MAX_COMPETENCE) {
+            return Err(Error::InvalidInput(format!("competence{at} must be a finite float with |competence| <= 1e100; got {competence}.")));
         }
         let (lo, hi) = (self.selector.low(), self.selector.high());
         for i in 0..d {

@@ -25,6 +25,11 @@ pub(crate) struct Check {
     pub owner: &'static str,
 }
 
+/// The largest count a user may give for anything the core allocates per unit (a window, a
+/// region's measurements, tasks, candidate cuts, mixture sizes): beyond it a value is refused up
+/// front rather than left to exhaust memory or time.
+pub const MAX_COUNT: usize = 1_000_000;
+
 impl Check {
     pub fn positive(&self, name: &str, v: f64) -> Result<()> {
         if v.is_finite() && v > 0.0 {
@@ -54,6 +59,15 @@ impl Check {
             Err(invalid(self.owner, name, "a float in [0, 1]", v))
         }
     }
+    /// An int in [min, max].
+    pub fn within(&self, name: &str, v: usize, min: usize, max: usize) -> Result<()> {
+        if (min..=max).contains(&v) {
+            Ok(())
+        } else {
+            Err(invalid(self.owner, name, format!("an int in [{min}, {max}]"), v))
+        }
+    }
+
     pub fn at_least(&self, name: &str, v: usize, min: usize) -> Result<()> {
         if v >= min {
             Ok(())

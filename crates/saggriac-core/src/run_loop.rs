@@ -188,6 +188,10 @@ impl Learner {
     pub fn parts(&self) -> &Parts {
         &self.parts
     }
+    /// The (learner, evaluation) seeds this learner was built with.
+    pub fn seeds(&self) -> (u64, u64) {
+        self.seeds
+    }
     pub fn steps(&self) -> u64 {
         self.parts.recorder.steps()
     }

@@ -80,7 +80,7 @@ fn run_case(spec: TeacherSpec, before: usize, after: usize, batch: bool, seed: u
     prop_assert_eq!(&b.told_competence, &a.told_competence);
     if batch {
         // Batches: the same goals as one at a time, and updates of a whole batch.
-        let (ga, gb) = (a.sample_batch(after), b.sample_batch(after));
+        let (ga, gb) = (a.sample_batch(after).unwrap(), b.sample_batch(after).unwrap());
         prop_assert_eq!(&ga, &gb);
         let cs: Vec<f64> = ga.chunks_exact(d).map(|g| competence(g, &mut rng, success)).collect();
         prop_assert_eq!(a.update_batch(&ga, &cs).unwrap(), b.update_batch(&gb, &cs).unwrap());

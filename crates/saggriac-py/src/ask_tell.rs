@@ -164,7 +164,7 @@ impl PyAskTell {
 
     fn sample_batch<'py>(&mut self, py: Python<'py>, n: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let d = self.inner.dim();
-        let flat = self.inner.sample_batch(n);
+        let flat = wrap(py, self.inner.sample_batch(n))?;
         rows(py, flat, d)
     }
 

@@ -114,6 +114,12 @@ impl PyLearner {
         self.inner.steps()
     }
 
+    /// (learner seed, evaluation seed) the learner was built with (a checkpoint's own).
+    #[getter]
+    fn seeds(&self) -> (u64, u64) {
+        self.inner.seeds()
+    }
+
     #[getter]
     fn n_samples(&self) -> usize {
         self.inner.memory().len()

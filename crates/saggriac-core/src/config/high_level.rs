@@ -1,7 +1,7 @@
 //! The high level's parameters: competence, the region tree, the goal selection modes, and the
 //! rule every box of a goal space obeys.
 
-use crate::error::{invalid, Check, Result};
+use crate::error::{invalid, Check, Result, MAX_COUNT};
 
 /// What an attempt's final distance to its goal is measured against.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -114,8 +114,8 @@ impl Default for RegionTreeConfig {
 impl RegionTreeConfig {
     pub fn validate(&self) -> Result<()> {
         let c = Check { owner: "RegionTree" };
-        c.at_least("g_max", self.g_max, 2)?;
-        c.at_least("zeta", self.zeta, 2)?;
+        c.within("g_max", self.g_max, 2, MAX_COUNT)?;
+        c.within("zeta", self.zeta, 2, MAX_COUNT)?;
         c.at_least("min_child", self.min_child, 1)?;
         if 2 * self.min_child > self.g_max + 1 {
             return Err(invalid("RegionTree", "min_child", format!("an int with 2 * min_child <= g_max + 1 (g_max = {})", self.g_max), self.min_child));

@@ -191,5 +191,5 @@ fn identical_points_wait_for_a_distinct_one() {
 fn bad_bounds_and_parameters() {
     assert!(RegionTree::new(&[0.0], &[0.0], RegionTreeConfig::default()).is_err());
     let e = RegionTreeConfig { g_max: 1, zeta: 4, min_child: 1, ..Default::default() }.validate().unwrap_err();
-    assert_eq!(e.to_string(), "The 'g_max' parameter of RegionTree must be an int >= 2. Got 1 instead.");
+    assert_eq!(e.to_string(), "The 'g_max' parameter of RegionTree must be an int in [2, 1000000]. Got 1 instead.");
 }

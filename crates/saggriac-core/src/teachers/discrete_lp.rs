@@ -16,7 +16,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::error::{invalid, Check, Result};
+use crate::error::{invalid, Check, Result, MAX_COUNT};
 use crate::goal_selection::{GoalChoice, GoalSelector, Mode, SelectorState};
 use crate::rng::{rng_from_seed, unit, CoreRng};
 
@@ -33,7 +33,7 @@ pub struct DiscreteLpConfig {
 impl DiscreteLpConfig {
     pub fn validate(&self) -> Result<()> {
         let c = Check { owner: "DiscreteLpSelector" };
-        c.at_least("n_tasks", self.n_tasks, 1)?;
+        c.within("n_tasks", self.n_tasks, 1, MAX_COUNT)?;
         c.in_open_closed("alpha", self.alpha, 0.0, 1.0)?;
         if !(self.theta.is_finite() && self.theta > 0.0 && self.theta < 1.0) {
             return Err(invalid("DiscreteLpSelector", "theta", "a float in (0, 1)", self.theta));

@@ -9,7 +9,7 @@ use nalgebra::DVector;
 use serde::{Deserialize, Serialize};
 
 use crate::config::high_level::check_bounds;
-use crate::error::{invalid, Check, Result};
+use crate::error::{invalid, Check, Result, MAX_COUNT};
 use crate::goal_selection::{GoalChoice, Mode, SelectorState};
 use crate::rng::{child_seed, index, rng_from_seed, uniform, unit, CoreRng};
 use crate::teachers::gmm::{best_by_aic, EmConfig, Gmm};
@@ -36,8 +36,10 @@ impl Default for AlpGmmConfig {
 impl AlpGmmConfig {
     pub fn validate(&self, owner: &'static str) -> Result<()> {
         let c = Check { owner };
-        c.at_least("fit_rate", self.fit_rate, 2)?;
-        c.at_least("max_components", self.max_components, 2)?;
+        c.within("fit_rate", self.fit_rate, 2, MAX_COUNT)?;
+        // EM tries every number of components up to this one at each refit.
+        c.within("max_components", self.max_components, 2, 100)?;
+        c.within("bootstrap", self.bootstrap, 0, MAX_COUNT)?;
         c.probability("random_task_ratio", self.random_task_ratio)?;
         if self.max_components > self.fit_rate {
             return Err(invalid(owner, "max_components", format!("an int <= fit_rate (fit_rate = {})", self.fit_rate), self.max_components));

@@ -20,7 +20,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::config::high_level::check_bounds;
-use crate::error::{invalid, Check, Result};
+use crate::error::{invalid, Check, Result, MAX_COUNT};
 use crate::goal_selection::{GoalChoice, GoalSelector, LeafRow, Mode, SelectorState};
 use crate::rng::{child_seed, index, normal, rng_from_seed, uniform, unit, CoreRng};
 
@@ -49,8 +49,9 @@ impl Default for RiacConfig {
 impl RiacConfig {
     pub fn validate(&self) -> Result<()> {
         let c = Check { owner: "RiacSelector" };
-        c.at_least("max_region_size", self.max_region_size, 2)?;
-        c.at_least("split_attempts", self.split_attempts, 1)?;
+        c.within("max_region_size", self.max_region_size, 2, MAX_COUNT)?;
+        // Each attempt scans the leaf: 10^4 attempts of 10^6 measurements is already long.
+        c.within("split_attempts", self.split_attempts, 1, 10_000)?;
         if !(self.min_child_share.is_finite() && self.min_child_share > 0.0 && self.min_child_share <= 0.5) {
             return Err(invalid("RiacSelector", "min_child_share", "a float in (0, 0.5]", self.min_child_share));
         }
