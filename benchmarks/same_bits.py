@@ -34,9 +34,10 @@ from saggriac.runner import _write_checkpoint
 from saggriac.seeding import derive_seeds
 
 TABLES = ("metrics", "goals", "attempts", "regions")
-# Keys of run.json that measure the machine, not the run; "tables" holds the sizes and SHA-256
-# of the four tables, which are compared through their own hashes below.
-SKIP = ("wall_seconds", "git_commit", "version", "python", "tables")
+# Keys of run.json that measure the machine, not the run ("checksum" hashes run.json itself, wall
+# times included); "tables" holds the sizes and SHA-256 of the four tables, which are compared
+# through their own hashes below.
+SKIP = ("wall_seconds", "git_commit", "version", "python", "tables", "checksum")
 # Which exact neighbour index ran: an implementation choice (every index returns the same
 # neighbours), so a reference recorded with the k-d tree still checks the block index.
 SKIP_PATHS = ("config.knn_index",)

@@ -95,7 +95,9 @@ def test_resume_and_checkpoint_errors(tmp_path, capsys):
     # A damaged checkpoint is refused with a clear message, and nothing is written.
     ck = checkpoint_dir(tmp_path / "bad")
     ck.mkdir()
-    (ck / "checkpoint.json").write_text(json.dumps({"config": cfg_for().to_dict(), "seed": 0, "learner_seed": 1, "eval_seed": 2, "overwrite": False, "checkpoint_every": 100, "steps": 100}))
+    ls, es = saggriac.seeding.derive_seeds(0)
+    meta = {"config": cfg_for().to_dict(), "seed": 0, "learner_seed": ls, "eval_seed": es, "overwrite": False, "checkpoint_every": 100, "steps": 100, "version": saggriac.__version__}
+    (ck / "checkpoint.json").write_text(json.dumps(saggriac.files.seal(meta)))
     (ck / "state.bin").write_bytes(b"\x00\x01garbage")
     with pytest.raises(saggriac.InputError, match="damaged"):
         saggriac.resume(tmp_path / "bad")

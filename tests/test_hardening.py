@@ -240,3 +240,163 @@ def test_a_run_json_from_another_version_gets_a_clear_error(tmp_path):
     f.write_text(json.dumps(saggriac.files.seal(manifest)))
     with pytest.raises(StorageError, match="does not know: a_parameter_from_the_future"):
         saggriac.RunResult.load(out)
+
+
+# -- 4. no coercion, no silently dropped flag --------------------------------------------------
+
+
+def _cli(args, cwd):
+    r = subprocess.run([sys.executable, "-m", "saggriac.cli", *args], capture_output=True, text=True, cwd=cwd)
+    return r.returncode, r.stderr
+
+
+@pytest.mark.parametrize(
+    "args, says",
+    [
+        (["run", "--set", "n_steps=500", "--steps", "300"], "--steps and --set n_steps"),
+        (["run", "--set", "condition=sagg_riac", "--condition", "sagg_random"], "--condition and --set condition"),
+        (["run", "--set", "zeta=10", "--set", "zeta=12"], "given twice"),
+        (["run", "--out", ""], "--out"),
+        (["reproduce", "exp1", "--out", ""], "--out"),
+        (["reproduce", "exp1", "--seeds", "1000000000"], "seeds"),
+        (["run", "--config", "/dev/zero"], "not a regular file"),
+    ],
+)
+def test_cli_refuses_conflicts_and_unbounded_inputs(tmp_path, args, says):
+    rc, err = _cli(args, tmp_path)
+    assert rc != 0 and says in err, err
+    assert "Traceback" not in err
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_config_file_size_is_bounded(tmp_path):
+    big = tmp_path / "big.toml"
+    big.write_text("# " + "x" * 2_000_000 + "\nzeta = 20\n")
+    with pytest.raises(ParameterError, match="larger than"):
+        Config.from_toml(big)
+
+
+def test_a_teacher_in_config_and_a_goal_selector_conflict():
+    cfg = Config.from_preset("exp1", n_steps=200, n_evals=1, teacher="riac")
+    sel = saggriac.RiacSelector(cfg.goal_low, cfg.goal_high)
+    with pytest.raises(ParameterError, match="teacher='riac'"):
+        saggriac.run(cfg, 0, goal_selector=sel)
+
+
+@pytest.mark.parametrize("bad", [[np.nan, 0.0], ["1", "2"], [True, False]])
+def test_competence_refuses_nonsense_positions(bad):
+    with pytest.raises(InputError):
+        saggriac.competence(bad, [1.0, 1.0], [0.0, 0.0])
+
+
+# -- 5. bodies check their inputs ---------------------------------------------------------------
+
+
+@pytest.mark.parametrize("make", [lambda: saggriac.environments.PlanarArm(), lambda: saggriac.environments.SpatialArm(n_joints=6), lambda: saggriac.environments.PlanarArm(link_lengths=[1.0, 2.0])])
+@pytest.mark.parametrize("action", ["short", "long", "nan", "inf", "strings", "bools"])
+def test_python_arms_refuse_bad_actions_and_keep_their_state(make, action):
+    arm = make()
+    n = len(arm.theta)
+    arm.reset(options={"theta": np.full(n, 0.1)})
+    before = (arm.theta.copy(), arm.forward(arm.theta))
+    value = {"short": np.zeros(max(1, n - 1)), "long": np.zeros(n + 3), "nan": np.full(n, np.nan), "inf": np.full(n, np.inf), "strings": ["0.1"] * n, "bools": [True] * n}[action]
+    with pytest.raises(InputError, match=f"{n} finite floats"):
+        arm.step(value)
+    with pytest.raises(InputError):
+        arm.reset(options={"theta": value})
+    np.testing.assert_array_equal(arm.theta, before[0])
+    theta, x = arm.step(np.zeros(n))
+    np.testing.assert_array_equal(x, before[1])
+
+
+@pytest.mark.parametrize("kw", [dict(n_joints=0), dict(n_joints=2.5), dict(arm_length=-1.0), dict(arm_length=float("nan")), dict(link_lengths=[]), dict(link_lengths=[1.0, -1.0]), dict(joint_limit=0.0), dict(max_joint_step=float("inf"))])
+def test_python_arms_check_their_parameters(kw):
+    with pytest.raises(ParameterError):
+        saggriac.environments.PlanarArm(**kw)
+
+
+def test_mujoco_arm_refuses_duplicate_joints_and_bad_actions():
+    mj = pytest.importorskip("saggriac.mujoco_arm")
+    with pytest.raises(ParameterError, match="more than once"):
+        mj.MujocoArm(mj.pusher_model_path(), [mj.PUSHER_JOINTS[0], mj.PUSHER_JOINTS[1], mj.PUSHER_JOINTS[0]], "tips_arm")
+    arm = mj.pusher_arm()
+    with pytest.raises(InputError, match="7 finite floats"):
+        arm.step(np.zeros(3))
+    assert arm.step(np.zeros(7))[0].shape == (7,)
+
+
+class _IgnoresPlacement(saggriac.environments.PlanarArm):
+    def reset(self, *, seed=None, options=None):
+        return super().reset(seed=seed)
+
+
+class _ClaimsPlacement(saggriac.environments.PlanarArm):
+    def reset(self, *, seed=None, options=None):
+        theta, x = super().reset(seed=seed)
+        return (np.asarray(options["theta"], dtype=float) if options else theta), x
+
+
+@pytest.mark.parametrize("env", [_IgnoresPlacement, _ClaimsPlacement])
+def test_run_refuses_a_body_that_ignores_placement(env, tmp_path):
+    cfg = Config.from_preset("exp1", n_steps=200, n_evals=1, n_test_goals=3, n_test_configs=3)
+    with pytest.raises(saggriac.errors.ConformanceError, match="options=\\{'theta'"):
+        saggriac.run(cfg, 0, environment=env(), out_dir=tmp_path / "r")
+    assert not (tmp_path / "r").exists()
+
+
+# -- 6. disks fill, work survives ------------------------------------------------------------
+
+
+def test_the_free_space_check_counts_the_checkpoints(tmp_path, monkeypatch):
+    from saggriac import resources, storage
+
+    cfg = Config.from_preset("exp2", n_evals=1)
+    need = 2 * resources.checkpoint_bytes(cfg)
+    assert need > 50e6  # exp2's state grows past 20 MB (audit: 22 MB at 81k steps)
+    free = storage.MIN_FREE_BYTES + need // 2
+    monkeypatch.setattr(storage.shutil, "disk_usage", lambda p: type("U", (), {"free": free})())
+    with pytest.raises(StorageError, match="MB free"):
+        saggriac.run(cfg, 0, out_dir=tmp_path / "r", checkpoint_every=50_000)
+    # Without checkpoints the same disk is enough to start.
+    storage.check_output_dir(tmp_path / "r", False, saggriac.runner._min_free(cfg, None))
+
+
+def test_a_failed_checkpoint_write_warns_and_the_run_finishes(tmp_path, monkeypatch):
+    from saggriac import runner
+
+    real = runner._write_checkpoint
+    calls = []
+
+    def flaky(*a, **k):
+        calls.append(1)
+        if len(calls) == 2:
+            raise StorageError("No space left on device (simulated)")
+        real(*a, **k)
+
+    monkeypatch.setattr(runner, "_write_checkpoint", flaky)
+    cfg = Config.from_preset("exp1", n_steps=3000, n_evals=3, n_test_goals=5, n_test_configs=5)
+    with pytest.warns(runner.CheckpointWarning, match=r"last good checkpoint \(step \d+\) is kept"):
+        res = saggriac.run(cfg, 0, out_dir=tmp_path / "r", checkpoint_every=1000)
+    plain = saggriac.run(cfg, 0)
+    assert res.path is not None and len(calls) >= 2
+    np.testing.assert_array_equal(res.metrics["reach_error"], plain.metrics["reach_error"])
+
+
+def test_a_study_run_that_cannot_be_written_says_where_it_went(tmp_path, monkeypatch):
+    from saggriac import study as study_mod
+
+    real = study_mod.run
+
+    def unwritable(cfg, seed, out_dir, **kw):
+        res = real(cfg, seed=seed, **kw)
+        e = StorageError(f"Cannot write the run to {out_dir}: No space left on device (simulated).")
+        e.result = res
+        raise e
+
+    monkeypatch.setattr(study_mod, "run", unwritable)
+    cfg = Config.from_preset("exp1", n_steps=300, n_evals=1, n_test_goals=3, n_test_configs=3)
+    task = study_mod.Study(cfg, "sagg_riac", (0,)).tasks()[0]
+    with pytest.raises(StorageError, match="saved to (.*recovered-[^ ]*)") as e:
+        study_mod.run_task(task, tmp_path / "st")
+    place = Path(str(e.value).split("saved to ")[1].split(" instead")[0])
+    assert saggriac.RunResult.load(place).seed == 0

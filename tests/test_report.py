@@ -121,7 +121,7 @@ def test_plot_into_a_read_only_figures_folder_is_a_storage_error(study_dir, caps
     figs = study_dir / "figures"
     before = figures(study_dir)
     with read_only(figs):
-        with pytest.raises(StorageError, match=f"into {figs}: (Permission denied|Operation not permitted)"):
+        with pytest.raises(StorageError, match=f"to {figs}/curves.png: (Permission denied|Operation not permitted)"):
             rep.make_report(study_dir)
         capsys.readouterr()
         assert main(["plot", str(study_dir)]) != 0
@@ -137,8 +137,8 @@ def test_a_failed_rename_leaves_no_temporary_file(study_dir, monkeypatch):
     def refuse(src, dst):
         raise PermissionError(errno.EACCES, "Permission denied", str(dst))
 
-    monkeypatch.setattr(rep.os, "replace", refuse)
-    with pytest.raises(StorageError, match=f"Cannot write curves.png into {figs}: Permission denied"):
+    monkeypatch.setattr(saggriac.files.os, "replace", refuse)
+    with pytest.raises(StorageError, match=f"Cannot write a figure to {figs}/curves.png: Permission denied"):
         rep.make_report(study_dir)
     monkeypatch.undo()
     assert figures(study_dir) == before  # nothing new, nothing half-written

@@ -93,10 +93,12 @@ def test_local_pool_and_dask_local_cluster_give_identical_runs(finished, study, 
 
 
 def test_dask_on_a_given_scheduler_address_client_or_cluster(tiny, tmp_path):
-    from dask.distributed import Client, LocalCluster
+    from dask.distributed import Client
+
+    from saggriac.study import local_cluster
 
     st = Study(tiny.replace(n_steps=600, n_evals=2), "sagg_riac", (4,), grid={"g_max": [20, 40]})
-    with LocalCluster(n_workers=1, threads_per_worker=1, processes=True, host="127.0.0.1", dashboard_address=None) as cluster:
+    with local_cluster(1) as cluster:
         a = run_study(st, tmp_path / "a", backend="dask", scheduler=cluster.scheduler_address, progress=False)
         b = run_study(st, tmp_path / "b", backend="dask", scheduler=cluster, progress=False)
         with Client(cluster, set_as_default=False) as client:
@@ -252,7 +254,7 @@ def test_missing_dask_names_the_extra(study, tmp_path, monkeypatch):
         ({"grid": {"condition": ["sagg_riac"]}}, "cannot hold 'condition'"),
         ({"grid": {"g_max": []}}, "The values of grid key 'g_max' must not be empty."),
         ({"grid": {"g_max": 40}}, "The values of grid key 'g_max' must be a list. Got 40 instead."),
-        ({"grid": {"g_max": [1]}}, "The 'g_max' parameter of Config must be an int >= 2. Got 1 instead."),
+        ({"grid": {"g_max": [1]}}, "The 'g_max' parameter of Config must be an int in [2, 1000000]. Got 1 instead."),
         ({"grid": {"knn_index": ["../x"]}}, "they name directories"),
     ],
 )
@@ -356,3 +358,21 @@ def test_a_lock_left_beside_a_finished_run_is_cleaned_on_resume_but_a_live_one_i
         assert not stale.exists() and live.exists()
     finally:
         os.close(fd)
+
+
+def test_the_local_dask_cluster_serves_no_http(tmp_path):
+    """No HTTP server is left listening (so no fixed port is needed, and a busy 8787 changes
+    nothing), and no warning is raised (pytest turns warnings into errors)."""
+    import socket
+
+    from saggriac.study import local_cluster
+
+    pytest.importorskip("distributed")
+    with local_cluster(1) as cluster:
+        server = cluster.scheduler.http_server
+        port = server.port
+        assert port != 8787
+        with socket.socket() as s:
+            s.settimeout(2)
+            assert s.connect_ex(("127.0.0.1", port)) != 0, "the scheduler's HTTP server still listens"
+        assert "dashboard" not in cluster.scheduler_info.get("services", {}) or cluster.scheduler_info["services"].get("dashboard") == port

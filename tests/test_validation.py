@@ -12,7 +12,7 @@ from saggriac.errors import ParameterError, SaggriacError, StorageError
 @pytest.mark.parametrize(
     "kwargs, message",
     [
-        ({"g_max": 1}, "The 'g_max' parameter of Config must be an int >= 2. Got 1 instead."),
+        ({"g_max": 1}, "The 'g_max' parameter of Config must be an int in [2, 1000000]. Got 1 instead."),
         ({"eps_c": -2.0}, "The 'eps_c' parameter of Config must be a float with min_c < eps_c < 0 (min_c = -1). Got -2 instead."),
         ({"v": 0.0}, "The 'v' parameter of Config must be a finite float > 0. Got 0 instead."),
         ({"q": 0}, "The 'q' parameter of Config must be an int >= 1. Got 0 instead."),
@@ -99,7 +99,7 @@ def test_cli_run_and_errors(tmp_path, capsys):
     assert (tmp_path / "c" / "run.json").exists()
     rc = main(["run", "--steps", "100", "--set", "g_max=0", "--no-progress", "--out", str(tmp_path / "d")])
     err = capsys.readouterr().err
-    assert rc == 2 and "The 'g_max' parameter of Config must be an int >= 2. Got 0 instead." in err
+    assert rc == 2 and "The 'g_max' parameter of Config must be an int in [2, 1000000]. Got 0 instead." in err
     assert not (tmp_path / "d").exists()
 
 

@@ -4,12 +4,9 @@ from __future__ import annotations
 
 import argparse
 import hashlib
-import os
 import re
 import sys
-import tempfile
-import time
-from collections.abc import Callable, Iterator
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -33,12 +30,15 @@ def _parse_value(text: str) -> Any:
 
 
 def _overrides(pairs: list[str]) -> dict[str, Any]:
-    out = {}
+    out: dict[str, Any] = {}
     for p in pairs:
         if "=" not in p:
             raise SaggriacError(f"--set takes KEY=VALUE, got {p!r}.")
         k, v = p.split("=", 1)
-        out[k.strip()] = _parse_value(v.strip())
+        k = k.strip()
+        if k in out:
+            raise SaggriacError(f"--set {k}=... is given twice; give it once.")
+        out[k] = _parse_value(v.strip())
     return out
 
 
@@ -55,10 +55,12 @@ def _cmd_run(args: argparse.Namespace) -> int:
         _print_run(res, res.config, res.seed, res.path)
         return 0
     overrides = _overrides(args.set)
-    if args.steps is not None:
-        overrides["n_steps"] = args.steps
-    if args.condition is not None:
-        overrides["condition"] = args.condition
+    for flag, key, value in (("--steps", "n_steps", args.steps), ("--condition", "condition", args.condition)):
+        if value is None:
+            continue
+        if key in overrides:
+            raise SaggriacError(f"{flag} and --set {key}=... both set {key}; give one of them.")
+        overrides[key] = value
     if args.config:
         preset, _ = read_toml(Path(args.config), args.preset)
         cfg = Config.from_toml(args.config, preset=preset, **overrides)
@@ -112,25 +114,9 @@ def _saved_or_recovered(work: Callable[[], Any], out: Path) -> Any:
         result = getattr(e, "result", None)
         if result is None:
             raise
-        reason = str(e).split(" The result is kept")[0]
-        for place in _recovery_places(out):
-            try:
-                saved = result.save(place)
-            except (StorageError, OSError):
-                continue
-            raise SaggriacError(f"{reason} The finished result was saved to {saved} instead; move it where you want it.") from None
-        raise SaggriacError(f"{reason} The result could not be saved anywhere else either (tried beside {out}, the current folder and the temporary folder).") from None
+        from .runner import recover
 
-
-def _recovery_places(out: Path) -> Iterator[Path]:
-    stamp = time.strftime("%Y%m%d-%H%M%S")
-    name = Path(os.path.abspath(out)).name or "run"
-    for parent in (Path(os.path.abspath(out)).parent, Path.cwd(), Path(tempfile.gettempdir())):
-        for i in range(100):
-            place = parent / f"{name}.recovered-{stamp}{'' if i == 0 else f'-{i}'}"
-            if not os.path.lexists(place):
-                yield place
-                break
+        raise SaggriacError(recover(result, out, str(e))) from None
 
 
 def _print_run(res: Any, cfg: Config, seed: int, out: Path) -> None:
@@ -150,6 +136,8 @@ def _cmd_reproduce(args: argparse.Namespace) -> int:
         conditions = tuple(c.strip() for c in args.conditions.split(","))
         if not all(conditions):
             raise SaggriacError(f"--conditions takes a comma-separated list of conditions ({', '.join(CONDITIONS)}). Got {args.conditions!r}.")
+    if args.out is not None:
+        as_path(args.out, "--out", "saggriac reproduce")
     written = reproduce(
         args.experiment,
         out_dir=args.out,

@@ -21,9 +21,15 @@ def competence(goal: Any, reached: Any, start: Any, *, min_c: float = -1.0, eps_
     attempt: an array)."""
     arrays = []
     for name, v in (("goal", goal), ("reached", reached), ("start", start)):
-        a = np.asarray(v, dtype=np.float64)
+        raw = np.asarray(v) if not isinstance(v, (str, bytes)) else np.asarray(None)
+        if raw.dtype.kind not in "iuf":
+            raise InputError(f"'{name}' must be an array of floats; got {v!r}.")
+        a = raw.astype(np.float64)
         if a.ndim not in (1, 2) or a.shape[-1] == 0:
             raise InputError(f"'{name}' must be a point (1-D) or one point per row (2-D); got an array of shape {a.shape}.")
+        # A NaN position would score as a failure (min_c) and hide the bug that made it.
+        if not np.all(np.isfinite(a)):
+            raise InputError(f"'{name}' must be finite; got {np.array2string(a, threshold=8)}.")
         arrays.append(a)
     one = arrays[0].ndim == 1
     rows = [np.ascontiguousarray(np.atleast_2d(a)) for a in arrays]

@@ -10,6 +10,8 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import os
+import stat
 import sys
 import warnings
 from collections.abc import Mapping
@@ -253,10 +255,21 @@ class Config:
             raise
 
 
+#: The largest configuration file read (a TOML of every parameter is about 2 kB).
+MAX_CONFIG_BYTES = 1_000_000
+
+
 def read_toml(path: Path, preset: str | None = None) -> tuple[str, dict[str, Any]]:
     """The preset (the file's, else ``preset``, else exp1) and the other keys of a TOML file."""
     try:
-        text = path.read_bytes().decode("utf-8")
+        # Looked at before opening: opening a FIFO would wait for a writer, a device never ends.
+        if not stat.S_ISREG(os.stat(path).st_mode) and not stat.S_ISDIR(os.stat(path).st_mode):
+            raise ParameterError(f"Configuration file {path} is not a regular file (a device, FIFO or socket cannot be a TOML file).", "config", str(path))
+        with open(path, "rb") as f:
+            raw = f.read(MAX_CONFIG_BYTES + 1)
+        if len(raw) > MAX_CONFIG_BYTES:
+            raise ParameterError(f"Configuration file {path} is larger than {MAX_CONFIG_BYTES // 1000} kB; a saggriac configuration is a few lines.", "config", str(path))
+        text = raw.decode("utf-8")
     except FileNotFoundError:
         raise ParameterError(f"Configuration file {path} does not exist.", "config", str(path)) from None
     except IsADirectoryError:

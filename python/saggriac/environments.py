@@ -23,6 +23,8 @@ from typing import Any, Protocol, runtime_checkable
 
 import numpy as np
 
+from .errors import InputError, ParameterError
+
 
 class Box:
     """A box of floats: ``low <= v <= high`` elementwise (a minimal ``gymnasium.spaces.Box``)."""
@@ -59,11 +61,22 @@ class Environment(Protocol):
     def step(self, dtheta: np.ndarray) -> tuple[np.ndarray, np.ndarray]: ...
 
 
+def joint_vector(name: str, value: Any, n: int) -> list[float]:
+    """``value`` as n finite floats, or an InputError naming ``name``: a wrong length, a
+    non-finite value, strings or bools are refused before a body's state changes."""
+    arr = np.asarray(value) if not isinstance(value, (str, bytes)) else np.asarray(None)
+    if arr.dtype.kind not in "iuf" or arr.shape != (n,) or not np.all(np.isfinite(arr)):
+        shown = np.array2string(arr, threshold=8) if arr.dtype.kind in "iufb" else repr(value)
+        raise InputError(f"{name} must be {n} finite floats (one per joint); got {shown} (shape {arr.shape}).")
+    return [float(v) for v in arr]
+
+
 def joint_step(theta: Any, dtheta: Any, max_joint_step: float, limit: float) -> np.ndarray:
     """The built-in arms' micro-action: ``dtheta`` scaled down (direction kept) so that no joint
     moves more than ``max_joint_step``, added to ``theta``, clipped to ``[-limit, limit]``; the
-    core's arithmetic, operation for operation."""
-    d = [float(v) for v in dtheta]
+    core's arithmetic, operation for operation. A ``dtheta`` of the wrong length, or not finite,
+    is refused (the caller's state is not touched)."""
+    d = joint_vector("dtheta", dtheta, len(theta))
     max_abs = max((abs(v) for v in d), default=0.0)
     scale = max_joint_step / max_abs if max_abs > max_joint_step else 1.0
     return np.array([min(max(float(t) + v * scale, -limit), limit) for t, v in zip(theta, d)])
@@ -75,7 +88,24 @@ class _SerialArm:
     task_dim = 2
 
     def __init__(self, n_joints: int = 15, arm_length: float = 50.0, link_lengths: Any = None, joint_limit: float = math.pi / 2, max_joint_step: float = 0.05) -> None:
-        self.lengths = [float(v) for v in link_lengths] if link_lengths is not None else [arm_length / n_joints] * n_joints
+        owner = type(self).__name__
+
+        def number(name: str, v: Any, ok: Any, rule: str) -> float:
+            if isinstance(v, bool) or not isinstance(v, (int, float, np.integer, np.floating)) or not math.isfinite(v) or not ok(v):
+                raise ParameterError(f"The '{name}' parameter of {owner} must be {rule}. Got {v!r} instead.", name, repr(v))
+            return float(v)
+
+        if link_lengths is None:
+            if isinstance(n_joints, bool) or not isinstance(n_joints, (int, np.integer)) or not 1 <= n_joints <= 10_000:
+                raise ParameterError(f"The 'n_joints' parameter of {owner} must be an int in [1, 10000]. Got {n_joints!r} instead.", "n_joints", repr(n_joints))
+            length = number("arm_length", arm_length, lambda v: v > 0, "a finite float > 0")
+            self.lengths = [length / int(n_joints)] * int(n_joints)
+        else:
+            self.lengths = [number("link_lengths", v, lambda v: v > 0, "finite floats > 0") for v in np.atleast_1d(np.asarray(link_lengths, dtype=object))]
+            if not self.lengths:
+                raise ParameterError(f"The 'link_lengths' parameter of {owner} must be a non-empty list of floats > 0. Got {link_lengths!r} instead.", "link_lengths", repr(link_lengths))
+        joint_limit = number("joint_limit", joint_limit, lambda v: v > 0, "a finite float > 0")
+        max_joint_step = number("max_joint_step", max_joint_step, lambda v: v > 0, "a finite float > 0")
         n = len(self.lengths)
         self.joint_limit = float(joint_limit)
         self.max_joint_step = float(max_joint_step)
@@ -91,7 +121,8 @@ class _SerialArm:
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None) -> tuple[np.ndarray, np.ndarray]:
         lim = self.joint_limit
         if options and "theta" in options:
-            self.theta = np.array([min(max(float(v), -lim), lim) for v in options["theta"]])
+            theta = joint_vector("options['theta']", options["theta"], len(self.lengths))
+            self.theta = np.array([min(max(v, -lim), lim) for v in theta])
         else:
             self.theta = np.zeros(len(self.lengths))
         return self.theta.copy(), self.forward(self.theta)

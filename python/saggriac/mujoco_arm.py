@@ -20,8 +20,8 @@ from typing import Any
 
 import numpy as np
 
-from .environments import Box, joint_step
-from .errors import InputError, ParameterError
+from .environments import Box, joint_step, joint_vector
+from .errors import ParameterError
 
 try:
     import mujoco
@@ -55,8 +55,11 @@ class MujocoArm:
             raise ParameterError(f"The 'model' parameter of MujocoArm must be a mujoco.MjModel or the path of an XML model. Got {model!r} instead.", "model", repr(model))
         if isinstance(max_joint_step, bool) or not isinstance(max_joint_step, (int, float)) or not math.isfinite(max_joint_step) or not 0 < max_joint_step <= 1:
             raise ParameterError(f"The 'max_joint_step' parameter of MujocoArm must be a number in (0, 1] (a share of each joint's half-range). Got {max_joint_step!r} instead.", "max_joint_step", repr(max_joint_step))
-        if not joints:
-            raise ParameterError("The 'joints' parameter of MujocoArm must name at least one joint.", "joints", repr(joints))
+        if isinstance(joints, (str, bytes)) or not joints:
+            raise ParameterError(f"The 'joints' parameter of MujocoArm must be a list naming at least one joint. Got {joints!r} instead.", "joints", repr(joints))
+        repeated = sorted({str(j) for j in joints if list(joints).count(j) > 1})
+        if repeated:
+            raise ParameterError(f"The 'joints' parameter of MujocoArm names {', '.join(map(repr, repeated))} more than once; each joint is one coordinate of theta.", "joints", repr(list(joints)))
         self.model, self.data = model, mujoco.MjData(model)
         adr, lo, hi = [], [], []
         for name in joints:
@@ -98,9 +101,7 @@ class MujocoArm:
         # Kinematics only: nothing is random, so the seed is not needed.
         self.data.qpos[:] = self.model.qpos0
         if options and "theta" in options:
-            t = np.asarray(options["theta"], dtype=np.float64)
-            if t.shape != self.theta.shape or not np.all(np.isfinite(t)):
-                raise InputError(f"options['theta'] must be {len(self.theta)} finite floats; got {options['theta']!r}.")
+            t = np.array(joint_vector("options['theta']", options["theta"], len(self.theta)))
             self.theta = np.clip(t, -1.0, 1.0)
         else:
             self.theta = np.zeros(len(self._adr))

@@ -63,6 +63,13 @@ def estimate_run_bytes(cfg: Config) -> int:
     return BASE_BYTES + fixed + cfg.n_steps * bytes_per_sample(cfg)
 
 
+def checkpoint_bytes(cfg: Config) -> int:
+    """Upper estimate of a checkpoint of ``cfg``'s run near its end: state.bin holds every stored
+    sample (theta, dtheta, the position and its change, a few counters) and the goal history."""
+    n, m = cfg.joints, len(cfg.goal_low)
+    return 1_000_000 + cfg.n_steps * 8 * (2 * n + 2 * m + 4)
+
+
 def _gb(b: float) -> str:
     return f"{b / 1e9:.3g} GB"
 

@@ -6,7 +6,9 @@ import json
 import os
 import platform
 import shutil
+import tempfile
 import time
+import warnings
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
@@ -22,7 +24,7 @@ from .reachable import ReachableSet
 from .result import RunResult
 from .files import check_seal, seal
 from .seeding import check_seed, derive_seeds, environment_seed
-from .resources import check_run_fits, check_threads
+from .resources import check_run_fits, check_threads, checkpoint_bytes
 from .storage import MIN_FREE_BYTES, as_path, check_output_dir, replace_dir, sibling, target_lock, write_run
 from .time_budget import time_budget
 
@@ -85,7 +87,7 @@ def run(
         _check_checkpointing(checkpoint_every, out, environment, goal_selector)
     check_run_fits(config)
     if out is not None:
-        check_output_dir(out, overwrite, MIN_FREE_BYTES)
+        check_output_dir(out, overwrite, _min_free(config, checkpoint_every))
     learner_seed, eval_seed = derive_seeds(seed)
     extra = {}
     if environment is not None:
@@ -95,6 +97,8 @@ def run(
         check_environment_interface(environment, config)
         extra["environment"] = environment
     if goal_selector is not None:
+        if config.teacher != "own":
+            raise ParameterError(f"The 'goal_selector' parameter of run replaces the run's teacher, and Config names teacher={config.teacher!r}: give one of them (Config(teacher='own') with a goal_selector).", "goal_selector", type(goal_selector).__name__)
         from .testing import check_goal_selector_interface
 
         check_goal_selector_interface(goal_selector, config)
@@ -123,6 +127,16 @@ def _holding(out: Path | None, overwrite: bool) -> Iterator[None]:
     with target_lock(out):
         check_output_dir(out, overwrite)
         yield
+
+
+def _min_free(config: Config, every: int | None) -> int:
+    """Disk space a run needs beside its target: the result, and with checkpoints two of them at
+    once (the new one is written before the old one is removed)."""
+    return MIN_FREE_BYTES + (2 * checkpoint_bytes(config) if every is not None else 0)
+
+
+class CheckpointWarning(UserWarning):
+    """A checkpoint could not be written; the run goes on and the last good checkpoint stays."""
 
 
 def _check_checkpointing(every: Any, out: Path | None, environment: Any, goal_selector: Any) -> None:
@@ -212,7 +226,15 @@ def _drive(learner: Any, config: Config, info: dict[str, Any], out: Path | None,
     t0 = time.perf_counter()
     try:
         while not learner.run(on_eval) and learner.steps < config.n_steps:
-            _write_checkpoint(out, learner.checkpoint(), info, config, learner.steps, every)
+            try:
+                _write_checkpoint(out, learner.checkpoint(), info, config, learner.steps, every)
+                info["last_checkpoint"] = learner.steps
+            except StorageError as e:
+                # Losing a checkpoint only costs what a later interruption would redo; losing
+                # the run would cost everything.
+                last = info.get("last_checkpoint", info.get("resumed_at"))
+                kept = f"the last good checkpoint (step {last}) is kept" if last is not None else "there is no earlier checkpoint"
+                warnings.warn(f"The checkpoint at step {learner.steps} could not be written ({e}); the run goes on and {kept}.", CheckpointWarning, stacklevel=2)
             next_checkpoint = (learner.steps // every + 1) * every
     finally:
         if bar is not None:
@@ -255,6 +277,25 @@ def _drive(learner: Any, config: Config, info: dict[str, Any], out: Path | None,
     return result
 
 
+def recover(result: RunResult, out: Path, why: str) -> str:
+    """Save a finished result that could not be written to ``out`` in a recovery folder beside it
+    (else in the current folder, else the temporary folder); return a message saying why and
+    where it went."""
+    reason = why.split(" The result is kept")[0]
+    stamp = time.strftime("%Y%m%d-%H%M%S")
+    name = Path(os.path.abspath(out)).name or "run"
+    for parent in (Path(os.path.abspath(out)).parent, Path.cwd(), Path(tempfile.gettempdir())):
+        place = next((p for i in range(100) if not os.path.lexists(p := parent / f"{name}.recovered-{stamp}{'' if i == 0 else f'-{i}'}")), None)
+        if place is None:
+            continue
+        try:
+            saved = result.save(place)
+        except (StorageError, OSError):
+            continue
+        return f"{reason} The finished result was saved to {saved} instead; move it where you want it (to {out} for a study to count it without recomputing)."
+    return f"{reason} The result could not be saved anywhere else either (tried beside {out}, the current folder and the temporary folder)."
+
+
 def resume(out_dir: str | Path, progress: bool = False, threads: int | None = None) -> RunResult:
     """Continue the interrupted run whose checkpoint sits next to ``out_dir`` (written by
     ``run(..., out_dir=..., checkpoint_every=N)``), to the same result the run would have given
@@ -283,7 +324,8 @@ def resume(out_dir: str | Path, progress: bool = False, threads: int | None = No
         check_seal(meta, ck / "checkpoint.json")
         config = Config.from_saved(meta["config"])
         _check_provenance(ck, info, every)
-        check_output_dir(out, info["overwrite"], MIN_FREE_BYTES)
+        # The old checkpoint is on the disk already: room for one more.
+        check_output_dir(out, info["overwrite"], MIN_FREE_BYTES + checkpoint_bytes(config))
         learner = _core.Learner.restore(config.core_dict(), (ck / "state.bin").read_bytes())
         if tuple(learner.seeds) != (info["learner_seed"], info["eval_seed"]):
             raise StorageError(f"The checkpoint {ck} is inconsistent: state.bin was made by a run with other seeds than checkpoint.json records (seed {info['seed']}). Start the run over: run it again without --resume.")

@@ -88,6 +88,27 @@ def check_environment_interface(env: Any, config: Any) -> None:
         raise ParameterError(f"The 'n_joints' parameter of Config must match the environment's joint_space ({len(hi)} joints). Got {config.n_joints} instead.", "n_joints", repr(config.n_joints))
     if not math.isclose(float(hi[0]), config.joint_limit, rel_tol=1e-12):
         raise ParameterError(f"The 'joint_limit' parameter of Config must match the environment's joint_space (limit {float(hi[0])!r}). Got {config.joint_limit!r} instead.", "joint_limit", repr(config.joint_limit))
+    _check_placement(env, lo, hi, m if m is not None else len(config.goal_low))
+
+
+def _check_placement(env: Any, lo: np.ndarray, hi: np.ndarray, m: int) -> None:
+    """The evaluation places the body at test configurations with reset(options={"theta": t});
+    a body that ignores it would be evaluated at the wrong configurations without a word. Two
+    fixed configurations (the same for every run, so the check changes no result) must be taken
+    as asked and give two different positions."""
+    n = len(hi)
+    rng = np.random.default_rng(20101018)
+    seen = []
+    for _ in range(2):
+        target = lo + (hi - lo) * rng.uniform(0.25, 0.75, n)
+        theta, x = _pair(env.reset(options={"theta": target}), n, m, "environment.reset(options={'theta': ...})")
+        if not np.allclose(theta, target, rtol=0, atol=1e-6 * max(1.0, float(np.max(hi - lo)))):
+            raise ConformanceError(
+                f"environment.reset(options={{'theta': t}}) must place the joints at t: saggriac places the body there to evaluate it. Asked {np.round(target, 6).tolist()}, got {np.round(theta, 6).tolist()}."
+            )
+        seen.append(x)
+    if np.array_equal(seen[0], seen[1]):
+        raise ConformanceError(f"environment.reset(options={{'theta': t}}) gave the same position {seen[0].tolist()} for two different t: the body seems to ignore the configuration it is given, and would be evaluated at the wrong place.")
 
 
 def check_goal_selector_interface(selector: Any, config: Any) -> None:
