@@ -400,3 +400,14 @@ def test_a_study_run_that_cannot_be_written_says_where_it_went(tmp_path, monkeyp
         study_mod.run_task(task, tmp_path / "st")
     place = Path(str(e.value).split("saved to ")[1].split(" instead")[0])
     assert saggriac.RunResult.load(place).seed == 0
+
+
+def test_goal_env_refuses_a_goal_outside_its_box():
+    gym = pytest.importorskip("gymnasium")
+    import saggriac.gym  # noqa: F401 (registers the environments)
+
+    env = gym.make("saggriac/PlanarArmExp1-v0")
+    with pytest.raises(InputError, match="outside the environment's goal box"):
+        env.reset(options={"goal": [1e6, 1e6]})
+    obs, _ = env.reset(options={"goal": [10.0, 10.0]})
+    assert env.observation_space.contains(obs)

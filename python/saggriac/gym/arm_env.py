@@ -132,6 +132,10 @@ class GoalArmEnv(gymnasium.Env):
         else:
             goal = self.np_random.uniform(self.goal_space.low, self.goal_space.high)
         self.next_goal = None
+        lo, hi = self.goal_space.low, self.goal_space.high
+        if np.any(goal < lo) or np.any(goal > hi):
+            # Outside the goal box the observation would leave observation_space.
+            raise InputError(f"GoalArmEnv.reset(): the goal {goal.tolist()} lies outside the environment's goal box [{lo.tolist()}, {hi.tolist()}]; a teacher must choose goals in that box.")
         if options.get("theta") is not None:
             self._theta, self._x = self.arm.reset(options={"theta": _point("options['theta']", options["theta"], len(self.arm.lengths))})
         else:
