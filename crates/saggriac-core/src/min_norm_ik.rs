@@ -85,6 +85,9 @@ pub fn min_norm_ik_from(fk: &mut dyn Kinematics, n: usize, m: usize, limit: f64,
     let mut best: Option<IkSolution> = None;
     for (theta, residual) in reached {
         let s = if residual <= tolerance { sqp.solve(theta) } else { IkSolution { theta, residual } };
+        if !(s.theta.iter().all(|v| v.is_finite()) && s.residual.is_finite()) {
+            continue;
+        }
         let better = match &best {
             None => true,
             Some(b) => match (s.residual <= tolerance, b.residual <= tolerance) {
@@ -98,7 +101,9 @@ pub fn min_norm_ik_from(fk: &mut dyn Kinematics, n: usize, m: usize, limit: f64,
             best = Some(s);
         }
     }
-    best.expect("at least one start")
+    // Every start is finite and no step to a non-finite configuration is taken, so some start
+    // survives unless the body's own positions are not finite; then rest, with what it reports.
+    best.unwrap_or_else(|| IkSolution { theta: vec![0.0; n], residual: f64::INFINITY })
 }
 
 fn norm_sq(v: &[f64]) -> f64 {
@@ -115,6 +120,17 @@ struct Sqp<'f> {
 }
 
 impl Sqp<'_> {
+    /// The position at `t`, or None: a trial configuration that is not finite (a step from a
+    /// singular system) is never handed to the body, and a body answering with a non-finite
+    /// position does not steer the solver.
+    fn place(&mut self, t: &[f64]) -> Option<Point> {
+        if !t.iter().all(|v| v.is_finite()) {
+            return None;
+        }
+        let x = self.fk.position(t);
+        x[..self.m].iter().all(|v| v.is_finite()).then_some(x)
+    }
+
     fn residual(&self, x: &Point) -> DVector<f64> {
         DVector::from_iterator(self.m, (0..self.m).map(|j| self.goal[j] - x[j]))
     }
@@ -173,9 +189,8 @@ impl Sqp<'_> {
             let Some(y) = a.cholesky().map(|c| c.solve(&r)) else { break };
             let d = j.transpose() * y;
             let t: Vec<f64> = theta.iter().zip(d.iter()).map(|(t, d)| (t + d).clamp(-lim, lim)).collect();
-            let xt = self.fk.position(&t);
-            let rt = self.residual(&xt);
-            if rt.norm() < r.norm() {
+            let trial = self.place(&t).map(|xt| (self.residual(&xt), xt));
+            if let Some((rt, xt)) = trial.filter(|(rt, _)| rt.norm() < r.norm()) {
                 (theta, x, r) = (t, xt, rt);
                 mu = (mu * 0.3).max(1e-12);
             } else {
@@ -262,7 +277,10 @@ impl Sqp<'_> {
                 for (k, &i) in free.iter().enumerate() {
                     t[i] = (theta[i] + alpha * d[k]).clamp(-lim, lim);
                 }
-                let xt = self.fk.position(&t);
+                let Some(xt) = self.place(&t) else {
+                    alpha *= 0.5;
+                    continue;
+                };
                 let wanted = phi0 + 1e-4 * alpha * slope.min(0.0);
                 if merit(&t, &xt) <= wanted {
                     next = Some((t, xt));
@@ -279,8 +297,7 @@ impl Sqp<'_> {
                         for (k, &i) in free.iter().enumerate() {
                             t2[i] = (t[i] + back[k]).clamp(-lim, lim);
                         }
-                        let x2 = self.fk.position(&t2);
-                        if merit(&t2, &x2) <= wanted {
+                        if let Some(x2) = self.place(&t2).filter(|x2| merit(&t2, x2) <= wanted) {
                             next = Some((t2, x2));
                             break;
                         }
