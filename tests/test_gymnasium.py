@@ -23,7 +23,7 @@ from saggriac.testing import check_environment
 @pytest.mark.parametrize("env_id", list(sgym.ENVIRONMENTS))
 def test_registered_environments_pass_gymnasiums_checker(env_id):
     env = gymnasium.make(env_id)
-    check_env(env.unwrapped, skip_render_check=True)
+    check_env(gymnasium.make(env_id, render_mode="rgb_array").unwrapped)
     obs, info = env.reset(seed=0)
     assert set(obs) == {"observation", "achieved_goal", "desired_goal"}
     assert env.observation_space.contains(obs)
@@ -74,7 +74,7 @@ def test_compute_reward_relabels_batches():
 
 @pytest.mark.parametrize(
     "kwargs,param",
-    [({"body": "arm"}, "body"), ({"n_joints": 0}, "n_joints"), ({"max_joint_step": -1}, "max_joint_step"), ({"goal_low": [0.0]}, "goal_low"), ({"reward_type": "shaped"}, "reward_type"), ({"distance_threshold": float("nan")}, "distance_threshold"), ({"render_mode": "human"}, "render_mode")],
+    [({"body": "arm"}, "body"), ({"n_joints": 0}, "n_joints"), ({"max_joint_step": -1}, "max_joint_step"), ({"goal_low": [0.0]}, "goal_low"), ({"reward_type": "shaped"}, "reward_type"), ({"distance_threshold": float("nan")}, "distance_threshold"), ({"render_mode": "ascii"}, "render_mode")],
 )
 def test_bad_parameters_are_named(kwargs, param):
     with pytest.raises(sg.ParameterError) as e:
@@ -241,3 +241,34 @@ def test_the_curriculum_example_runs():
     lines = [ln for ln in out.splitlines() if "mean test error" in ln]
     assert [ln.split(":")[0].strip() for ln in lines] == ["sagg_riac", "random"]
     assert all(0 <= float(ln.split("error")[1].split()[0]) < 150 for ln in lines)
+
+
+@pytest.mark.parametrize("env_id, shape", [("saggriac/PlanarArmExp2-v0", (480, 480, 3)), ("saggriac/SpatialArm-v0", (480, 960, 3))])
+def test_rgb_array_renders_the_arm_and_the_goal(env_id, shape):
+    env = gymnasium.make(env_id, render_mode="rgb_array")
+    env.reset(seed=0)
+    first = env.render()
+    assert first.shape == shape and first.dtype == np.uint8
+    assert len(np.unique(first.reshape(-1, 3), axis=0)) > 10  # more than a blank canvas
+    for _ in range(30):
+        env.step(env.action_space.high)
+    assert not np.array_equal(first, env.render())  # the arm moved in the picture
+    env.close()
+
+
+def test_human_render_mode_runs_headless(monkeypatch):
+    monkeypatch.setenv("MPLBACKEND", "Agg")
+    env = gymnasium.make("saggriac/PlanarArm-v0", render_mode="human")
+    env.reset(seed=0)
+    assert env.step(env.action_space.sample())[0] is not None
+    env.close()
+
+
+def test_compute_terminated_and_truncated_as_goal_environments_have_them():
+    env = gymnasium.make("saggriac/PlanarArm-v0").unwrapped
+    obs, _ = env.reset(seed=0, options={"goal": [50.0, 0.0]})
+    assert env.compute_terminated(obs["achieved_goal"], obs["desired_goal"], {}) is False
+    assert env.compute_truncated(obs["achieved_goal"], obs["desired_goal"], {}) is False
+    batch = np.zeros((4, 2))
+    assert env.compute_terminated(batch, batch, [{}] * 4).tolist() == [False] * 4
+    assert env.compute_truncated(batch, batch, [{}] * 4).shape == (4,)

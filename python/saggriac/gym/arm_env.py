@@ -50,7 +50,7 @@ class GoalArmEnv(gymnasium.Env):
     ``reward_type="sparse"`` gives -1 until the goal is reached and 0 there; ``"dense"`` gives
     minus the distance."""
 
-    metadata = {"render_modes": []}
+    metadata = {"render_modes": ["human", "rgb_array"], "render_fps": 25}
 
     def __init__(
         self,
@@ -81,8 +81,8 @@ class GoalArmEnv(gymnasium.Env):
         max_joint_step = _positive("max_joint_step", max_joint_step)
         if reward_type not in REWARDS:
             raise ParameterError(f"The 'reward_type' parameter of GoalArmEnv must be one of {', '.join(map(repr, REWARDS))}. Got {reward_type!r} instead.", "reward_type", repr(reward_type))
-        if render_mode is not None:
-            raise ParameterError(f"The 'render_mode' parameter of GoalArmEnv must be None (nothing is rendered). Got {render_mode!r} instead.", "render_mode", repr(render_mode))
+        if render_mode is not None and render_mode not in self.metadata["render_modes"]:
+            raise ParameterError(f"The 'render_mode' parameter of GoalArmEnv must be None, 'human' or 'rgb_array'. Got {render_mode!r} instead.", "render_mode", repr(render_mode))
         self.body = body
         self.arm = BODIES[body](n_joints=n_joints, arm_length=arm_length, link_lengths=link_lengths, joint_limit=joint_limit, max_joint_step=max_joint_step)
         self.reach = float(sum(self.arm.lengths))
@@ -97,7 +97,8 @@ class GoalArmEnv(gymnasium.Env):
             raise ParameterError(f"The 'goal_low' parameter of GoalArmEnv must be below 'goal_high' in every dimension. Got {low.tolist()} and {high.tolist()}.", "goal_low", repr(low.tolist()))
         self.distance_threshold = 0.01 * self.reach if distance_threshold is None else _positive("distance_threshold", distance_threshold)
         self.reward_type = reward_type
-        self.render_mode = None
+        self.render_mode = render_mode
+        self._view: Any = None
         self.goal_space = spaces.Box(low, high, dtype=np.float64)
         self.action_space = spaces.Box(-max_joint_step, max_joint_step, (n,), dtype=np.float64)
         self.observation_space = spaces.Dict(
@@ -141,6 +142,8 @@ class GoalArmEnv(gymnasium.Env):
         else:
             self._theta, self._x = self.arm.reset()
         self._goal = goal
+        if self.render_mode == "human":
+            self.render()
         return self._obs(), self._info()
 
     def step(self, action: Any) -> tuple[dict[str, np.ndarray], float, bool, bool, dict[str, Any]]:
@@ -150,7 +153,11 @@ class GoalArmEnv(gymnasium.Env):
         self._theta, self._x = self.arm.step(a)
         info = self._info()
         reward = float(self.compute_reward(self._x, self._goal, info))
-        return self._obs(), reward, False, False, info
+        terminated = bool(self.compute_terminated(self._x, self._goal, info))
+        truncated = bool(self.compute_truncated(self._x, self._goal, info))
+        if self.render_mode == "human":
+            self.render()
+        return self._obs(), reward, terminated, truncated, info
 
     def compute_reward(self, achieved_goal: Any, desired_goal: Any, info: Any) -> Any:
         """Reward of reaching ``achieved_goal`` when ``desired_goal`` was wanted; both may be
@@ -159,3 +166,34 @@ class GoalArmEnv(gymnasium.Env):
         if self.reward_type == "dense":
             return -d
         return -(d > self.distance_threshold).astype(np.float64)
+
+    def compute_terminated(self, achieved_goal: Any, desired_goal: Any, info: Any) -> Any:
+        """Whether the episode ends (Gymnasium-Robotics' goal-environment API): never, as in
+        Fetch, since reaching a goal is a state to hold; ``TimeLimit`` ends episodes by
+        truncation. Batches give one False per row."""
+        a = np.asarray(achieved_goal, dtype=np.float64)
+        return False if a.ndim <= 1 else np.zeros(a.shape[:-1], dtype=bool)
+
+    def compute_truncated(self, achieved_goal: Any, desired_goal: Any, info: Any) -> Any:
+        """Whether the episode is cut short by the environment itself: never (the step limit is
+        ``TimeLimit``'s). Batches give one False per row."""
+        a = np.asarray(achieved_goal, dtype=np.float64)
+        return False if a.ndim <= 1 else np.zeros(a.shape[:-1], dtype=bool)
+
+    def render(self) -> np.ndarray | None:
+        """``"rgb_array"``: an image (H, W, 3) of the arm, its reach, the goal and the distance
+        threshold (a 3-D arm seen from above and from the side). ``"human"``: the same in a
+        matplotlib window, updated at every step."""
+        if self.render_mode is None:
+            gymnasium.logger.warn("GoalArmEnv.render() was called without a render_mode; pass render_mode='rgb_array' or 'human' to gymnasium.make.")
+            return None
+        from .render import ArmView
+
+        if self._view is None:
+            self._view = ArmView(self, interactive=self.render_mode == "human")
+        return self._view.draw(self._theta, self._goal)
+
+    def close(self) -> None:
+        if self._view is not None:
+            self._view.close()
+            self._view = None
