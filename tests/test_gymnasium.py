@@ -272,3 +272,57 @@ def test_compute_terminated_and_truncated_as_goal_environments_have_them():
     batch = np.zeros((4, 2))
     assert env.compute_terminated(batch, batch, [{}] * 4).tolist() == [False] * 4
     assert env.compute_truncated(batch, batch, [{}] * 4).shape == (4,)
+
+
+class _ReadsGoalCell(gymnasium.Wrapper):
+    """A goal environment that takes its goal elsewhere (as PointMaze reads options['goal_cell']):
+    options['goal'] and next_goal are ignored."""
+
+    def reset(self, *, seed=None, options=None):
+        options = {k: v for k, v in (options or {}).items() if k != "goal"}
+        self.env.unwrapped.next_goal = None
+        return self.env.reset(seed=seed, options=options)
+
+
+def test_a_goal_not_applied_is_an_error_not_a_silent_curriculum():
+    env = _ReadsGoalCell(gymnasium.make("saggriac/PlanarArm-v0"))
+    teacher = sg.SaggRiacSelector([0.0, -50.0], [50.0, 50.0], seed=0)
+    with pytest.raises(sg.errors.ConformanceError, match="does not take goals that way"):
+        sgym.SelectorGoals(env, teacher).reset(seed=0)
+    assert len(teacher.history()["told_competence"]) == 0
+    venv = gymnasium.vector.SyncVectorEnv([lambda: _ReadsGoalCell(gymnasium.make("saggriac/PlanarArm-v0")) for _ in range(2)])
+    with pytest.raises(sg.errors.ConformanceError, match="sub-environment 0"):
+        sgym.VectorSelectorGoals(venv, teacher).reset(seed=0)
+
+
+def test_goal_via_observation_recomputes_the_end_test_for_the_teachers_goal():
+    base = gymnasium.make("saggriac/PlanarArm-v0").unwrapped
+    base.compute_terminated = lambda a, d, info: bool(np.linalg.norm(np.asarray(a) - np.asarray(d)) < 1.0)
+    # The teacher's goal is where the arm rests: the first step ends the episode for that goal.
+    teacher = sg.RandomSelector([49.9, -0.05], [50.0, 0.05], seed=0)
+    env = sgym.SelectorGoals(base, teacher, goal_via="observation")
+    env.reset(seed=0)
+    assert env.step(np.zeros(15))[2] is True
+
+
+def test_a_teacher_copied_into_a_worker_process_is_refused(tmp_path):
+    import pickle
+    import subprocess
+    import sys
+
+    teacher = sg.SaggRiacSelector([0.0, -50.0], [50.0, 50.0], seed=0)
+    assert not teacher.is_worker_copy and not pickle.loads(pickle.dumps(teacher)).is_worker_copy  # a copy in this process is fine
+    f = tmp_path / "teacher.pkl"
+    f.write_bytes(pickle.dumps(teacher))
+    child = f"""
+import pickle, gymnasium, saggriac.gym as sgym
+t = pickle.load(open({str(f)!r}, "rb"))
+assert t.is_worker_copy
+try:
+    sgym.SelectorGoals(gymnasium.make("saggriac/PlanarArm-v0"), t)
+except Exception as e:
+    print(type(e).__name__, e)
+"""
+    out = subprocess.run([sys.executable, "-c", child], capture_output=True, text=True)
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.startswith("ConformanceError") and "saggriac.sb3.TeacherCallback" in out.stdout

@@ -174,7 +174,7 @@ class _AskTellSelector:
     # Saving: pickle (and copy.deepcopy) go through the core's own encoding, so a restored
     # teacher asks exactly the goals the original would have asked next.
     def __getstate__(self) -> dict[str, Any]:
-        return {"teacher": bytes(self._inner.save()), "last_mode": self.last_mode, "last_region": self.last_region}
+        return {"teacher": bytes(self._inner.save()), "last_mode": self.last_mode, "last_region": self.last_region, "pickled_in": os.getpid()}
 
     def __setstate__(self, state: dict[str, Any]) -> None:
         inner = _core.AskTell.restore(state["teacher"])
@@ -182,6 +182,17 @@ class _AskTellSelector:
             raise InputError(f"The saved teacher is a {inner.kind!r} teacher, not a {type(self).__name__}.")
         self._inner = inner
         self.last_mode, self.last_region = state["last_mode"], state["last_region"]
+        self._pickled_in = state.get("pickled_in")
+
+    @property
+    def is_worker_copy(self) -> bool:
+        """True for a copy of a teacher unpickled in a child of the process that pickled it: what
+        a SubprocVecEnv or a process pool makes of a teacher captured by its workers. Each copy
+        would learn from its own worker only, while the original is told nothing; saggriac's
+        wrappers refuse such copies (saggriac.sb3.TeacherCallback keeps one teacher in the main
+        process instead)."""
+        origin = getattr(self, "_pickled_in", None)
+        return origin is not None and origin != os.getpid() and origin == os.getppid()
 
     def save(self, path: str | os.PathLike[str], overwrite: bool = False) -> Path:
         """Write the teacher (parameters, state, history) to the file ``path``, atomically;

@@ -19,6 +19,7 @@ An episode cut short by a reset is not told. The environment must have a dict ob
 
 from __future__ import annotations
 
+import os
 from typing import Any
 
 import gymnasium
@@ -39,6 +40,28 @@ class _Scoring:
 
     def __call__(self, goal: np.ndarray, reached: np.ndarray, start: np.ndarray) -> Any:
         return competence(goal, reached, start, **self.kw)
+
+
+def _refuse_worker_copy(selector: Any, owner: str) -> None:
+    if getattr(selector, "is_worker_copy", False):
+        raise ConformanceError(
+            f"{owner} was given a copy of a teacher made when it was sent to a worker process (pid {os.getpid()}, a child of pid {os.getppid()}): "
+            "every worker would teach itself and the original teacher would be told nothing. With Stable-Baselines3's SubprocVecEnv (or any "
+            "multi-process vector environment) keep the teacher in the main process: saggriac.sb3.TeacherCallback(teacher), or VectorSelectorGoals "
+            "around a Gymnasium vector environment."
+        )
+
+
+def _check_goal_taken(wanted: np.ndarray, obs: dict[str, Any], owner: str, how: str) -> None:
+    """The environment must pursue the goal it was given: its desired_goal after the reset."""
+    got = np.asarray(obs["desired_goal"], dtype=np.float64)
+    if got.shape != wanted.shape or not np.allclose(got, wanted, rtol=1e-6, atol=1e-6 * (1.0 + float(np.max(np.abs(wanted))))):
+        raise ConformanceError(
+            f"{owner} asked the environment for the goal {np.round(wanted, 6).tolist()} through {how}, but after reset its desired_goal is "
+            f"{np.round(got, 6).tolist()}: the environment does not take goals that way (Gymnasium-Robotics' PointMaze, for one, reads "
+            "options['goal_cell']), and the teacher would be told competences for goals that were never pursued. Give the environment a way to "
+            "take the goal, or use goal_via='observation' where the environment's reward and success come from compute_reward."
+        )
 
 
 def _check_goal_space(space: Any, owner: str) -> None:
@@ -73,6 +96,7 @@ class SelectorGoals(gymnasium.Wrapper):
             raise ParameterError(f"The 'goal_via' parameter of SelectorGoals must be one of {', '.join(map(repr, GOAL_VIA))}. Got {goal_via!r} instead.", "goal_via", repr(goal_via))
         if not (callable(getattr(selector, "sample", None)) and callable(getattr(selector, "update", None))):
             raise ConformanceError(f"SelectorGoals needs a selector with sample() and update(goal, competence); got {selector!r}.")
+        _refuse_worker_copy(selector, "SelectorGoals")
         self.selector, self.goal_via = selector, goal_via
         self._score = _Scoring(min_c, eps_c, competence, reach)
         self._goal: np.ndarray | None = None
@@ -86,10 +110,13 @@ class SelectorGoals(gymnasium.Wrapper):
         return obs
 
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None) -> tuple[Any, dict[str, Any]]:
+        _refuse_worker_copy(self.selector, "SelectorGoals")
         self._goal = np.asarray(self.selector.sample(), dtype=np.float64)
         if self.goal_via == "options":
             options = {**(options or {}), "goal": self._goal}
         obs, info = self.env.reset(seed=seed, options=options)
+        if self.goal_via == "options":
+            _check_goal_taken(self._goal, obs, "SelectorGoals", "reset(options={'goal': ...})")
         self._start = np.asarray(obs["achieved_goal"], dtype=np.float64).copy()
         self._open = True
         return self._with_goal(obs), info
@@ -98,7 +125,12 @@ class SelectorGoals(gymnasium.Wrapper):
         obs, reward, terminated, truncated, info = self.env.step(action)
         obs = self._with_goal(obs)
         if self.goal_via == "observation":
-            reward = float(self.env.unwrapped.compute_reward(obs["achieved_goal"], obs["desired_goal"], info))
+            # The environment's own reward and end test used its own goal: both are recomputed
+            # for the goal the teacher chose (compute_terminated where the environment has it).
+            base = self.env.unwrapped
+            reward = float(base.compute_reward(obs["achieved_goal"], obs["desired_goal"], info))
+            if callable(getattr(base, "compute_terminated", None)):
+                terminated = bool(base.compute_terminated(obs["achieved_goal"], obs["desired_goal"], info))
         if (terminated or truncated) and self._open:
             c = self._score(self._goal, np.asarray(obs["achieved_goal"], dtype=np.float64), self._start)
             self.selector.update(self._goal, c)
@@ -135,6 +167,7 @@ class VectorSelectorGoals(gymnasium.vector.VectorWrapper):
             raise ParameterError(f"VectorSelectorGoals needs a vector environment that resets on the next step (autoreset_mode=AutoresetMode.NEXT_STEP, Gymnasium's default); this one has {mode}.", "autoreset_mode", repr(mode))
         if not (callable(getattr(selector, "sample", None)) and callable(getattr(selector, "update", None))):
             raise ConformanceError(f"VectorSelectorGoals needs a selector with sample() and update(goal, competence); got {selector!r}.")
+        _refuse_worker_copy(selector, "VectorSelectorGoals")
         self.selector = selector
         self._score = _Scoring(min_c, eps_c, competence, reach)
         n = env.num_envs
@@ -154,13 +187,19 @@ class VectorSelectorGoals(gymnasium.vector.VectorWrapper):
     def reset(self, *, seed: int | list[int] | None = None, options: dict[str, Any] | None = None) -> tuple[Any, dict[str, Any]]:
         self._hand_out(np.ones(self.num_envs, dtype=bool))
         obs, info = self.env.reset(seed=seed, options=options)
+        self._check_taken(obs, np.ones(self.num_envs, dtype=bool))
         self._starts[:] = obs["achieved_goal"]
         self._restarting[:] = False
         return obs, info
 
+    def _check_taken(self, obs: dict[str, Any], which: np.ndarray) -> None:
+        for i in np.flatnonzero(which):
+            _check_goal_taken(self._goals[i], {"desired_goal": np.asarray(obs["desired_goal"])[i]}, f"VectorSelectorGoals (sub-environment {i})", "set_attr('next_goal', ...)")
+
     def step(self, actions: Any) -> tuple[Any, Any, Any, Any, dict[str, Any]]:
         obs, reward, terminated, truncated, info = self.env.step(actions)
         achieved = np.asarray(obs["achieved_goal"], dtype=np.float64)
+        self._check_taken(obs, self._restarting)
         self._starts[self._restarting] = achieved[self._restarting]
         done = (np.asarray(terminated) | np.asarray(truncated)) & ~self._restarting
         comps = np.full(self.num_envs, np.nan)
