@@ -60,7 +60,7 @@ class NearestNeighbourReacher:
 
 def train(teacher: str, n_envs: int, episodes: int, seed: int) -> float:
     steps = gymnasium.spec("saggriac/PlanarArmExp2-v0").max_episode_steps
-    venv = gymnasium.make_vec("saggriac/PlanarArmExp2-v0", num_envs=n_envs, vectorization_mode="sync")
+    venv = gymnasium.make_vec("saggriac/PlanarArmExp2-v0", num_envs=n_envs, vectorization_mode="sync", action_scale="joint")
     low, high = [0.0, -150.0], [150.0, 150.0]
     selector = sg.SaggRiacSelector(low, high, seed=seed) if teacher == "sagg_riac" else sg.RandomSelector(low, high, seed=seed)
     env = saggriac.gym.VectorSelectorGoals(venv, selector)
@@ -82,7 +82,7 @@ def train(teacher: str, n_envs: int, episodes: int, seed: int) -> float:
     test_rng = np.random.default_rng(12345)
     r, a = 50.0 * np.sqrt(test_rng.uniform(0, 1, 64)), test_rng.uniform(-np.pi / 2, np.pi / 2, 64)
     goals = np.stack([r * np.cos(a), r * np.sin(a)], axis=1)
-    tenv = gymnasium.make("saggriac/PlanarArmExp2-v0").unwrapped
+    tenv = gymnasium.make("saggriac/PlanarArmExp2-v0", action_scale="joint").unwrapped
     errors = []
     for g in goals:
         o, _ = tenv.reset(options={"goal": g})

@@ -36,7 +36,7 @@ def test_module_prefixed_make_imports_the_registration_itself():
 
 
 def test_an_episode_moves_the_arm_as_a_run_does_and_truncates():
-    env = gymnasium.make("saggriac/PlanarArm-v0")
+    env = gymnasium.make("saggriac/PlanarArm-v0", action_scale="joint")
     obs, _ = env.reset(seed=1)
     arm = sg.environments.PlanarArm()
     arm.reset()
@@ -94,7 +94,8 @@ def test_bad_options_and_actions_are_refused_clearly():
 
 
 def _arm_body(env_id="saggriac/PlanarArm-v0"):
-    env = gymnasium.make(env_id).unwrapped
+    # GymBody's env.step route needs actions that are joint changes.
+    env = gymnasium.make(env_id, action_scale="joint").unwrapped
     return sgym.GymBody(env, theta=lambda e, o: o["observation"], position=lambda e, o: o["achieved_goal"], joint_limit=math.pi / 2, max_joint_step=0.05)
 
 

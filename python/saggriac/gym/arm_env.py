@@ -25,6 +25,8 @@ from ..errors import InputError, ParameterError
 
 BODIES = {"planar_arm": PlanarArm, "spatial_arm": SpatialArm}
 REWARDS = ("sparse", "dense")
+# "normalized": actions in [-1, 1], times max_joint_step; "joint": the joint change itself.
+ACTION_SCALES = ("normalized", "joint")
 # reset() options this environment reads; vector environments add "reset_mask" themselves.
 OPTIONS = ("goal", "theta", "reset_mask")
 
@@ -65,6 +67,7 @@ class GoalArmEnv(gymnasium.Env):
         distance_threshold: float | None = None,
         reward_type: str = "sparse",
         render_mode: str | None = None,
+        action_scale: str = "normalized",
     ) -> None:
         if body not in BODIES:
             raise ParameterError(f"The 'body' parameter of GoalArmEnv must be one of {', '.join(map(repr, BODIES))}. Got {body!r} instead.", "body", repr(body))
@@ -81,6 +84,8 @@ class GoalArmEnv(gymnasium.Env):
         max_joint_step = _positive("max_joint_step", max_joint_step)
         if reward_type not in REWARDS:
             raise ParameterError(f"The 'reward_type' parameter of GoalArmEnv must be one of {', '.join(map(repr, REWARDS))}. Got {reward_type!r} instead.", "reward_type", repr(reward_type))
+        if action_scale not in ACTION_SCALES:
+            raise ParameterError(f"The 'action_scale' parameter of GoalArmEnv must be one of {', '.join(map(repr, ACTION_SCALES))}. Got {action_scale!r} instead.", "action_scale", repr(action_scale))
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
             raise ParameterError(f"The 'render_mode' parameter of GoalArmEnv must be None, 'human' or 'rgb_array'. Got {render_mode!r} instead.", "render_mode", repr(render_mode))
         self.body = body
@@ -100,7 +105,13 @@ class GoalArmEnv(gymnasium.Env):
         self.render_mode = render_mode
         self._view: Any = None
         self.goal_space = spaces.Box(low, high, dtype=np.float64)
-        self.action_space = spaces.Box(-max_joint_step, max_joint_step, (n,), dtype=np.float64)
+        self.action_scale = action_scale
+        if action_scale == "normalized":
+            # What deep-RL libraries expect (SB3's checker asks for it): [-1, 1] in float32, one
+            # unit being max_joint_step.
+            self.action_space = spaces.Box(-1.0, 1.0, (n,), dtype=np.float32)
+        else:
+            self.action_space = spaces.Box(-max_joint_step, max_joint_step, (n,), dtype=np.float64)
         self.observation_space = spaces.Dict(
             {
                 "observation": spaces.Box(-joint_limit, joint_limit, (n,), dtype=np.float64),
@@ -150,6 +161,8 @@ class GoalArmEnv(gymnasium.Env):
         a = np.asarray(action, dtype=np.float64)
         if a.shape != self.action_space.shape or not np.all(np.isfinite(a)):
             raise InputError(f"GoalArmEnv.step() needs {self.action_space.shape[0]} finite joint changes; got {action!r}.")
+        if self.action_scale == "normalized":
+            a = a * self.arm.max_joint_step
         self._theta, self._x = self.arm.step(a)
         info = self._info()
         reward = float(self.compute_reward(self._x, self._goal, info))
@@ -166,6 +179,11 @@ class GoalArmEnv(gymnasium.Env):
         if self.reward_type == "dense":
             return -d
         return -(d > self.distance_threshold).astype(np.float64)
+
+    def set_next_goal(self, goal: Any) -> None:
+        """The goal of the next episode (read on reset): a method, so that vector environments'
+        ``env_method`` reaches it through any wrappers (``set_attr`` sets the outermost one)."""
+        self.next_goal = None if goal is None else _point("next_goal", goal, self.goal_space.shape[0])
 
     def compute_terminated(self, achieved_goal: Any, desired_goal: Any, info: Any) -> Any:
         """Whether the episode ends (Gymnasium-Robotics' goal-environment API): never, as in

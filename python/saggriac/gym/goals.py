@@ -147,6 +147,10 @@ class GoalSlot(gymnasium.Wrapper):
         super().__init__(env)
         self.next_goal: np.ndarray | None = None
 
+    def set_next_goal(self, goal: Any) -> None:
+        """Set ``next_goal`` (what ``env_method("set_next_goal", g)`` calls through wrappers)."""
+        self.next_goal = goal
+
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None) -> tuple[Any, dict[str, Any]]:
         if self.next_goal is not None:
             options = {**(options or {}), "goal": self.next_goal}
