@@ -148,10 +148,36 @@ def test_a_native_run_and_a_run_through_mujoco_see_the_same_test_set():
         (lambda a: a.chain(scale=0.0), "scale"),
         (lambda a: a.chain(at_origin="yes"), "at_origin"),
         (lambda a: MujocoArm(a.model, ("j1", "j0"), "tip").chain(), "joints"),
-        (lambda a: MujocoArm(a.model, ("j0", "j3"), "b1").chain(), "joints"),
+        (lambda a: MujocoArm(a.model, ("j0", "j3"), "b1").chain(), "end_effector"),  # refused when the arm is made, before chain()
     ],
 )
 def test_chain_refusals_are_named(call, param):
     with pytest.raises(sg.ParameterError) as e:
         call(twisted_arm())
     assert e.value.param == param
+
+
+def _asset(name):
+    import gymnasium
+
+    return os.path.join(os.path.dirname(gymnasium.__file__), "envs", "mujoco", "assets", name)
+
+
+def test_an_unlimited_hinge_takes_a_stated_range():
+    with pytest.raises(sg.ParameterError, match="no range in the model"):
+        MujocoArm(_asset("reacher.xml"), ["joint0", "joint1"], "fingertip")
+    arm = MujocoArm(_asset("reacher.xml"), ["joint0", "joint1"], "fingertip", ranges={"joint0": (-3.0, 3.0)})
+    assert arm.low.tolist()[0] == -3.0 and arm.high.tolist()[0] == 3.0
+    check_environment(arm)
+    # theta = +-1 is the stated range's end.
+    _, x = arm.reset(options={"theta": [1.0, 0.0]})
+    np.testing.assert_allclose(arm.joint_angles([1.0, 0.0])[0], 3.0)
+    for bad in ({"joint9": (0, 1)}, {"joint0": (1.0, -1.0)}, {"joint0": (0, float("inf"))}, {"joint0": "wide"}, [("joint0", (0, 1))]):
+        with pytest.raises(sg.ParameterError, match="ranges"):
+            MujocoArm(_asset("reacher.xml"), ["joint0", "joint1"], "fingertip", ranges=bad)
+
+
+@pytest.mark.parametrize("model, joints, ee", [("half_cheetah.xml", ["bthigh", "fthigh"], "bfoot"), ("ant.xml", ["hip_1", "ankle_1"], "front_left_leg")])
+def test_an_end_effector_that_a_chosen_joint_does_not_move_is_refused(model, joints, ee):
+    with pytest.raises(sg.ParameterError, match="does not move when the joints"):
+        MujocoArm(_asset(model), joints, ee)

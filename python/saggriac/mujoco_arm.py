@@ -46,9 +46,14 @@ def pusher_model_path() -> str:
 class MujocoArm:
     """The hinge joints ``joints`` of the MuJoCo model ``model`` (an ``MjModel`` or the path of
     an XML file) as a saggriac body whose end effector is the body or site ``end_effector``.
-    The model's other joints stay at their ``qpos0``."""
+    The model's other joints stay at their ``qpos0``.
 
-    def __init__(self, model: Any, joints: tuple[str, ...] | list[str], end_effector: str, max_joint_step: float = 0.02) -> None:
+    Each joint moves within its range in the model. ``ranges`` gives a range (low, high) in
+    radians to joints that have none (unlimited hinges: a Reacher's shoulder, most models' root
+    hinges), or overrides a model's. An end effector that some chosen joint does not move (a
+    joint of another limb, an end effector before the joint) is refused, naming the joints."""
+
+    def __init__(self, model: Any, joints: tuple[str, ...] | list[str], end_effector: str, max_joint_step: float = 0.02, ranges: dict[str, tuple[float, float]] | None = None) -> None:
         if isinstance(model, (str, os.PathLike)):
             model = mujoco.MjModel.from_xml_path(os.fspath(model))
         if not isinstance(model, mujoco.MjModel):
@@ -61,17 +66,24 @@ class MujocoArm:
         if repeated:
             raise ParameterError(f"The 'joints' parameter of MujocoArm names {', '.join(map(repr, repeated))} more than once; each joint is one coordinate of theta.", "joints", repr(list(joints)))
         self.model, self.data = model, mujoco.MjData(model)
+        ranges = self._check_ranges(ranges, joints)
         adr, lo, hi = [], [], []
         for name in joints:
             jid = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, name)
             if jid < 0:
                 known = [model.joint(i).name for i in range(model.njnt)]
                 raise ParameterError(f"The 'joints' parameter of MujocoArm names {name!r}, which the model does not have. Its joints: {known}.", "joints", repr(name))
-            if model.jnt_type[jid] != mujoco.mjtJoint.mjJNT_HINGE or not model.jnt_limited[jid]:
-                raise ParameterError(f"The 'joints' parameter of MujocoArm must name limited hinge joints; {name!r} is not one.", "joints", repr(name))
+            if model.jnt_type[jid] != mujoco.mjtJoint.mjJNT_HINGE:
+                raise ParameterError(f"The 'joints' parameter of MujocoArm must name hinge joints; {name!r} is not one (slide, ball and free joints are not arm joints here).", "joints", repr(name))
+            if name in ranges:
+                low, high = ranges[name]
+            elif model.jnt_limited[jid]:
+                low, high = float(model.jnt_range[jid][0]), float(model.jnt_range[jid][1])
+            else:
+                raise ParameterError(f"The joint {name!r} of MujocoArm has no range in the model (an unlimited hinge); give it one: ranges={{{name!r}: (-3.14, 3.14)}}, in radians.", "ranges", repr(name))
             adr.append(int(model.jnt_qposadr[jid]))
-            lo.append(float(model.jnt_range[jid][0]))
-            hi.append(float(model.jnt_range[jid][1]))
+            lo.append(low)
+            hi.append(high)
         self._adr = np.array(adr)
         self.low, self.high = np.array(lo), np.array(hi)
         self.mid, self.half = (self.low + self.high) / 2, (self.high - self.low) / 2
@@ -86,6 +98,41 @@ class MujocoArm:
         self.action_space = Box(-self.max_joint_step, self.max_joint_step, (n,))
         self.task_space = Box(-1e3, 1e3, (3,))
         self.theta = np.zeros(n)
+        self._check_end_effector_moves()
+
+    @staticmethod
+    def _check_ranges(ranges: Any, joints: Any) -> dict[str, tuple[float, float]]:
+        if ranges is None:
+            return {}
+        if not isinstance(ranges, dict):
+            raise ParameterError(f"The 'ranges' parameter of MujocoArm must be a dict {{joint name: (low, high)}}. Got {ranges!r} instead.", "ranges", repr(ranges))
+        out = {}
+        for name, r in ranges.items():
+            if name not in joints:
+                raise ParameterError(f"The 'ranges' parameter of MujocoArm names {name!r}, which is not one of the chosen joints {list(joints)}.", "ranges", repr(name))
+            try:
+                low, high = (float(v) for v in r)
+            except (TypeError, ValueError):
+                raise ParameterError(f"The 'ranges' parameter of MujocoArm must give (low, high) for {name!r}. Got {r!r} instead.", "ranges", repr(r)) from None
+            if not (math.isfinite(low) and math.isfinite(high) and low < high and high - low <= 4 * math.pi):
+                raise ParameterError(f"The 'ranges' parameter of MujocoArm must give finite low < high, at most 4 pi apart, for {name!r}. Got {r!r} instead.", "ranges", repr(r))
+            out[name] = (low, high)
+        return out
+
+    def _check_end_effector_moves(self) -> None:
+        """Each chosen joint must be on the path from the model's root to the end effector: a
+        joint of another limb, or beyond the end effector, never moves it and would be a
+        dimension the learner can never learn. (A roll joint whose axis passes through the end
+        effector is on the path and kept: it orients what comes after it.)"""
+        m = self.model
+        b = int(m.site_bodyid[self._site]) if self._site >= 0 else self._body
+        path = set()
+        while b > 0:
+            path.add(b)
+            b = int(m.body_parentid[b])
+        off = [name for name in self.joint_names if int(m.jnt_bodyid[mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, name)]) not in path]
+        if off:
+            raise ParameterError(f"The end effector {self.end_effector!r} of MujocoArm does not move when the joints {off} move: they are not on the path from the model's root to it. Choose the joints of its limb, or another end effector.", "end_effector", repr(self.end_effector))
 
     def joint_angles(self, theta: Any) -> np.ndarray:
         """The model's joint angles (radians) of saggriac's coordinates ``theta``."""
