@@ -208,3 +208,51 @@ def test_through_syllabus_sync_wrappers():
     np.testing.assert_array_equal(h["told_goal"], received)
     np.testing.assert_array_equal(h["asked_goal"][:60].astype(np.float32), received.astype(np.float32))
     np.testing.assert_allclose(h["told_competence"], [progress_of(t) for t in received])
+
+
+def test_saggriacs_goal_environments_as_syllabus_task_environments():
+    """GoalTaskWrapper, shipped: a saggriac goal environment behind Syllabus's sync wrapper, its
+    goals chosen by a SAGG-RIAC curriculum in Syllabus's update thread."""
+    import saggriac.gym  # noqa: F401 (registers the environments)
+    from saggriac.syllabus import GoalTaskWrapper
+
+    env = GoalTaskWrapper(gymnasium.make("saggriac/PlanarArmExp1-v0", max_episode_steps=5))
+    space = env.task_space
+    teacher = sg.SaggRiacSelector(space.gym_space.low, space.gym_space.high, seed=2)
+    cur = make_multiprocessing_curriculum(SelectorCurriculum(space, teacher))
+    try:
+        synced = GymnasiumSyncWrapper(env, space, cur.components, buffer_size=1)
+        pursued = []
+        for _ in range(20):
+            obs, info = synced.reset()
+            pursued.append(np.asarray(obs["desired_goal"]).copy())
+            assert info["task_completion"] == 0.0
+            done = False
+            while not done:
+                obs, _, term, trunc, info = synced.step(synced.action_space.sample())
+                assert 0.0 <= info["task_completion"] <= 1.0
+                done = term or trunc
+        deadline = time.time() + 30
+        while cur.curriculum.told < 19 and time.time() < deadline:
+            time.sleep(0.01)
+    finally:
+        cur.stop()
+    h = cur.curriculum.selector.history()
+    # Every told goal is one an episode pursued: the curriculum's goals reached the environment.
+    told = h["told_goal"]
+    assert len(told) >= 19
+    assert all(any(np.allclose(g, p) for p in pursued) for g in told)
+
+
+def test_goal_task_wrapper_refuses_tasks_outside_the_goal_box():
+    import saggriac.gym  # noqa: F401
+    from saggriac.errors import InputError
+    from saggriac.syllabus import GoalTaskWrapper
+
+    env = GoalTaskWrapper(gymnasium.make("saggriac/PlanarArmExp1-v0"))
+    with pytest.raises(InputError, match="goal box"):
+        env.reset(new_task=[500.0, 0.0])
+    obs, info = env.reset(new_task=[20.0, 10.0], seed=3)
+    assert obs["desired_goal"].tolist() == [20.0, 10.0] and info["task"].tolist() == [20.0, 10.0]
+    with pytest.raises(ConformanceError):
+        GoalTaskWrapper(gymnasium.make("CartPole-v1"))

@@ -19,6 +19,10 @@ told. The teacher's own generator draws every task; Syllabus's ``random_start_ta
 numpy's global generator) is refused: the mixture teachers have their own ``bootstrap``.
 
 Pickling the curriculum pickles its teacher, which then continues with the same tasks.
+
+:class:`GoalTaskWrapper` is the environment side for saggriac's own goal environments
+(``saggriac/...-v0``): a task is a goal in the environment's goal box, its task space a
+``BoxTaskSpace`` over that box, and its task progress 1 + eq. 7's competence, in [0, 1].
 """
 
 from __future__ import annotations
@@ -27,16 +31,17 @@ from typing import Any, Callable
 
 try:
     import gymnasium
-    from syllabus.core import Curriculum
+    from syllabus.core import Curriculum, TaskWrapper
     from syllabus.task_space import BoxTaskSpace, DiscreteTaskSpace
 except ImportError:  # pragma: no cover - depends on the installation
     raise ImportError('saggriac.syllabus needs Syllabus: pip install "saggriac[syllabus]"') from None
 
 import numpy as np
 
-from .errors import ConformanceError, ParameterError
+from .competence import competence as _competence
+from .errors import ConformanceError, InputError, ParameterError
 from .goal_selection import DiscreteLpSelector
-from .gym.goals import _sample_batch
+from .gym.goals import _check_goal_taken, _sample_batch
 
 COMPETENCES = ("progress", "return")
 
@@ -142,3 +147,50 @@ class SelectorCurriculum(Curriculum):
                 else:
                     writer.log({name: value})
         return logs
+
+
+class GoalTaskWrapper(TaskWrapper):
+    """A saggriac goal environment as a Syllabus task environment: ``reset(new_task=goal)`` (or
+    ``change_task``) sets the next episode's goal, checked to be in the goal box and to be the
+    goal the environment then pursues; ``info["task_completion"]`` after each step is
+    1 + C(goal, achieved, start) (eq. 7, clipped at ``min_c`` = -1 and set to 0 within ``eps_c``),
+    from 0 (no closer than at the start) to 1 (reached). ``task_space`` is a ``BoxTaskSpace`` over
+    the goal box, for :class:`SelectorCurriculum`."""
+
+    def __init__(self, env: gymnasium.Env, *, eps_c: float = -0.05) -> None:
+        super().__init__(env)
+        space = getattr(env.unwrapped, "goal_space", None)
+        if not isinstance(space, gymnasium.spaces.Box) or not callable(getattr(env.unwrapped, "set_next_goal", None)):
+            raise ConformanceError(f"GoalTaskWrapper wraps saggriac's goal environments (saggriac/...-v0), which have a goal_space and take goals on reset; got {env}.")
+        self.task_space = BoxTaskSpace(space)
+        self._goal_space = space
+        self._eps_c = eps_c
+        _competence(np.zeros(1), np.zeros(1), np.ones(1), eps_c=eps_c)  # checks eps_c
+        self.task = None
+        self._start: np.ndarray | None = None
+
+    def change_task(self, new_task: Any) -> None:
+        goal = np.asarray(new_task, dtype=np.float64)
+        if goal.shape != self._goal_space.shape or not np.all(np.isfinite(goal)) or not self._goal_space.contains(goal.astype(self._goal_space.dtype)):
+            raise InputError(f"GoalTaskWrapper: a task is a goal in the environment's goal box [{self._goal_space.low.tolist()}, {self._goal_space.high.tolist()}]; got {new_task!r}.")
+        self.task = goal
+
+    def reset(self, new_task: Any = None, **kwargs: Any) -> tuple[Any, dict[str, Any]]:
+        # Syllabus's base class reads a seed as a task when no task is given; a seed is a seed.
+        if new_task is not None:
+            self.change_task(new_task)
+        options = dict(kwargs.pop("options", None) or {})
+        if self.task is not None:
+            options["goal"] = self.task
+        obs, info = self.env.reset(options=options, **kwargs)
+        if self.task is not None:
+            _check_goal_taken(self.task, obs, "GoalTaskWrapper", "reset(options={'goal': ...})")
+        else:
+            self.task = np.asarray(obs["desired_goal"], dtype=np.float64).copy()
+        self._start = np.asarray(obs["achieved_goal"], dtype=np.float64).copy()
+        self.task_completion = 0.0
+        return self.observation(obs), {**info, "task_completion": 0.0, "task": self.task}
+
+    def _task_completion(self, obs: Any, rew: Any, term: bool, trunc: bool, info: dict[str, Any]) -> float:
+        c = _competence(np.asarray(obs["desired_goal"], dtype=np.float64), np.asarray(obs["achieved_goal"], dtype=np.float64), self._start, min_c=-1.0, eps_c=self._eps_c)
+        return 1.0 + float(c)
