@@ -96,7 +96,7 @@ def test_bad_input_names_the_problem_and_changes_nothing():
         s.update([0.5, 0.5], float("nan"))
     with pytest.raises(InputError, match="row 1"):
         s.update_batch([[0.1, 0.1], [0.2, np.inf]], [-0.1, -0.2])
-    with pytest.raises(InputError, match="n must be an int"):
+    with pytest.raises(ParameterError, match="'n' parameter of SaggRiacSelector.sample_batch must be an int"):
         s.sample_batch(-1)
     assert len(s.history()["told_competence"]) == 0
     with pytest.raises(ParameterError, match="g_max"):
