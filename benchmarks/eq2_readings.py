@@ -18,7 +18,9 @@ the new default) and compares, new reading minus old (saggriac.statistics.paired
 
 - the final reaching error and the final prediction error (both conditions);
 - goals per run and the share of the second-half goals (started at step >= n_steps / 2) that lie
-  in the reachable area (SAGG-RIAC only). The reachable area is the one of
+  in the reachable area (SAGG-RIAC only);
+- in SAGG-RIAC's final tree, the part of mode 1's weights (eq. 3, |I - min I| over the leaves)
+  that falls on young leaves (fewer than zeta measurements), where the two readings differ. The reachable area is the one of
   ``benchmarks/goal_placement.py`` (``zones``): |g| <= arm length for the planar and spatial arms,
   which is also ``benchmarks/sensitivity.py``'s definition, and the sampled reachable set for a
   chain (pusher).
@@ -51,6 +53,7 @@ METRICS = (
     ("pred_error", "final prediction error", CONDITIONS),
     ("goals", "goals per run", ("sagg_riac",)),
     ("share_2nd_half", "2nd-half reachable share", ("sagg_riac",)),
+    ("young_mass", "eq.-3 mass on young leaves", ("sagg_riac",)),
 )
 
 
@@ -69,6 +72,15 @@ def read_run(run_dir: Path) -> dict[str, float]:
         late = goals[goals["step_start"] >= cfg.n_steps / 2]
         row["goals"] = float(len(goals))
         row["share_2nd_half"] = float(zones(late, cfg)["reachable"].mean()) if len(late) else np.nan
+    regions_file = run_dir / "regions.parquet"
+    if cfg.condition == "sagg_riac" and regions_file.exists():
+        # Mode 1's weights in the final tree (eq. 3: |I - min I| over the leaves), and the part of
+        # them held by young leaves (fewer than zeta measurements), where the two readings differ.
+        leaves = pd.read_parquet(regions_file)
+        leaves = leaves[leaves["is_leaf"]]
+        weight = (leaves["interest"] - leaves["interest"].min()).abs()
+        young = leaves["n_measurements"] < cfg.zeta
+        row["young_mass"] = float(weight[young].sum() / weight.sum()) if weight.sum() > 0 else np.nan
     return row
 
 
@@ -122,7 +134,7 @@ def compare(preset: str, old_folder: Path, new_folder: Path, seeds: int) -> pd.D
     return frame
 
 
-DECIMALS = {"final reaching error": 2, "final prediction error": 2, "goals per run": 0, "2nd-half reachable share": 3}
+DECIMALS = {"final reaching error": 2, "final prediction error": 2, "goals per run": 1, "2nd-half reachable share": 3, "eq.-3 mass on young leaves": 3}
 
 
 def _num(x: float, d: int) -> str:
@@ -144,6 +156,8 @@ def markdown(table: pd.DataFrame, command: str) -> str:
     ]
     for _, r in table.iterrows():
         d = DECIMALS[r["metric"]]
+        if r["metric"].endswith("error") and max(abs(r["old (w) mean"]), abs(r["new (zeta) mean"])) < 1:
+            d = 3  # explauto's errors are about 0.2
         out.append(
             f"| {r['preset']} | {r['condition']} | {r['metric']} | {_num(r['old (w) mean'], d)} ± {_num(r['old (w) sd'], d)} | "
             f"{_num(r['new (zeta) mean'], d)} ± {_num(r['new (zeta) sd'], d)} | {_signed(r['new - old'], d)} [{_signed(r['ci_low'], d)}, {_signed(r['ci_high'], d)}] | "
