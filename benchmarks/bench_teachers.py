@@ -9,7 +9,8 @@ of the goal (a smooth slope plus a plateau), computed with numpy outside the tim
 calls; the discrete teacher gets success rates of 8 tasks. Prints microseconds per sample +
 update and updates per second. Single calls are capped at `--single-cap` rounds (their cost per
 round does not depend on the count). A benchmark, not a test: the mixture teachers refit every
-`fit_rate` updates, which dominates their cost.
+`fit_rate` updates, which dominates their cost. `sagg_riac_w` is SAGG-RIAC with saggriac 0.2's
+reading of eq. 2 (`interest_divisor="window"`), not in the default list.
 """
 
 from __future__ import annotations
@@ -26,6 +27,8 @@ def make(name: str, d: int, seed: int):
     low, high = [0.0] * d, [1.0] * d
     return {
         "sagg_riac": lambda: sg.SaggRiacSelector(low, high, seed=seed),
+        # saggriac 0.2's reading of eq. 2 (young regions divided by their own count), for comparison
+        "sagg_riac_w": lambda: sg.SaggRiacSelector(low, high, seed=seed, interest_divisor="window"),
         "random": lambda: sg.RandomSelector(low, high, seed=seed),
         "riac": lambda: sg.RiacSelector(low, high, seed=seed),
         "alp_gmm": lambda: sg.AlpGmmSelector(low, high, seed=seed),

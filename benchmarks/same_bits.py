@@ -52,7 +52,7 @@ ADDED_COLUMNS = {"metrics": ("dx_error",)}
 SMALL: dict[str, Any] = dict(n_test_goals=30, n_test_configs=30, n_evals=8)
 # The behaviour the reference had, where later versions changed a default (older versions,
 # recording a reference, lack the keys).
-for _key, _value in (("test_configs", "uniform"), ("actuator_candidates", 0), ("babble_step", 0.01), ("competence", "relative"), ("interest_divisor", "window")):
+for _key, _value in (("test_configs", "uniform"), ("actuator_candidates", 0), ("babble_step", 0.01), ("competence", "relative"), ("interest_divisor", "window"), ("eps_max", 0.25)):
     if _key in {f.name for f in dataclasses.fields(saggriac.Config)}:
         SMALL[_key] = _value
 STEPS = {"exp1": 15000, "exp2": 30000, "explauto": 10000, "arm3d": 12000}

@@ -11,6 +11,12 @@ generator (two children of SeedSequence(s)), so runs with the same seed are pair
 Writes to ``--out``: ``runs.csv`` (one row per run), ``curves.csv`` (the score every ``--every``
 updates), ``comparisons.csv`` (every pair of teachers, paired t-tests, Holm within a space and a
 metric), ``results.md`` and ``niches.png``. The decision rule is the one of docs/teachers.md.
+
+``--extra sagg_riac_w`` adds SAGG-RIAC with saggriac 0.2's reading of eq. 2 (a region holding
+fewer than zeta measurements divided by its own count, ``interest_divisor="window"``) as a row
+for comparison. An extra teacher is not a contestant: the registered teachers' 15 pairs keep
+their own Holm family and decide who wins, and the pairs with an extra teacher form a second
+family per space and metric.
 """
 
 from __future__ import annotations
@@ -30,14 +36,18 @@ from saggriac.progress_niches import KINDS, ProgressNiches
 from saggriac.statistics import holm, paired
 
 TEACHERS = ("sagg_riac", "riac", "alp_gmm", "covar_gmm", "discrete_lp", "random")
-NAMES = {"sagg_riac": "SAGG-RIAC", "riac": "RIAC", "alp_gmm": "ALP-GMM", "covar_gmm": "Covar-GMM", "discrete_lp": "discrete LP", "random": "random"}
+EXTRA = ("sagg_riac_w",)  # rows for comparison, outside the protocol's family of 15 pairs
+ORDER = ("sagg_riac", "sagg_riac_w", "riac", "alp_gmm", "covar_gmm", "discrete_lp", "random")
+NAMES = {"sagg_riac": "SAGG-RIAC", "sagg_riac_w": "SAGG-RIAC (w divisor, <= 0.2)", "riac": "RIAC", "alp_gmm": "ALP-GMM", "covar_gmm": "Covar-GMM", "discrete_lp": "discrete LP", "random": "random"}
 METRICS = ("final", "auc", "share_noisy", "share_impossible")
+SHORT = {"sagg_riac_w": "SAGG-RIAC\n(w, <= 0.2)", "covar_gmm": "Covar-\nGMM", "discrete_lp": "discrete\nLP"}
 
 
 def make_teacher(name: str, env: ProgressNiches, seed: int):
     low, high = env.low.tolist(), env.high.tolist()
     return {
         "sagg_riac": lambda: sg.SaggRiacSelector(low, high, seed=seed),
+        "sagg_riac_w": lambda: sg.SaggRiacSelector(low, high, seed=seed, interest_divisor="window"),
         "riac": lambda: sg.RiacSelector(low, high, seed=seed),
         "alp_gmm": lambda: sg.AlpGmmSelector(low, high, seed=seed),
         "covar_gmm": lambda: sg.CovarGmmSelector(low, high, seed=seed),
@@ -74,39 +84,48 @@ def one_run(job: tuple[str, int, int, int, int]) -> tuple[dict, list[dict]]:
 
 
 def compare(runs: pd.DataFrame) -> pd.DataFrame:
+    """Paired t-tests of every pair of teachers, per space and metric. Holm runs over the pairs of
+    registered teachers (family "registered"), and apart over the pairs with an extra teacher
+    (family "extra")."""
     rows = []
     for (d, metric) in itertools.product(sorted(runs.distractors.unique()), METRICS):
         sub = runs[runs.distractors == d].pivot(index="seed", columns="teacher", values=metric)
-        names = [t for t in TEACHERS if t in sub.columns]
-        block = []
+        names = [t for t in ORDER if t in sub.columns]
+        blocks: dict[str, list[dict]] = {"registered": [], "extra": []}
         for a, b in itertools.combinations(names, 2):
-            block.append(dict(distractors=d, metric=metric, a=a, b=b, n=len(sub), **paired(sub[a].to_numpy(), sub[b].to_numpy())))
-        adj = holm([r["p_value"] for r in block])
-        for r, p in zip(block, adj):
-            r["p_holm"] = p
-        rows += block
+            family = "extra" if a in EXTRA or b in EXTRA else "registered"
+            blocks[family].append(dict(distractors=d, metric=metric, a=a, b=b, family=family, n=len(sub), **paired(sub[a].to_numpy(), sub[b].to_numpy())))
+        for block in blocks.values():
+            adj = holm([r["p_value"] for r in block]) if block else []
+            for r, p in zip(block, adj):
+                r["p_holm"] = p
+            rows += block
     return pd.DataFrame(rows)
 
 
 def winners(runs: pd.DataFrame, comps: pd.DataFrame, d: int, metric: str, higher: bool = True) -> tuple[str, list[str]]:
     """The best mean, and the teachers not distinguishable from it (Holm p >= 0.05)."""
-    means = runs[runs.distractors == d].groupby("teacher")[metric].mean()
+    means = runs[(runs.distractors == d) & runs.teacher.isin(TEACHERS)].groupby("teacher")[metric].mean()
     best = means.idxmax() if higher else means.idxmin()
-    c = comps[(comps.distractors == d) & (comps.metric == metric) & ((comps.a == best) | (comps.b == best))]
+    c = comps[(comps.distractors == d) & (comps.metric == metric) & (comps.family == "registered") & ((comps.a == best) | (comps.b == best))]
     tied = sorted({r.a if r.b == best else r.b for r in c.itertuples() if not (r.p_holm < 0.05)})
     return best, tied
 
 
 def report(runs: pd.DataFrame, comps: pd.DataFrame, args: argparse.Namespace) -> str:
+    extra = f" --extra {' '.join(args.extra)}" if args.extra else ""
     out = [f"# Progress niches: {runs.seed.nunique()} seeds, {args.updates} updates\n",
-           f"`python benchmarks/teacher_niches.py --out {args.out} --seeds {args.seeds} --updates {args.updates} --distractors {' '.join(map(str, args.distractors))}`\n"]
+           f"`python benchmarks/teacher_niches.py --out {args.out} --seeds {args.seeds} --updates {args.updates} --distractors {' '.join(map(str, args.distractors))}{extra}` (saggriac {sg.__version__})\n"]
+    if args.extra:
+        out.append(f"Extra rows, for comparison only: {', '.join(NAMES[t] for t in args.extra)}. They do not take part in the decision rule (who wins, who is tied): "
+                   "Holm runs over the registered teachers' pairs, and apart over the pairs with an extra teacher (marked with a dagger instead of a star).\n")
     for d in sorted(runs.distractors.unique()):
         sub = runs[runs.distractors == d]
         out.append(f"\n## {2 + d}-D task space ({d} distractor dimensions)\n")
         out.append("| teacher | final score | area under the curve | niches open | goals in noisy cells | goals in impossible cells | seconds per run |")
         out.append("|---|---|---|---|---|---|---|")
         g = sub.groupby("teacher")
-        for t in TEACHERS:
+        for t in ORDER:
             if t not in g.groups:
                 continue
             r = g.get_group(t)
@@ -117,9 +136,10 @@ def report(runs: pd.DataFrame, comps: pd.DataFrame, args: argparse.Namespace) ->
             word = "highest" if higher else "lowest"
             tie = f"; not distinguishable from it (Holm p >= 0.05): {', '.join(NAMES[t] for t in tied)}" if tied else "; better than every other teacher (Holm p < 0.05)"
             out.append(f"\n- {metric}: {word} mean {NAMES[best]}{tie}.")
-        names = [t for t in TEACHERS if t in set(sub.teacher)]
-        for metric, label in (("final", "final score"), ("auc", "area under the curve")):
-            out.append(f"\nPaired differences of the {label} (row minus column, mean over seeds; * Holm p < 0.05):\n")
+        names = [t for t in ORDER if t in set(sub.teacher)]
+        for metric, label in (("final", "final score"), ("auc", "area under the curve"), ("share_noisy", "share of goals in noisy cells")):
+            dagger = "; † Holm p < 0.05 in the extra family" if args.extra else ""
+            out.append(f"\nPaired differences of the {label} (row minus column, mean over seeds; * Holm p < 0.05{dagger}):\n")
             c = comps[(comps.distractors == d) & (comps.metric == metric)]
             out.append("| | " + " | ".join(NAMES[t] for t in names) + " |")
             out.append("|---" * (len(names) + 1) + "|")
@@ -131,7 +151,8 @@ def report(runs: pd.DataFrame, comps: pd.DataFrame, args: argparse.Namespace) ->
                         continue
                     r = c[((c.a == a) & (c.b == b)) | ((c.a == b) & (c.b == a))].iloc[0]
                     diff = r.mean_diff if r.a == a else -r.mean_diff
-                    cells.append(f"{diff:+.3f}{'*' if r.p_holm < 0.05 else ''}")
+                    mark = ("†" if r.family == "extra" else "*") if r.p_holm < 0.05 else ""
+                    cells.append(f"{diff:+.3f}{mark}")
                 out.append(f"| {NAMES[a]} | " + " | ".join(cells) + " |")
     return "\n".join(out) + "\n"
 
@@ -146,13 +167,13 @@ def figure(curves: pd.DataFrame, runs: pd.DataFrame, path: Path) -> None:
     fig, axes = plt.subplots(2, len(spaces), figsize=(5.5 * len(spaces), 8), squeeze=False)
     for col, d in enumerate(spaces):
         ax = axes[0, col]
-        for t in TEACHERS:
+        for t in ORDER:
             c = curves[(curves.distractors == d) & (curves.teacher == t)]
             if c.empty:
                 continue
             m = c.groupby("update").mastery
             x, mu, sd = m.mean().index, m.mean().to_numpy(), m.std().to_numpy()
-            (line,) = ax.plot(x, mu, label=NAMES[t])
+            (line,) = ax.plot(x, mu, label=NAMES[t], **({"ls": "--", "color": "tab:blue"} if t == "sagg_riac_w" else {}))
             ax.fill_between(x, mu - sd, mu + sd, color=line.get_color(), alpha=0.15)
         ax.set_title(f"{2 + d}-D ({d} distractors): mean skill over the niches (±1 sd)")
         ax.set_xlabel("updates")
@@ -160,11 +181,11 @@ def figure(curves: pd.DataFrame, runs: pd.DataFrame, path: Path) -> None:
         ax.legend(fontsize=8)
         ax = axes[1, col]
         sub = runs[runs.distractors == d].groupby("teacher")[["share_niche", "share_noisy", "share_impossible"]].mean()
-        names = [t for t in TEACHERS if t in sub.index]
+        names = [t for t in ORDER if t in sub.index]
         bottom = np.zeros(len(names))
         for key, colour in (("share_niche", "tab:green"), ("share_noisy", "tab:orange"), ("share_impossible", "tab:grey")):
             v = sub.loc[names, key].to_numpy()
-            ax.bar([NAMES[t] for t in names], v, bottom=bottom, color=colour, label=key.replace("share_", "goals in ") + (" cells" if key != "share_niche" else "s"))
+            ax.bar([SHORT.get(t, NAMES[t]) for t in names], v, bottom=bottom, color=colour, label=key.replace("share_", "goals in ") + (" cells" if key != "share_niche" else "s"))
             bottom += v
         ax.set_title("where the goals went (mean over seeds)")
         ax.set_ylim(0, 1)
@@ -184,6 +205,7 @@ def main() -> None:
     p.add_argument("--every", type=int, default=250)
     p.add_argument("--distractors", type=int, nargs="+", default=[0, 4])
     p.add_argument("--teachers", nargs="+", default=list(TEACHERS), choices=TEACHERS)
+    p.add_argument("--extra", nargs="*", default=[], choices=EXTRA, help="teachers added as rows for comparison, outside the decision rule")
     p.add_argument("--workers", type=int, default=2)
     args = p.parse_args()
     if args.seeds < 2 or args.updates < args.every or args.every < 1:
@@ -191,7 +213,7 @@ def main() -> None:
     args.out.mkdir(parents=True, exist_ok=True)
     seeds = range(args.first_seed, args.first_seed + args.seeds)
     # The costliest teachers first, so that the pool's idle tail is short.
-    order = sorted(args.teachers, key=lambda t: t not in ("alp_gmm", "covar_gmm"))
+    order = sorted([*args.teachers, *args.extra], key=lambda t: t not in ("alp_gmm", "covar_gmm"))
     jobs = [(t, d, s, args.updates, args.every) for d in sorted(args.distractors, reverse=True) for t in order for s in seeds]
     rows, curves = [], []
     with mp.get_context("spawn").Pool(args.workers) as pool:

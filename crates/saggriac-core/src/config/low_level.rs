@@ -24,7 +24,7 @@ pub struct ReachingConfig {
 
 impl Default for ReachingConfig {
     fn default() -> Self {
-        ReachingConfig { v: 0.5, n_subgoals: 5, eps_max: 0.25, timeout_factor: 2.0, timeout_min: 10, timeout_in_exploration: false }
+        ReachingConfig { v: 0.5, n_subgoals: 5, eps_max: 0.1, timeout_factor: 2.0, timeout_min: 10, timeout_in_exploration: false }
     }
 }
 
