@@ -1,7 +1,8 @@
 """Eq. 2's two readings for young regions, side by side on seeds 0-14 (a comparison; it picks nothing).
 
     python benchmarks/eq2_readings.py --repro /work/runs/repro --out /work/runs/eq2 \
-        --presets exp2 exp1 explauto arm3d pusher [--seeds 15] [--workers 2] [--md FILE]
+        --presets exp2 exp1 explauto arm3d pusher [--seeds 15] [--workers 2] [--md FILE] \
+        [--conditions sagg_riac actuator_riac]
 
 A region holding fewer than zeta measurements gets, since saggriac 0.3, the difference of its
 two half-sums divided by the fixed zeta (``interest_divisor="zeta"``, the default, the paper's
@@ -24,6 +25,10 @@ the new default) and compares, new reading minus old (saggriac.statistics.paired
   ``benchmarks/goal_placement.py`` (``zones``): |g| <= arm length for the planar and spatial arms,
   which is also ``benchmarks/sensitivity.py``'s definition, and the sampled reachable set for a
   chain (pusher).
+
+--conditions limits the runs and the rows to some of the two conditions (default both): e.g. after
+a change that ACTUATOR-RIAC does not read (eps_max, a parameter of SAGG's low level only), its
+old-reading runs of an earlier OUT folder still hold and need no rerun.
 
 Holm's correction is taken over the rows of each preset. The table is printed, and written as
 markdown to --md (default OUT/eq2_readings.md) and as CSV beside it.
@@ -57,8 +62,8 @@ METRICS = (
 )
 
 
-def old_study(preset: str, seeds: int) -> sg.Study:
-    return sg.Study(sg.Config.from_preset(preset, interest_divisor="window"), CONDITIONS, tuple(range(seeds)))
+def old_study(preset: str, seeds: int, conditions: tuple[str, ...] = CONDITIONS) -> sg.Study:
+    return sg.Study(sg.Config.from_preset(preset, interest_divisor="window"), conditions, tuple(range(seeds)))
 
 
 def read_run(run_dir: Path) -> dict[str, float]:
@@ -102,10 +107,10 @@ def check_same_but_divisor(old_folder: Path, new_folder: Path) -> None:
         raise SystemExit(f"{old_folder} and {new_folder} should differ in interest_divisor only ('window' against 'zeta'); they differ in {diff}")
 
 
-def compare(preset: str, old_folder: Path, new_folder: Path, seeds: int) -> pd.DataFrame:
+def compare(preset: str, old_folder: Path, new_folder: Path, seeds: int, conditions: tuple[str, ...] = CONDITIONS) -> pd.DataFrame:
     check_same_but_divisor(old_folder, new_folder)
     rows = []
-    for cond in CONDITIONS:
+    for cond in conditions:
         old, new = read_folder(old_folder, cond, seeds), read_folder(new_folder, cond, seeds)
         both = old.index.intersection(new.index)
         for metric, label, conds in METRICS:
@@ -175,6 +180,7 @@ def main() -> int:
     p.add_argument("--seeds", type=int, default=15)
     p.add_argument("--workers", type=int, default=None)
     p.add_argument("--md", default=None, help="markdown table (default OUT/eq2_readings.md)")
+    p.add_argument("--conditions", nargs="+", choices=CONDITIONS, default=list(CONDITIONS), help="which of the two to run and compare (default both)")
     a = p.parse_args()
     out = Path(a.out)
     tables = []
@@ -184,9 +190,10 @@ def main() -> int:
             print(f"{preset}: no reproduction folder {new_folder}; skipped", file=sys.stderr)
             continue
         t0 = time.perf_counter()
-        res = sg.run_study(old_study(preset, a.seeds), out / preset, n_workers=a.workers, progress=False)
+        conditions = tuple(c for c in CONDITIONS if c in a.conditions)
+        res = sg.run_study(old_study(preset, a.seeds, conditions), out / preset, n_workers=a.workers, progress=False)
         print(f"{preset}: old reading, {res.n_computed} runs computed, {res.n_skipped} reused, {time.perf_counter() - t0:.1f} s wall", flush=True)
-        tables.append(compare(preset, out / preset, new_folder, a.seeds))
+        tables.append(compare(preset, out / preset, new_folder, a.seeds, conditions))
     if not tables:
         return 1
     table = pd.concat(tables, ignore_index=True)
