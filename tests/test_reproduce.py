@@ -59,7 +59,7 @@ def test_plot_and_stats_rebuild_from_saved_results(study_dir, capsys):
 def test_reproduce_rejects_bad_arguments(tmp_path, capsys):
     assert main(["stats", str(tmp_path)]) == 2
     assert "is not a study folder" in capsys.readouterr().err
-    with pytest.raises(Exception, match="The 'seeds' parameter must be an int >= 1. Got 0 instead."):
+    with pytest.raises(Exception, match=r"The 'seeds' parameter must be an int in \[1, 100000\]. Got 0 instead."):
         reproduce("exp1", out_dir=tmp_path / "x", seeds=0)
 
 

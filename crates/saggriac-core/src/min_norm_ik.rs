@@ -267,7 +267,10 @@ impl Sqp<'_> {
                 }
             }
             penalty = f64::max(penalty, 2.0 * lambda.amax() + 1e-9);
-            let merit = |t: &[f64], x: &Point| 0.5 * norm_sq(t) + penalty * (0..self.m).map(|j| (self.goal[j] - x[j]).abs()).sum::<f64>();
+            // The goal and dimension copied out, so the merit does not hold `self` while the
+            // body is placed.
+            let (goal, m) = (self.goal, self.m);
+            let merit = |t: &[f64], x: &Point| 0.5 * norm_sq(t) + penalty * (0..m).map(|j| (goal[j] - x[j]).abs()).sum::<f64>();
             let phi0 = merit(&theta, &x);
             let slope = tf.dot(&d) - penalty * r.iter().map(|v| v.abs()).sum::<f64>();
             let mut alpha = alpha_max;
