@@ -22,12 +22,13 @@ pub const MAX_BATCH_VALUES: usize = 100_000_000;
 /// CRC-32C of the encoding, as checkpoints have: a damaged save is refused, never half-read.
 const CHECKSUM: crc::Crc<u32> = crc::Crc::<u32>::new(&crc::CRC_32_ISCSI);
 
-/// What `AskTell::save` writes: the teacher's parameters, its state and the history.
+/// What `AskTell::save` writes: the teacher's parameters, its state and the history. Generic in
+/// the parameters' layout, so that an older format is read with the same struct.
 #[derive(Serialize, Deserialize)]
-struct Saved {
+struct SavedAs<Spec> {
     format: u32,
     version: String,
-    spec: TeacherSpec,
+    spec: Spec,
     state: SelectorState,
     asked: Vec<f64>,
     asked_mode: Vec<u8>,
@@ -36,6 +37,8 @@ struct Saved {
     told_competence: Vec<f64>,
     told_region: Vec<i64>,
 }
+
+type Saved = SavedAs<TeacherSpec>;
 
 enum DecodeError {
     Trailing,
@@ -77,19 +80,7 @@ mod legacy {
         CovarGmm { low: Vec<f64>, high: Vec<f64>, cfg: CovarGmmConfig, seed: u64 },
     }
 
-    #[derive(Deserialize)]
-    pub struct SavedV1 {
-        pub _format: u32,
-        pub version: String,
-        pub spec: SpecV1,
-        pub state: SelectorState,
-        pub asked: Vec<f64>,
-        pub asked_mode: Vec<u8>,
-        pub asked_region: Vec<i64>,
-        pub told: Vec<f64>,
-        pub told_competence: Vec<f64>,
-        pub told_region: Vec<i64>,
-    }
+    pub type SavedV1 = SavedAs<SpecV1>;
 
     impl From<SpecV1> for TeacherSpec {
         fn from(s: SpecV1) -> Self {
@@ -110,19 +101,8 @@ mod legacy {
 
     impl From<SavedV1> for Saved {
         fn from(s: SavedV1) -> Self {
-            let spec = s.spec.into();
-            Saved {
-                format: FORMAT,
-                version: s.version,
-                spec,
-                state: s.state,
-                asked: s.asked,
-                asked_mode: s.asked_mode,
-                asked_region: s.asked_region,
-                told: s.told,
-                told_competence: s.told_competence,
-                told_region: s.told_region,
-            }
+            let SavedAs { version, spec, state, asked, asked_mode, asked_region, told, told_competence, told_region, .. } = s;
+            SavedAs { format: FORMAT, version, spec: spec.into(), state, asked, asked_mode, asked_region, told, told_competence, told_region }
         }
     }
 }
