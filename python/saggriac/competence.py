@@ -14,6 +14,7 @@ import numpy as np
 
 from . import _core
 from .errors import InputError
+from .values import as_numbers
 
 
 def competence(goal: Any, reached: Any, start: Any, *, min_c: float = -1.0, eps_c: float = -0.05, kind: str = "relative", reach: float | None = None) -> float | np.ndarray:
@@ -21,10 +22,7 @@ def competence(goal: Any, reached: Any, start: Any, *, min_c: float = -1.0, eps_
     attempt: an array)."""
     arrays = []
     for name, v in (("goal", goal), ("reached", reached), ("start", start)):
-        raw = np.asarray(v) if not isinstance(v, (str, bytes)) else np.asarray(None)
-        if raw.dtype.kind not in "iuf":
-            raise InputError(f"'{name}' must be an array of floats; got {v!r}.")
-        a = raw.astype(np.float64)
+        a = as_numbers(f"'{name}'", v)
         if a.ndim not in (1, 2) or a.shape[-1] == 0:
             raise InputError(f"'{name}' must be a point (1-D) or one point per row (2-D); got an array of shape {a.shape}.")
         # A NaN position would score as a failure (min_c) and hide the bug that made it.

@@ -21,6 +21,7 @@ import numpy as np
 from . import _core
 from .errors import InputError, ParameterError, StorageError
 from .files import as_path, check_flag, starts_with, write_file
+from .values import as_numbers as _numbers
 
 #: The first bytes of a teacher saved by ``save(path)``.
 MAGIC = b"saggriac-teacher\n"
@@ -41,24 +42,8 @@ class GoalSelectorProtocol(Protocol):
     def update(self, goal: np.ndarray, competence: float) -> Any: ...
 
 
-def _numbers(name: str, value: Any) -> np.ndarray:
-    """``value`` as float64, refusing what is not already numbers: strings, bools and objects
-    would otherwise be coerced ('0.5' -> 0.5, True -> 1.0) without a word."""
-    if value is None or isinstance(value, (str, bytes)):
-        raise InputError(f"{name} must be an array of floats; got {value!r}.")
-    try:
-        raw = np.asarray(value)
-    except (TypeError, ValueError) as e:
-        raise InputError(f"{name} must be an array of floats; got {value!r}.") from e
-    if raw.dtype.kind not in "iuf":
-        what = {"b": "bools", "U": "strings", "S": "bytes", "O": "objects that are not all numbers", "c": "complex numbers"}.get(raw.dtype.kind, f"values of type {raw.dtype}")
-        raise InputError(f"{name} must be an array of floats; got {what}: {value!r}.")
-    arr = np.asarray(raw, dtype=np.float64)
-    return np.ascontiguousarray(arr) if arr.ndim else arr
-
-
 def _vector(name: str, value: Any, dim: int | None = None) -> np.ndarray:
-    arr = _numbers(name, value)
+    arr = np.ascontiguousarray(_numbers(name, value))
     if arr.ndim != 1 or (dim is not None and arr.shape[0] != dim):
         want = f"shape ({dim},)" if dim is not None else "a 1-D array"
         raise InputError(f"{name} must have {want}; got shape {arr.shape}.")
@@ -143,8 +128,8 @@ class _AskTellSelector:
 
     def update_batch(self, goals: Any, competences: Any) -> np.ndarray:
         """Report many competences at once (goals shape (n, dim)). A bad row changes nothing."""
-        g = _numbers("goals", goals)
-        c = _numbers("competences", competences)
+        g = np.ascontiguousarray(_numbers("goals", goals))
+        c = np.ascontiguousarray(_numbers("competences", competences))
         if g.ndim != 2 or c.ndim != 1 or g.shape[0] != c.shape[0]:
             raise InputError(f"goals must have shape (n, {self.dim}) and competences shape (n,); got {g.shape} and {c.shape}.")
         return self._inner.update_batch(g, c)
