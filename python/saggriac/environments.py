@@ -65,7 +65,10 @@ class Environment(Protocol):
 def joint_vector(name: str, value: Any, n: int) -> list[float]:
     """``value`` as n finite floats, or an InputError naming ``name``: a wrong length, a
     non-finite value, strings or bools are refused before a body's state changes."""
-    arr = as_numbers(name, value)
+    try:
+        arr = as_numbers(name, value)
+    except InputError:
+        raise InputError(f"{name} must be {n} finite floats (one per joint); got {value!r}.") from None
     out = arr.tolist() if arr.shape == (n,) else None
     # Checked on the list: on a body's every micro-action this is cheaper than numpy's isfinite.
     if out is None or not all(map(math.isfinite, out)):
