@@ -20,7 +20,7 @@ from typing import Any, Callable
 import numpy as np
 
 from .errors import ConformanceError, ParameterError
-from .gym.goals import _check_goal_taken, _refuse_worker_copy
+from .gym.goals import _check_fits, _check_goal_shape, _check_goal_taken, _refuse_worker_copy
 
 try:
     from stable_baselines3.common.callbacks import BaseCallback
@@ -65,7 +65,7 @@ class TeacherCallback(BaseCallback):
         return float(bool(info[key])) if key == "is_success" else -float(info[key])
 
     def _hand_out(self, i: int) -> None:
-        goal = np.asarray(self.teacher.sample(), dtype=np.float64)
+        goal = _check_goal_shape(np.asarray(self.teacher.sample(), dtype=np.float64), self.training_env.observation_space["desired_goal"], "TeacherCallback")
         if self._by_method:
             # env_method finds the method through every wrapper; set_attr would set it on the
             # outermost wrapper (SB3's Monitor), where the environment never reads it.
@@ -78,6 +78,7 @@ class TeacherCallback(BaseCallback):
         env = self.training_env
         if "desired_goal" not in getattr(env.observation_space, "spaces", {}):
             raise ConformanceError(f"TeacherCallback needs a goal-conditioned environment: a Dict observation space with 'desired_goal'; got {env.observation_space}.")
+        _check_fits(self.teacher, env.observation_space["desired_goal"], "TeacherCallback")
         self._by_method = self.goal_attr == "next_goal" and env.has_attr("set_next_goal")
         if not (self._by_method or env.has_attr(self.goal_attr)):
             raise ConformanceError(f"The environments have no '{self.goal_attr}' attribute to take their next goal from; wrap each in saggriac.gym.GoalSlot (it reads it on reset and passes options={{'goal': ...}}).")

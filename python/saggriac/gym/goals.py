@@ -69,6 +69,47 @@ def _check_goal_space(space: Any, owner: str) -> None:
         raise ConformanceError(f"{owner} needs a goal-conditioned environment: a Dict observation space with 'achieved_goal' and 'desired_goal'; got {space}.")
 
 
+def _check_fits(teacher: Any, goal_space: Any, owner: str) -> None:
+    """A teacher's goal box must have the environment's goal dimension and lie within its
+    desired_goal bounds (where they are finite): found before training, not as a numpy
+    traceback or an environment's refusal at some later reset."""
+    low, high = getattr(teacher, "low", None), getattr(teacher, "high", None)
+    if low is None or high is None:
+        return  # a teacher without a box: each goal is checked when it is handed out
+    low, high = np.asarray(low, dtype=np.float64).reshape(-1), np.asarray(high, dtype=np.float64).reshape(-1)
+    shape = tuple(goal_space.shape)
+    if (low.size,) != shape:
+        raise ParameterError(f"{owner}: the teacher's goals have {low.size} dimension(s) (its box is {low.tolist()} to {high.tolist()}), and the environment's desired_goal has shape {shape}: give the teacher a box of the environment's goal dimension.", "teacher", repr(teacher))
+    env_low, env_high = np.asarray(goal_space.low, dtype=np.float64).reshape(-1), np.asarray(goal_space.high, dtype=np.float64).reshape(-1)
+    outside = (low < env_low) | (high > env_high)
+    if outside.any():
+        raise ParameterError(f"{owner}: the teacher's goal box {low.tolist()} to {high.tolist()} leaves the environment's desired_goal bounds {env_low.tolist()} to {env_high.tolist()} (dimension(s) {np.flatnonzero(outside).tolist()}): the environment would refuse or clip such goals. Give the teacher a box within those bounds.", "teacher", repr(teacher))
+
+
+def _check_goal_shape(goal: np.ndarray, goal_space: Any, owner: str) -> np.ndarray:
+    """One goal handed out: the environment's goal shape, finite."""
+    if goal.shape != tuple(goal_space.shape) or not np.all(np.isfinite(goal)):
+        raise ConformanceError(f"{owner}: the teacher's sample() gave {goal.tolist()!r}, and the environment's goals are {tuple(goal_space.shape)} finite floats.")
+    return goal
+
+
+#: Keys of an environment's info that speak of the success of its own goal.
+SUCCESS_KEYS = ("is_success", "success")
+
+
+def _own_goal_success_aside(info: dict[str, Any]) -> dict[str, Any]:
+    """goal_via="observation": the environment computed its success flags for its own goal, not
+    the teacher's; they are kept under "<key>_env_goal" so that nothing (SB3's success rate, a
+    competence="success") reads them as the teacher's goal's."""
+    if not any(k in info for k in SUCCESS_KEYS):
+        return info
+    info = dict(info)
+    for k in SUCCESS_KEYS:
+        if k in info:
+            info[f"{k}_env_goal"] = info.pop(k)
+    return info
+
+
 def _sample_batch(selector: Any, n: int) -> np.ndarray:
     if hasattr(selector, "sample_batch"):
         return np.asarray(selector.sample_batch(n), dtype=np.float64)
@@ -97,6 +138,7 @@ class SelectorGoals(gymnasium.Wrapper):
         if not (callable(getattr(selector, "sample", None)) and callable(getattr(selector, "update", None))):
             raise ConformanceError(f"SelectorGoals needs a selector with sample() and update(goal, competence); got {selector!r}.")
         _refuse_worker_copy(selector, "SelectorGoals")
+        _check_fits(selector, env.observation_space["desired_goal"], "SelectorGoals")
         self.selector, self.goal_via = selector, goal_via
         self._score = _Scoring(min_c, eps_c, competence, reach)
         self._goal: np.ndarray | None = None
@@ -111,7 +153,7 @@ class SelectorGoals(gymnasium.Wrapper):
 
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None) -> tuple[Any, dict[str, Any]]:
         _refuse_worker_copy(self.selector, "SelectorGoals")
-        self._goal = np.asarray(self.selector.sample(), dtype=np.float64)
+        self._goal = _check_goal_shape(np.asarray(self.selector.sample(), dtype=np.float64), self.observation_space["desired_goal"], "SelectorGoals")
         if self.goal_via == "options":
             options = {**(options or {}), "goal": self._goal}
         obs, info = self.env.reset(seed=seed, options=options)
@@ -119,6 +161,8 @@ class SelectorGoals(gymnasium.Wrapper):
             _check_goal_taken(self._goal, obs, "SelectorGoals", "reset(options={'goal': ...})")
         self._start = np.asarray(obs["achieved_goal"], dtype=np.float64).copy()
         self._open = True
+        if self.goal_via == "observation":
+            info = _own_goal_success_aside(info)
         return self._with_goal(obs), info
 
     def step(self, action: Any) -> tuple[Any, Any, bool, bool, dict[str, Any]]:
@@ -131,6 +175,7 @@ class SelectorGoals(gymnasium.Wrapper):
             reward = float(base.compute_reward(obs["achieved_goal"], obs["desired_goal"], info))
             if callable(getattr(base, "compute_terminated", None)):
                 terminated = bool(base.compute_terminated(obs["achieved_goal"], obs["desired_goal"], info))
+            info = _own_goal_success_aside(info)
         if (terminated or truncated) and self._open:
             c = self._score(self._goal, np.asarray(obs["achieved_goal"], dtype=np.float64), self._start)
             self.selector.update(self._goal, c)
@@ -172,6 +217,7 @@ class VectorSelectorGoals(gymnasium.vector.VectorWrapper):
         if not (callable(getattr(selector, "sample", None)) and callable(getattr(selector, "update", None))):
             raise ConformanceError(f"VectorSelectorGoals needs a selector with sample() and update(goal, competence); got {selector!r}.")
         _refuse_worker_copy(selector, "VectorSelectorGoals")
+        _check_fits(selector, env.single_observation_space["desired_goal"], "VectorSelectorGoals")
         self.selector = selector
         self._score = _Scoring(min_c, eps_c, competence, reach)
         n = env.num_envs
@@ -182,6 +228,9 @@ class VectorSelectorGoals(gymnasium.vector.VectorWrapper):
     def _hand_out(self, which: np.ndarray) -> None:
         """New goals for the sub-environments ``which``, read on their next reset."""
         new = _sample_batch(self.selector, int(which.sum()))
+        space = self.env.single_observation_space["desired_goal"]
+        for g in new:
+            _check_goal_shape(g, space, "VectorSelectorGoals")
         self._goals[which] = new
         values: list[Any] = [None] * self.num_envs
         for i, g in zip(np.flatnonzero(which), new):

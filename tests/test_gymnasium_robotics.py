@@ -1,0 +1,86 @@
+"""saggriac's teachers on Gymnasium-Robotics' own goal environments (issue 25): a goal that is
+not applied is refused, the environment's own success flags are not read as the teacher's, and a
+teacher that does not fit the environment is an error before training. Skipped when
+Gymnasium-Robotics is not installed (the test extra brings it), unless SAGGRIAC_REQUIRE_EXTRAS=1
+(CI sets it)."""
+
+import os
+
+import numpy as np
+import pytest
+
+if os.environ.get("SAGGRIAC_REQUIRE_EXTRAS") != "1":
+    pytest.importorskip("gymnasium_robotics", reason='Gymnasium-Robotics is not installed (pip install ".[test]")')
+
+import gymnasium  # noqa: E402
+import gymnasium_robotics  # noqa: E402
+
+import saggriac as sg  # noqa: E402
+from saggriac.errors import ConformanceError, ParameterError  # noqa: E402
+from saggriac.gym import GoalArmEnv, GoalSlot, SelectorGoals, VectorSelectorGoals  # noqa: E402
+
+gymnasium.register_envs(gymnasium_robotics)
+MAZE = "PointMaze_UMaze-v3"
+
+
+def teacher(dim=2, seed=0):
+    return sg.RandomSelector([-1.0] * dim, [1.0] * dim, seed=seed)
+
+
+def test_pointmaze_ignores_options_goal_and_the_wrapper_says_so():
+    w = SelectorGoals(gymnasium.make(MAZE), teacher())
+    with pytest.raises(ConformanceError, match="goal_cell"):
+        w.reset(seed=0)
+
+
+def test_pointmaze_through_a_vector_env_and_goalslot_is_refused_too():
+    envs = gymnasium.vector.SyncVectorEnv([lambda: GoalSlot(gymnasium.make(MAZE))] * 2)
+    w = VectorSelectorGoals(envs, teacher())
+    with pytest.raises(ConformanceError, match="does not take goals that way"):
+        w.reset(seed=0)
+
+
+def test_observation_route_pursues_the_teachers_goal_and_sets_the_envs_success_aside():
+    w = SelectorGoals(gymnasium.make(MAZE), teacher(), goal_via="observation")
+    obs, info = w.reset(seed=0)
+    goal = obs["desired_goal"].copy()
+    assert "success" not in info and "success_env_goal" in info
+    told = 0
+    for _ in range(400):
+        obs, reward, terminated, truncated, info = w.step(w.action_space.sample())
+        np.testing.assert_array_equal(obs["desired_goal"], goal)
+        assert "success" not in info and "success_env_goal" in info
+        assert reward == w.unwrapped.compute_reward(obs["achieved_goal"], goal, info)
+        if terminated or truncated:
+            told += 1
+            assert "competence" in info
+            break
+    assert told == 1
+    assert w.selector.history()["told_goal"].tolist() == [goal.tolist()]
+
+
+def test_a_teacher_of_another_dimension_is_refused_before_training():
+    with pytest.raises(ParameterError, match="3 dimension"):
+        SelectorGoals(gymnasium.make(MAZE), teacher(dim=3), goal_via="observation")
+    envs = gymnasium.vector.SyncVectorEnv([lambda: GoalSlot(GoalArmEnv())] * 2)
+    with pytest.raises(ParameterError, match="desired_goal has shape"):
+        VectorSelectorGoals(envs, teacher(dim=3))
+
+
+def test_a_teacher_box_beyond_the_environments_goal_box_is_refused():
+    env = GoalArmEnv(goal_low=(0.0, -50.0), goal_high=(50.0, 50.0))
+    with pytest.raises(ParameterError, match="leaves the environment's desired_goal bounds"):
+        SelectorGoals(env, sg.RandomSelector([0.0, -50.0], [60.0, 50.0]))
+
+
+def test_a_teacher_without_a_box_giving_a_wrong_goal_is_named():
+    class Loose:
+        def sample(self):
+            return np.zeros(3)
+
+        def update(self, goal, competence):
+            pass
+
+    w = SelectorGoals(GoalArmEnv(), Loose())
+    with pytest.raises(ConformanceError, match="sample\\(\\) gave"):
+        w.reset(seed=0)
