@@ -94,9 +94,10 @@ def test_bad_options_and_actions_are_refused_clearly():
 
 
 def _arm_body(env_id="saggriac/PlanarArm-v0"):
-    # GymBody's env.step route needs actions that are joint changes.
+    # GymBody's env.step route needs actions that are joint changes; the arm's reach is the
+    # built-in arm's (50), declared as a user who knows it would.
     env = gymnasium.make(env_id, action_scale="joint").unwrapped
-    return sgym.GymBody(env, theta=lambda e, o: o["observation"], position=lambda e, o: o["achieved_goal"], joint_limit=math.pi / 2, max_joint_step=0.05)
+    return sgym.GymBody(env, theta=lambda e, o: o["observation"], position=lambda e, o: o["achieved_goal"], joint_limit=math.pi / 2, max_joint_step=0.05, reach=50.0)
 
 
 def test_a_gymnasium_arm_as_a_body_learns_exactly_as_the_built_in_arm():

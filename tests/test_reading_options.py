@@ -19,7 +19,7 @@ def attempt_overruns(res, cfg):
         pos = np.array([goals.loc[g, "start_x"], goals.loc[g, "start_y"]])
         for _, a in att.sort_values("subgoal").iterrows():
             target = np.array([a["target_x"], a["target_y"]])
-            timeout = math.ceil(cfg.timeout_factor * np.linalg.norm(target - pos) / cfg.v) + cfg.timeout_min
+            timeout = math.ceil(cfg.timeout_factor * np.linalg.norm(target - pos) / cfg.lengths()["v"]) + cfg.timeout_min
             out.append(int(a["step_end"]) - step - timeout)
             step, pos = int(a["step_end"]), np.array([a["end_x"], a["end_y"]])
     return np.array(out)

@@ -39,6 +39,11 @@ _REMOVED_INDEXES = ("kdtree", "kdtree_crate")
 # one without "actuator_candidates" ran ACTUATOR-RIAC's free-proposal variant.
 # A run.json without "interest_divisor" (saggriac <= 0.2) divided a young region's eq. 2 by its
 # own window.
+#: The length parameters that follow the body: left None, each is the reach divided by this (for
+#: the paper's 50-unit arm, exactly the values the paper's runs were tuned with: 0.5, 0.1, 0.01).
+#: The reach is the built-in arm's length, or a user's body's (saggriac.scale). A value given
+#: is used as given.
+LENGTH_DIVISORS = {"v": 100, "eps_max": 500, "eval_tolerance": 5000}
 _LEGACY_VALUES = {"test_configs": "uniform", "actuator_candidates": 0, "interest_divisor": "window"}
 
 
@@ -69,11 +74,13 @@ class Config:
     # Goal space S' (one bound per task-space dimension: 2 for the planar arm, 3 in space).
     goal_low: tuple[float, ...] = (0.0, -50.0)
     goal_high: tuple[float, ...] = (50.0, 50.0)
-    # Low level (paper III.D).
-    v: float = 0.5
+    # Low level (paper III.D). Lengths left None follow the body's reach (LENGTH_DIVISORS):
+    # v = reach / 100, 0.5 for the paper's 50-unit arm.
+    v: float | None = None
     n_subgoals: int = 5
-    # 0.1 by the sensitivity study's rerun with eq. 2 as printed (docs/sensitivity.md).
-    eps_max: float = 0.1
+    # reach / 500, 0.1 for the paper's arm: chosen by the sensitivity study's rerun with eq. 2
+    # as printed (docs/sensitivity.md).
+    eps_max: float | None = None
     timeout_factor: float = 2.0
     timeout_min: int = 10
     # Also end an exploration phase at the timeout (Algorithm 1 checks it between phases only).
@@ -111,7 +118,8 @@ class Config:
     test_configs: str = "ik_min_norm"
     n_evals: int = 20
     eval_schedule: tuple[int, ...] | None = None
-    eval_tolerance: float = 0.01
+    # reach / 5000: 0.01 for the paper's arm.
+    eval_tolerance: float | None = None
     eval_patience: int = 10
     eval_timeout_factor: float = 2.0
     eval_timeout_min: int = 20
@@ -193,10 +201,21 @@ class Config:
         n = self.n_steps
         return sorted({round(i * n / self.n_evals) for i in range(self.n_evals + 1)})
 
-    def core_dict(self) -> dict[str, Any]:
-        """The flat dict the Rust core takes."""
+    def lengths(self, reach: float | None = None) -> dict[str, float]:
+        """``v``, ``eps_max`` and ``eval_tolerance`` as a run uses them: each value given as
+        is, else ``reach`` (default: the built-in arm's, :attr:`reach`) divided by its
+        :data:`LENGTH_DIVISORS` entry."""
+        r = self.reach if reach is None else float(reach)
+        return {k: float(getattr(self, k)) if getattr(self, k) is not None else r / d for k, d in LENGTH_DIVISORS.items()}
+
+    def core_dict(self, reach: float | None = None) -> dict[str, Any]:
+        """The flat dict the Rust core takes. ``reach``: a user's body's reach, which replaces
+        the built-in arm's length (the length parameters follow it, see :meth:`lengths`)."""
         d = {f.name: getattr(self, f.name) for f in dataclasses.fields(self)}
         d.pop("n_evals")
+        d.update(self.lengths(reach))
+        if reach is not None:
+            d.update(arm_length=float(reach), n_joints=self.joints, link_lengths=None)
         for name in ("link_lengths", "goal_low", "goal_high", "chain"):
             if d[name] is not None:
                 d[name] = list(d[name])
@@ -301,7 +320,7 @@ def _plain(value: Any) -> Any:
 
 
 #: Parameters whose default is None, with the type of their values.
-_OPTIONAL_KINDS = {"link_lengths": "floats", "chain": "floats", "eval_schedule": "ints", "body_change_step": int, "body_change_link": int, "body_change_length": float}
+_OPTIONAL_KINDS = {"link_lengths": "floats", "chain": "floats", "eval_schedule": "ints", "body_change_step": int, "body_change_link": int, "body_change_length": float, "v": float, "eps_max": float, "eval_tolerance": float}
 #: Lengths and goal bounds beyond this overflow nothing yet, but squared distances and the step
 #: counts derived from them would lose their meaning long before float overflow; refuse them.
 MAX_MAGNITUDE = 1e12

@@ -105,10 +105,12 @@ class _SerialArm:
                 raise ParameterError(f"The 'n_joints' parameter of {owner} must be an int in [1, 10000]. Got {n_joints!r} instead.", "n_joints", repr(n_joints))
             length = number("arm_length", arm_length, lambda v: v > 0, "a finite float > 0")
             self.lengths = [length / int(n_joints)] * int(n_joints)
+            self._reach = length
         else:
             self.lengths = [number("link_lengths", v, lambda v: v > 0, "finite floats > 0") for v in np.atleast_1d(np.asarray(link_lengths, dtype=object))]
             if not self.lengths:
                 raise ParameterError(f"The 'link_lengths' parameter of {owner} must be a non-empty list of floats > 0. Got {link_lengths!r} instead.", "link_lengths", repr(link_lengths))
+            self._reach = float(sum(self.lengths))
         joint_limit = number("joint_limit", joint_limit, lambda v: v > 0, "a finite float > 0")
         max_joint_step = number("max_joint_step", max_joint_step, lambda v: v > 0, "a finite float > 0")
         n = len(self.lengths)
@@ -119,6 +121,13 @@ class _SerialArm:
         reach = sum(self.lengths)
         self.task_space = Box(-reach, reach, (self.task_dim,))
         self.theta = np.zeros(n)
+
+    @property
+    def reach(self) -> float:
+        """The radius of the ball about the origin (the base) that the arm reaches, as
+        ``Config.reach`` gives it: a run scales its length parameters and places its test goals
+        by it (saggriac.scale)."""
+        return self._reach
 
     def forward(self, theta: Any) -> np.ndarray:
         raise NotImplementedError

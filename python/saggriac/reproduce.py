@@ -15,6 +15,7 @@ from .errors import ParameterError, StorageError
 from .files import as_path, write_file
 from .reachable import ReachableSet
 from .result import RunResult
+from .storage import signed_integers
 from .study import Study, load_study, run_study
 
 FIGURES = "figures"
@@ -156,9 +157,9 @@ def split_null_model(out_dir: str | Path, n_parts: int = 4) -> pd.DataFrame:
             continue
         cfg = Config.from_saved(json.loads((run_dir / "run.json").read_text())["config"])
         if task.condition == "sagg_riac":
-            regions, label = pd.read_parquet(run_dir / "regions.parquet"), "sagg_riac"
+            regions, label = signed_integers(pd.read_parquet(run_dir / "regions.parquet")), "sagg_riac"
         else:
-            regions, label = splits.replay_regions(pd.read_parquet(run_dir / "attempts.parquet"), cfg), "sagg_random_replayed"
+            regions, label = splits.replay_regions(signed_integers(pd.read_parquet(run_dir / "attempts.parquet")), cfg), "sagg_random_replayed"
         reach = ReachableSet(cfg) if cfg.chain is not None else cfg.reach
         for part, share in enumerate(splits.split_shares(regions, reach, n_parts)):
             rows.append({"tree": label, "seed": task.seed, **task.params, "part": part + 1, "reachable_share": share})

@@ -22,10 +22,12 @@ from .config import Config
 from .errors import ParameterError, StorageError
 from .reachable import ReachableSet
 from .result import RunResult
+from .scale import body_scale
 from .files import check_seal, seal
 from .seeding import check_seed, derive_seeds, environment_seed
+from .testing import _joint_space
 from .resources import check_run_fits, check_threads, checkpoint_bytes
-from .storage import MIN_FREE_BYTES, as_path, check_output_dir, replace_dir, sibling, target_lock, write_run
+from .storage import MIN_FREE_BYTES, as_path, check_output_dir, replace_dir, sibling, signed_integers, target_lock, write_run
 from .time_budget import time_budget
 
 CHECKPOINT_FILES = frozenset({"state.bin", "checkpoint.json"})
@@ -46,7 +48,7 @@ def _xy_columns(d: dict[str, np.ndarray]) -> pd.DataFrame:
                 cols[f"{k}_{names[i]}"] = v[:, i]
         else:
             cols[k] = v
-    return pd.DataFrame(cols)
+    return signed_integers(pd.DataFrame(cols))
 
 
 def run(
@@ -104,17 +106,31 @@ def run(
         check_goal_selector_interface(goal_selector, config)
         extra["goal_selector"] = goal_selector
     info = {"seed": seed, "learner_seed": learner_seed, "eval_seed": eval_seed, "overwrite": overwrite}
-    extras = {}
+    extras: dict[str, Any] = {}
     if environment is not None:
         extras["environment"] = f"{type(environment).__module__}.{type(environment).__qualname__}"
     if goal_selector is not None:
         extras["goal_selector"] = f"{type(goal_selector).__module__}.{type(goal_selector).__qualname__}"
     # Built before the target is locked (and its parent made): a refused environment or
     # selector leaves nothing on disk.
-    learner = _core.Learner(config.core_dict(), learner_seed, eval_seed, env_seed=environment_seed(seed), **extra)
+    core = config.core_dict()
+    extras["scale"] = _arm_scale(config)
+    if environment is not None and config.chain is None:
+        # A user's body: the length parameters and the test goals follow its size and place.
+        body = body_scale(environment, *_joint_space(environment), len(config.goal_low))
+        core = config.core_dict(reach=body.reach)
+        extras["scale"] = body.summary(config.lengths(body.reach))
+        if body.positions is not None:
+            extra["test_cloud"] = (body.configs.tolist(), body.positions.tolist())
+    learner = _core.Learner(core, learner_seed, eval_seed, env_seed=environment_seed(seed), **extra)
     learner.set_threads(threads)
     with _holding(out, overwrite):
         return _drive(learner, config, info, out, progress, checkpoint_every, extras)
+
+
+def _arm_scale(config: Config) -> dict[str, Any]:
+    """run.json's "scale" for the built-in body: its reach and the lengths that follow it."""
+    return {"reach": config.reach, "source": "chain" if config.chain is not None else "arm", **config.lengths()}
 
 
 @contextmanager
@@ -206,7 +222,7 @@ def _test_set_summary(t: dict[str, Any], config: Config, reach: float | None) ->
     return out
 
 
-def _drive(learner: Any, config: Config, info: dict[str, Any], out: Path | None, progress: bool, every: int | None, extras: dict[str, str]) -> RunResult:
+def _drive(learner: Any, config: Config, info: dict[str, Any], out: Path | None, progress: bool, every: int | None, extras: dict[str, Any]) -> RunResult:
     """Run ``learner`` to the end of its budget, checkpointing if asked, and save the result."""
     seed = info["seed"]
     bar = None
@@ -241,7 +257,7 @@ def _drive(learner: Any, config: Config, info: dict[str, Any], out: Path | None,
             bar.close()
     wall = time.perf_counter() - t0
 
-    metrics = pd.DataFrame(learner.metrics())
+    metrics = signed_integers(pd.DataFrame(learner.metrics()))
     goals = _xy_columns(learner.goals())
     attempts = _xy_columns(learner.attempts())
     regions = _xy_columns(learner.regions())
@@ -260,7 +276,7 @@ def _drive(learner: Any, config: Config, info: dict[str, Any], out: Path | None,
     if info.get("resumed_at") is not None:
         manifest["resumed_at_step"] = info["resumed_at"]
     reach = None if "environment" in extras else config.reach
-    manifest["test_set"] = _test_set_summary(learner.test_set(), config, reach)
+    manifest["test_set"] = _test_set_summary(learner.test_set(), config, extras["scale"]["reach"])
     reachable = ReachableSet(config) if reach is not None and config.chain is not None else reach
     manifest["time_budget"] = time_budget(goals, manifest["profile"], config.n_steps, reachable)
     result = RunResult(config=config, seed=seed, metrics=metrics, goals=goals, attempts=attempts, regions=regions, manifest=manifest, path=None)
@@ -331,4 +347,4 @@ def resume(out_dir: str | Path, progress: bool = False, threads: int | None = No
             raise StorageError(f"The checkpoint {ck} is inconsistent: state.bin was made by a run with other seeds than checkpoint.json records (seed {info['seed']}). Start the run over: run it again without --resume.")
         learner.set_threads(threads)
         info["resumed_at"] = learner.steps
-        return _drive(learner, config, info, out, progress, every, {})
+        return _drive(learner, config, info, out, progress, every, {"scale": _arm_scale(config)})

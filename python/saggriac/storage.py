@@ -26,6 +26,7 @@ from collections.abc import Iterator
 from pathlib import Path
 from typing import Any, Callable
 
+import numpy as np
 import pandas as pd
 
 from .errors import StorageError
@@ -361,6 +362,16 @@ def run_damage(path: Path) -> str | None:
     return None
 
 
+def signed_integers(frame: pd.DataFrame) -> pd.DataFrame:
+    """``frame`` with every unsigned integer column as int64, in place: steps and counts that
+    users subtract (``step_end - step_start``) must not wrap around, in pandas or in polars
+    reading the Parquet files. Counters stay far below 2**63."""
+    for c in frame.columns:
+        if frame[c].dtype.kind == "u":
+            frame[c] = frame[c].astype(np.int64)
+    return frame
+
+
 def read_run(path: Path) -> tuple[dict[str, Any], dict[str, pd.DataFrame]]:
     """The manifest and tables of a finished run, after checking every table against run.json."""
     path = Path(path)
@@ -369,7 +380,8 @@ def read_run(path: Path) -> tuple[dict[str, Any], dict[str, pd.DataFrame]]:
     if damage is not None:
         raise StorageError(f"{path} is damaged: {damage}.")
     try:
-        tables = {name: pd.read_parquet(path / f"{name}.parquet") for name in TABLES}
+        # Runs written before saggriac 0.4 hold unsigned counters.
+        tables = {name: signed_integers(pd.read_parquet(path / f"{name}.parquet")) for name in TABLES}
     except Exception as e:  # a change that kept size and checksum cannot happen; stay clear anyway
         raise StorageError(f"{path} is damaged: a table cannot be read ({e}).") from None
     return manifest, tables

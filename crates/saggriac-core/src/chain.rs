@@ -13,8 +13,9 @@
 
 use crate::config::body::{ArmConfig, ArmKind};
 pub use crate::config::body::{ChainSpec, CHAIN_JOINT_LEN as JOINT_LEN};
-use crate::error::{invalid, Result};
-use crate::rng::{index, uniform, CoreRng};
+use crate::error::Result;
+use crate::reachable_cloud::Cloud;
+use crate::rng::{uniform, CoreRng};
 use crate::task_space::Point;
 
 type Vec3 = [f64; 3];
@@ -177,48 +178,16 @@ fn uniform_config(chain: &Chain, limit: f64, rng: &mut CoreRng) -> Vec<f64> {
     (0..chain.n_joints()).map(|_| uniform(rng, -limit, limit)).collect()
 }
 
-/// Cells per axis of the grid that `reachable_goals` spreads goals over.
-const GOAL_GRID: usize = 16;
 /// Configurations sampled for `reachable_goals`.
 pub const CLOUD_SIZE: usize = 20_000;
 
-/// Goals spread evenly over the reachable part of the goal box: a cloud of reachable positions
-/// is binned on a grid over the box; each goal picks an occupied cell uniformly, then a cloud
-/// point in it. Every goal is reachable; the density is uniform over the occupied cells (cells
-/// on the boundary of the reachable set count as whole ones). Each goal comes with the
-/// configuration that reaches it.
+/// Goals spread evenly over the reachable part of the goal box (`Cloud::goals`), from a fresh
+/// cloud of `CLOUD_SIZE` uniform configurations; each comes with the configuration that
+/// reaches it.
 pub fn reachable_goals(chain: &Chain, limit: f64, goal_low: &[f64], goal_high: &[f64], n_goals: usize, rng: &mut CoreRng) -> Result<Vec<(Point, Vec<f64>)>> {
     let configs: Vec<Vec<f64>> = (0..CLOUD_SIZE).map(|_| uniform_config(chain, limit, rng)).collect();
-    let cloud: Vec<Point> = configs.iter().map(|t| chain.forward(t)).collect();
-    let m = goal_low.len();
-    let cell = |p: &Point| -> Option<usize> {
-        let mut id = 0;
-        for i in 0..m {
-            if p[i] < goal_low[i] || p[i] > goal_high[i] {
-                return None;
-            }
-            let k = (((p[i] - goal_low[i]) / (goal_high[i] - goal_low[i])) * GOAL_GRID as f64) as usize;
-            id = id * GOAL_GRID + k.min(GOAL_GRID - 1);
-        }
-        Some(id)
-    };
-    let mut cells: std::collections::BTreeMap<usize, Vec<usize>> = std::collections::BTreeMap::new();
-    for (i, p) in cloud.iter().enumerate() {
-        if let Some(c) = cell(p) {
-            cells.entry(c).or_default().push(i);
-        }
-    }
-    if cells.is_empty() {
-        return Err(invalid("Evaluation", "goal_low/goal_high", "a box that meets the chain's reachable set", format!("{goal_low:?}..{goal_high:?}")));
-    }
-    let occupied: Vec<&Vec<usize>> = cells.values().collect();
-    Ok((0..n_goals)
-        .map(|_| {
-            let members = occupied[index(rng, occupied.len())];
-            let i = members[index(rng, members.len())];
-            (cloud[i], configs[i].clone())
-        })
-        .collect())
+    let positions: Vec<Point> = configs.iter().map(|t| chain.forward(t)).collect();
+    Cloud { configs, positions }.goals(goal_low, goal_high, n_goals, rng, "the chain's")
 }
 
 #[cfg(test)]

@@ -29,6 +29,7 @@ pub(crate) mod micro_evaluation;
 pub mod min_norm_ik;
 pub mod neighbours;
 pub mod parts;
+pub mod reachable_cloud;
 pub mod recorder;
 pub mod region_tree;
 pub mod rng;

@@ -18,6 +18,7 @@ use crate::low_level::ssa_reacher::SsaReacher;
 use crate::low_level::LowLevel;
 use crate::memory::SensorimotorMemory;
 use crate::parts::Parts;
+use crate::reachable_cloud::Cloud;
 use crate::recorder::{AttemptRow, Counters, GoalRow, MetricRow, Recorder, Timers};
 use crate::rng::{child_seed, rng_from_seed};
 use crate::sensorimotor_model::SensorimotorModel;
@@ -40,6 +41,9 @@ pub struct UserParts {
     pub body: Option<Box<dyn Body>>,
     pub selector: Option<Box<dyn GoalSelector>>,
     pub low_level: Option<Box<dyn LowLevel>>,
+    /// Positions the user's body reached (with their configurations): test goals come from it
+    /// instead of the ball of the configured reach about the origin.
+    pub cloud: Option<Cloud>,
 }
 
 pub struct Learner {
@@ -100,12 +104,12 @@ impl Learner {
     /// with `selector` (default: the condition's own). A user's body must have the configured
     /// number of joints; a user's selector replaces the high level of a SAGG condition.
     pub fn with_parts(cfg: RunConfig, seed: u64, eval_seed: u64, body: Option<Box<dyn Body>>, selector: Option<Box<dyn GoalSelector>>) -> Result<Self> {
-        Self::from_parts(cfg, seed, eval_seed, UserParts { body, selector, low_level: None })
+        Self::from_parts(cfg, seed, eval_seed, UserParts { body, selector, ..UserParts::default() })
     }
 
     /// A learner with any of its parts replaced, the low-level controller included.
     pub fn from_parts(cfg: RunConfig, seed: u64, eval_seed: u64, user: UserParts) -> Result<Self> {
-        let UserParts { body, selector, low_level } = user;
+        let UserParts { body, selector, low_level, cloud } = user;
         cfg.validate()?;
         if body.is_some() && (cfg.arm.motor_noise > 0.0 || cfg.arm.sensor_noise > 0.0) {
             return Err(invalid(
@@ -172,7 +176,7 @@ impl Learner {
             0 => actuator_reset_period(&cfg, rest_x),
             r => r,
         };
-        let tests = TestSet::with_body(&cfg.arm, body.as_mut(), &cfg.goal_low, &cfg.goal_high, &cfg.eval, cfg.exploration.step, eval_seed)?;
+        let tests = TestSet::with_body(&cfg.arm, body.as_mut(), &cfg.goal_low, &cfg.goal_high, &cfg.eval, cfg.exploration.step, eval_seed, cloud.as_ref())?;
         body.reset();
         let evaluator = Evaluator::new(&cfg, tests, body.scratch(), n, m);
         let episodic = cfg.paradigm == Paradigm::Episodic;

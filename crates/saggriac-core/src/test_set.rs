@@ -5,6 +5,7 @@ use crate::body::Body;
 use crate::config::evaluation::{EvalConfig, TestConfigs};
 use crate::error::{invalid, Result};
 use crate::min_norm_ik::{min_norm_ik_from, BodyKinematics, Kinematics};
+use crate::reachable_cloud::Cloud;
 use crate::rng::{rng_from_seed, uniform, CoreRng};
 use crate::task_space::{point, sub, Point};
 
@@ -64,14 +65,16 @@ impl TestSet {
     /// The test sets of seed `seed` on the built-in arm `arm`.
     pub fn new(arm: &ArmConfig, goal_low: &[f64], goal_high: &[f64], eval: &EvalConfig, motion_step: f64, seed: u64) -> Result<Self> {
         let mut a = Arm::new(arm.clone())?;
-        Self::with_body(arm, &mut a, goal_low, goal_high, eval, motion_step, seed)
+        Self::with_body(arm, &mut a, goal_low, goal_high, eval, motion_step, seed, None)
     }
 
     /// Goals uniform in the reachable part of the goal box (the box intersected with the ball of
     /// radius = arm length: a disk for the planar arm); configurations as `eval.test_configs`
     /// says, their positions measured on `body` (placed there at once; not a time step). `arm`
-    /// gives the reach and the joint limits.
-    pub fn with_body(arm: &ArmConfig, body: &mut dyn Body, goal_low: &[f64], goal_high: &[f64], eval: &EvalConfig, motion_step: f64, seed: u64) -> Result<Self> {
+    /// gives the reach and the joint limits. With `cloud` (positions a user's body reached),
+    /// goals come from it as a chain's do, wherever the body's base is.
+    #[allow(clippy::too_many_arguments)]
+    pub fn with_body(arm: &ArmConfig, body: &mut dyn Body, goal_low: &[f64], goal_high: &[f64], eval: &EvalConfig, motion_step: f64, seed: u64, cloud: Option<&Cloud>) -> Result<Self> {
         let r: f64 = arm.link_lengths.iter().sum();
         let (n, m, lim) = (arm.link_lengths.len(), goal_low.len(), arm.joint_limit);
         let mut rng = rng_from_seed(seed);
@@ -79,9 +82,10 @@ impl TestSet {
         // Each goal of a chain comes with a configuration reaching it: one more start for the IK.
         let chain = arm.chain.as_ref().map(crate::chain::Chain::new);
         let draw = |rng: &mut CoreRng, k: usize| -> Result<Drawn> {
-            Ok(match &chain {
-                Some(chain) => crate::chain::reachable_goals(chain, lim, goal_low, goal_high, k, rng)?.into_iter().map(|(g, t)| (g, Some(t))).unzip(),
-                None => draw_goals(rng, r, goal_low, goal_high, k)?.into_iter().map(|g| (g, None)).unzip(),
+            Ok(match (&chain, cloud) {
+                (_, Some(cloud)) => cloud.goals(goal_low, goal_high, k, rng, "the body's")?.into_iter().map(|(g, t)| (g, Some(t))).unzip(),
+                (Some(chain), None) => crate::chain::reachable_goals(chain, lim, goal_low, goal_high, k, rng)?.into_iter().map(|(g, t)| (g, Some(t))).unzip(),
+                (None, None) => draw_goals(rng, r, goal_low, goal_high, k)?.into_iter().map(|g| (g, None)).unzip(),
             })
         };
         let (goals, mut known) = draw(&mut rng, eval.n_test_goals)?;

@@ -6,7 +6,10 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use saggriac_core::body::Body;
 use saggriac_core::goal_selection::GoalSelector;
+use saggriac_core::reachable_cloud::Cloud;
 use saggriac_core::recorder::MetricRow;
+use saggriac_core::run_loop::UserParts;
+use saggriac_core::task_space::point;
 use saggriac_core::Learner;
 
 use crate::body::PyBody;
@@ -30,10 +33,23 @@ impl PyLearner {
 
 #[pymethods]
 impl PyLearner {
-    /// Learner(config: dict, seed: int, eval_seed: int, environment=None, goal_selector=None, env_seed=0)
+    /// Learner(config: dict, seed: int, eval_seed: int, environment=None, goal_selector=None, env_seed=0, test_cloud=None)
+    ///
+    /// `test_cloud`: (configurations, positions), lists of rows, positions the environment
+    /// reached: its test goals come from them instead of a ball about the origin.
     #[new]
-    #[pyo3(signature = (config, seed, eval_seed, environment=None, goal_selector=None, env_seed=0))]
-    fn new(py: Python<'_>, config: &Bound<'_, PyDict>, seed: u64, eval_seed: u64, environment: Option<Py<PyAny>>, goal_selector: Option<Py<PyAny>>, env_seed: u64) -> PyResult<Self> {
+    #[pyo3(signature = (config, seed, eval_seed, environment=None, goal_selector=None, env_seed=0, test_cloud=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        py: Python<'_>,
+        config: &Bound<'_, PyDict>,
+        seed: u64,
+        eval_seed: u64,
+        environment: Option<Py<PyAny>>,
+        goal_selector: Option<Py<PyAny>>,
+        env_seed: u64,
+        test_cloud: Option<(Vec<Vec<f64>>, Vec<Vec<f64>>)>,
+    ) -> PyResult<Self> {
         let cfg = run_config_from_dict(config)?;
         let slot: Slot = Default::default();
         let (n, m) = (cfg.arm.link_lengths.len(), cfg.goal_low.len());
@@ -45,7 +61,9 @@ impl PyLearner {
             Some(s) => Some(Box::new(PySelector::new(py, s, slot.clone())?) as Box<dyn GoalSelector>),
             None => None,
         };
-        let mut this = PyLearner { inner: wrap(py, Learner::with_parts(cfg, seed, eval_seed, body, selector).map_err(in_config_terms)).map_err(|e| take_failure(py, &slot, 0).unwrap_or(e))?, slot };
+        let cloud = test_cloud.map(|(configs, positions)| cloud_from_rows(configs, positions, n, m)).transpose()?;
+        let parts = UserParts { body, selector, cloud, ..UserParts::default() };
+        let mut this = PyLearner { inner: wrap(py, Learner::from_parts(cfg, seed, eval_seed, parts).map_err(in_config_terms)).map_err(|e| take_failure(py, &slot, 0).unwrap_or(e))?, slot };
         // The environment may already have failed while the test set was measured.
         if let Some(e) = this.take_failure(py) {
             return Err(e);
@@ -157,4 +175,20 @@ impl PyLearner {
         let l = &self.inner;
         recorder::profile(py, l.recorder(), l.actuator_reset_period(), l.memory().rejected(), l.evaluation_split())
     }
+}
+
+/// A test cloud from Python rows: as many configurations (n joints each) as positions (m
+/// coordinates each), all finite.
+fn cloud_from_rows(configs: Vec<Vec<f64>>, positions: Vec<Vec<f64>>, n: usize, m: usize) -> PyResult<Cloud> {
+    let bad = |what: String| pyo3::exceptions::PyValueError::new_err(format!("test_cloud: {what}"));
+    if configs.len() != positions.len() || configs.is_empty() {
+        return Err(bad(format!("needs as many configurations as positions, at least one; got {} and {}", configs.len(), positions.len())));
+    }
+    if configs.iter().any(|c| c.len() != n || c.iter().any(|v| !v.is_finite())) {
+        return Err(bad(format!("every configuration must be {n} finite floats")));
+    }
+    if positions.iter().any(|p| p.len() != m || p.iter().any(|v| !v.is_finite())) {
+        return Err(bad(format!("every position must be {m} finite floats")));
+    }
+    Ok(Cloud { configs, positions: positions.iter().map(|p| point(p)).collect() })
 }

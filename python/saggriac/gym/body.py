@@ -17,6 +17,9 @@ meaning, so :class:`GymBody` is told how to read and how to move:
   paradigm and the evaluation use it). Default: ``set_joints`` if given, else a reset with
   ``options={"theta": theta}``.
 
+``reach`` (optional): the radius of the ball about the origin the end effector reaches, if you
+know it; else saggriac measures the body before a run (saggriac.scale).
+
 Joint limits must be symmetric and equal, ``[-joint_limit, joint_limit]`` (the core's rule);
 map other ranges in ``theta`` and ``set_joints``/``place``. Episode ends (terminated, truncated) are ignored: saggriac's learning is one long life.
 """
@@ -52,6 +55,7 @@ class GymBody:
         max_joint_step: float,
         set_joints: Callable[[Any, np.ndarray], Any] | None = None,
         place: Callable[[Any, np.ndarray], Any] | None = None,
+        reach: float | None = None,
     ) -> None:
         for name, fn in (("theta", theta), ("position", position), ("set_joints", set_joints), ("place", place)):
             if fn is not None and not callable(fn):
@@ -59,6 +63,11 @@ class GymBody:
         for name, v in (("joint_limit", joint_limit), ("max_joint_step", max_joint_step)):
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v <= 0:
                 raise ParameterError(f"The '{name}' parameter of GymBody must be a finite number > 0. Got {v!r} instead.", name, repr(v))
+        if reach is not None and (isinstance(reach, bool) or not isinstance(reach, (int, float)) or not math.isfinite(reach) or reach <= 0):
+            raise ParameterError(f"The 'reach' parameter of GymBody must be a finite number > 0 or None (measured). Got {reach!r} instead.", "reach", repr(reach))
+        # Declared only when given: saggriac.scale measures a body without the attribute.
+        if reach is not None:
+            self.reach = float(reach)
         self.env = env
         self._theta_of, self._position_of = theta, position
         self._set_joints = set_joints
