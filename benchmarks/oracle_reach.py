@@ -3,7 +3,7 @@
     python benchmarks/oracle_reach.py PRESET [--seeds 0-14]
 
 For each seed, the test goals of the run's evaluation (the same ones, from the same seed) are
-reached as the evaluation's test reaches do (micro_evaluation.rs: from rest for even goals and
+reached as the evaluation's test reaches do (evaluation/micro.rs: from rest for even goals and
 from the previous end for odd ones, steps of length v towards the goal, dtheta = J+ dx scaled to
 max_joint_step and clipped to the joint limits, stopping at eval_tolerance, after
 eval_patience steps without progress, or at the timeout), but with the body's true Jacobian

@@ -19,12 +19,12 @@ use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, BatchSize, Criterion, Throughput};
 
-use saggriac_core::arm::{Arm, ArmConfig};
-use saggriac_core::kd_tree::KdTree;
-use saggriac_core::local_model::{LocalModel, LocalModelConfig};
-use saggriac_core::memory::{IndexKind, SensorimotorMemory};
-use saggriac_core::neighbours::{BruteForce, Neighbour, NeighbourIndex, WarmStart};
-use saggriac_core::region_tree::{RegionTree, RegionTreeConfig};
+use saggriac_core::body::arm::{Arm, ArmConfig};
+use saggriac_core::high_level::region_tree::{RegionTree, RegionTreeConfig};
+use saggriac_core::model::kd_tree::KdTree;
+use saggriac_core::model::local_model::{LocalModel, LocalModelConfig};
+use saggriac_core::model::memory::{IndexKind, SensorimotorMemory};
+use saggriac_core::model::neighbours::{BruteForce, Neighbour, NeighbourIndex, WarmStart};
 use saggriac_core::rng::{index, rng_from_seed, uniform, CoreRng};
 
 const DIM: usize = 15;

@@ -1,7 +1,7 @@
 use nalgebra::DMatrix;
-use saggriac_core::arm::{Arm, ArmConfig};
-use saggriac_core::local_model::{LocalModel, LocalModelConfig};
-use saggriac_core::memory::{IndexKind, SensorimotorMemory};
+use saggriac_core::body::arm::{Arm, ArmConfig};
+use saggriac_core::model::local_model::{LocalModel, LocalModelConfig};
+use saggriac_core::model::memory::{IndexKind, SensorimotorMemory};
 use saggriac_core::rng::{rng_from_seed, uniform};
 
 fn main() {

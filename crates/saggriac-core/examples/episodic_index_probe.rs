@@ -4,9 +4,9 @@
 //! 20-NN over theta. Both are checked against each other.
 //!
 //!     cargo run --release -p saggriac-core --example episodic_index_probe -- [movements] [queries]
-use saggriac_core::block_index::BlockIndex;
-use saggriac_core::kd_tree::KdTree;
-use saggriac_core::neighbours::{Neighbour, NeighbourIndex};
+use saggriac_core::model::block_index::BlockIndex;
+use saggriac_core::model::kd_tree::KdTree;
+use saggriac_core::model::neighbours::{Neighbour, NeighbourIndex};
 use saggriac_core::rng::{rng_from_seed, uniform};
 
 fn time(index: &dyn NeighbourIndex, queries: &[Vec<f64>], k: usize, out: &mut Vec<Vec<Neighbour>>) -> f64 {

@@ -1,10 +1,10 @@
 //! Replays the test reaches of one evaluation and records the neighbour queries (probe).
 #[path = "probe_setup/mod.rs"]
 mod probe_setup;
-use saggriac_core::arm::Arm;
+use saggriac_core::body::arm::Arm;
 use saggriac_core::config::Condition;
-use saggriac_core::local_model::LocalModel;
-use saggriac_core::neighbours::{dist_sq, Neighbour, WarmStart};
+use saggriac_core::model::local_model::LocalModel;
+use saggriac_core::model::neighbours::{dist_sq, Neighbour, WarmStart};
 use saggriac_core::task_space::desired_step;
 
 fn main() {

@@ -2,17 +2,17 @@
 //! code they replaced (kept below as `before`), on random neighbour sets over several shapes:
 //! `cargo run --release --example fit_same_bits -- [cases]`. Panics at the first difference.
 
-use saggriac_core::local_model::{pinv_apply_wide, LocalModel, LocalModelConfig};
-use saggriac_core::memory::{IndexKind, SensorimotorMemory};
-use saggriac_core::neighbours::Neighbour;
+use saggriac_core::model::local_model::{pinv_apply_wide, LocalModel, LocalModelConfig};
+use saggriac_core::model::memory::{IndexKind, SensorimotorMemory};
+use saggriac_core::model::neighbours::Neighbour;
 use saggriac_core::rng::{index, rng_from_seed, uniform, CoreRng};
 /// The fit and pseudo-inverse as they were before the allocation-free rewrite, kept to check
 /// that the rewrite gives the same bits.
 mod before {
     use nalgebra::DMatrix;
-    use saggriac_core::local_model::{FitFailure, LocalModelConfig, MIN_RCOND};
-    use saggriac_core::memory::SensorimotorMemory;
-    use saggriac_core::neighbours::{dist_sq, Neighbour};
+    use saggriac_core::model::local_model::{FitFailure, LocalModelConfig, MIN_RCOND};
+    use saggriac_core::model::memory::SensorimotorMemory;
+    use saggriac_core::model::neighbours::{dist_sq, Neighbour};
 
     pub fn fit(cfg: &LocalModelConfig, n: usize, m: usize, mem: &SensorimotorMemory, neighbours: &[Neighbour]) -> Result<DMatrix<f64>, FitFailure> {
         if neighbours.len() < cfg.k_neighbours.min(mem.len()).max(1) || mem.len() < cfg.k_neighbours {

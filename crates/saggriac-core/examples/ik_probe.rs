@@ -1,6 +1,6 @@
 //! Cost of the forward-model metric's test configurations: `cargo run --release --example ik_probe -- [n_goals]`.
-use saggriac_core::arm::Arm;
-use saggriac_core::min_norm_ik::{min_norm_ik, BodyKinematics, Kinematics};
+use saggriac_core::body::arm::Arm;
+use saggriac_core::evaluation::min_norm_ik::{min_norm_ik, BodyKinematics, Kinematics};
 use saggriac_core::task_space::Point;
 
 struct Counting<'a>(BodyKinematics<'a>, usize, usize);

@@ -5,11 +5,11 @@
 //!     cargo run --release -p saggriac-core --example index_probe -- [steps] [condition] [repeats] [blocks]
 #[path = "probe_setup/mod.rs"]
 mod probe_setup;
-use saggriac_core::arm::Arm;
-use saggriac_core::block_index::BlockIndex;
+use saggriac_core::body::arm::Arm;
 use saggriac_core::config::Condition;
-use saggriac_core::local_model::LocalModel;
-use saggriac_core::neighbours::{BruteForce, Neighbour, NeighbourIndex, PointIndex, WarmStart};
+use saggriac_core::model::block_index::BlockIndex;
+use saggriac_core::model::local_model::LocalModel;
+use saggriac_core::model::neighbours::{BruteForce, Neighbour, NeighbourIndex, PointIndex, WarmStart};
 use saggriac_core::task_space::desired_step;
 
 fn main() {

@@ -9,10 +9,10 @@
 use std::hint::black_box;
 use std::time::Instant;
 
-use saggriac_core::arm::{Arm, ArmConfig};
-use saggriac_core::local_model::{LocalModel, LocalModelConfig};
-use saggriac_core::memory::{IndexKind, SensorimotorMemory};
-use saggriac_core::neighbours::Neighbour;
+use saggriac_core::body::arm::{Arm, ArmConfig};
+use saggriac_core::model::local_model::{LocalModel, LocalModelConfig};
+use saggriac_core::model::memory::{IndexKind, SensorimotorMemory};
+use saggriac_core::model::neighbours::Neighbour;
 use saggriac_core::rng::{rng_from_seed, uniform};
 
 const N: usize = 15;

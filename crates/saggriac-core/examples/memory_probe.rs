@@ -1,6 +1,6 @@
 //! Bytes per stored sample of the sensorimotor memory (arrays + block index), from the process's
 //! resident memory: `cargo run --release --example memory_probe -- [samples] [joints]`.
-use saggriac_core::memory::{IndexKind, SensorimotorMemory};
+use saggriac_core::model::memory::{IndexKind, SensorimotorMemory};
 use saggriac_core::rng::{rng_from_seed, uniform};
 
 fn rss_bytes() -> u64 {

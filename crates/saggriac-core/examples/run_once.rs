@@ -28,7 +28,7 @@ fn main() {
             continue;
         }
         if k == "index" {
-            cfg.index = saggriac_core::memory::IndexKind::parse(v).expect("index kind");
+            cfg.index = saggriac_core::model::memory::IndexKind::parse(v).expect("index kind");
             continue;
         }
         let f: f64 = v.parse().expect("number");

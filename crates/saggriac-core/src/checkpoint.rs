@@ -5,10 +5,10 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::arm::ArmState;
+use crate::body::arm::ArmState;
 use crate::config::RunConfig;
 use crate::error::{Error, Result};
-use crate::goal_selection::SelectorState;
+use crate::high_level::goal_selection::SelectorState;
 use crate::recorder::{AttemptRow, Counters, GoalRow, MetricRow, Recorder, Timers};
 use crate::rng::CoreRng;
 use crate::run_loop::Learner;

@@ -9,11 +9,11 @@ use std::time::Instant;
 use crate::body::Body;
 use crate::config::BodyChange;
 use crate::evaluation::Evaluator;
-use crate::goal_selection::{GoalChoice, GoalSelector};
-use crate::local_model::FitFailure;
+use crate::high_level::goal_selection::{GoalChoice, GoalSelector};
+use crate::model::local_model::FitFailure;
+use crate::model::sensorimotor_model::SensorimotorModel;
 use crate::recorder::{MetricRow, Recorder};
 use crate::rng::CoreRng;
-use crate::sensorimotor_model::SensorimotorModel;
 use crate::task_space::Point;
 
 /// What a micro-action was for (counted separately in the recorder).

@@ -4,7 +4,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::goal_selection::Mode;
+use crate::high_level::goal_selection::Mode;
 use crate::task_space::Point;
 
 /// One evaluation point of the learning curve.

@@ -6,25 +6,25 @@
 
 use std::time::Instant;
 
-use crate::arm::Arm;
+use crate::body::arm::Arm;
 use crate::body::Body;
 use crate::config::{Condition, Paradigm, RunConfig, Teacher};
 use crate::error::{invalid, Result};
+use crate::evaluation::reachable_cloud::Cloud;
 use crate::evaluation::{Evaluator, TestSet};
-use crate::goal_selection::{GoalSelector, RandomGoals, SaggRiac};
+use crate::high_level::goal_selection::{GoalSelector, RandomGoals, SaggRiac};
+use crate::high_level::teachers::alp_gmm::{AlpGmm, AlpGmmConfig};
+use crate::high_level::teachers::covar_gmm::{CovarGmm, CovarGmmConfig};
+use crate::high_level::teachers::riac::{Riac, RiacConfig};
 use crate::low_level::actuator_babbling::{actuator_reset_period, ActuatorBabbling};
 use crate::low_level::episodic::Episodic;
 use crate::low_level::ssa_reacher::SsaReacher;
 use crate::low_level::LowLevel;
-use crate::memory::SensorimotorMemory;
+use crate::model::memory::SensorimotorMemory;
+use crate::model::sensorimotor_model::SensorimotorModel;
 use crate::parts::Parts;
-use crate::reachable_cloud::Cloud;
 use crate::recorder::{AttemptRow, Counters, GoalRow, MetricRow, Recorder, Timers};
 use crate::rng::{child_seed, rng_from_seed};
-use crate::sensorimotor_model::SensorimotorModel;
-use crate::teachers::alp_gmm::{AlpGmm, AlpGmmConfig};
-use crate::teachers::covar_gmm::{CovarGmm, CovarGmmConfig};
-use crate::teachers::riac::{Riac, RiacConfig};
 
 /// Which low-level controller acts under a configuration: one line per controller.
 fn low_level_for(cfg: &RunConfig, actuator_reset: usize) -> Box<dyn LowLevel> {

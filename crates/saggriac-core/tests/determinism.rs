@@ -8,7 +8,7 @@
 //! Floats are compared through `to_bits`, so NaN (the competence of a goal interrupted by the
 //! step budget) compares equal to itself and -0.0 differs from 0.0.
 
-use saggriac_core::memory::IndexKind;
+use saggriac_core::model::memory::IndexKind;
 use saggriac_core::recorder::{AttemptRow, Counters, GoalRow, MetricRow};
 use saggriac_core::task_space::{Point, MAX_TASK_DIM};
 use saggriac_core::{Condition, Learner, RunConfig};
@@ -291,7 +291,7 @@ fn checkpoint_and_restore_change_nothing() {
 
 /// The light configuration with the arm in space and a 3-D goal space.
 fn spatial(mut cfg: RunConfig) -> RunConfig {
-    cfg.arm.kind = saggriac_core::arm::ArmKind::Spatial;
+    cfg.arm.kind = saggriac_core::body::arm::ArmKind::Spatial;
     cfg.goal_low = vec![0.0, -50.0, -50.0];
     cfg.goal_high = vec![50.0, 50.0, 50.0];
     cfg

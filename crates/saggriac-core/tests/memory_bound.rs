@@ -3,7 +3,7 @@
 //! index together, takes at most 300 bytes of resident memory. benchmarks/bench_memory.py checks
 //! it at 1,000,000 samples.
 
-use saggriac_core::memory::{IndexKind, SensorimotorMemory};
+use saggriac_core::model::memory::{IndexKind, SensorimotorMemory};
 use saggriac_core::rng::{rng_from_seed, uniform};
 
 fn rss_bytes() -> Option<u64> {

@@ -11,7 +11,7 @@ use std::f64::consts::PI;
 use proptest::prelude::*;
 
 use common::cases;
-use saggriac_core::arm::{Arm, ArmConfig};
+use saggriac_core::body::arm::{Arm, ArmConfig};
 
 /// Complex multiplication (re, im).
 fn cmul(a: (f64, f64), b: (f64, f64)) -> (f64, f64) {

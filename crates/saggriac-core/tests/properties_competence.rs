@@ -9,8 +9,8 @@ mod common;
 use proptest::prelude::*;
 
 use common::cases;
-use saggriac_core::competence::{competence, CompetenceConfig};
-use saggriac_core::interest::{interest, InterestDivisor};
+use saggriac_core::high_level::competence::{competence, CompetenceConfig};
+use saggriac_core::high_level::interest::{interest, InterestDivisor};
 
 fn competence_config() -> impl Strategy<Value = CompetenceConfig> {
     (1e-6..10.0f64, 1e-6..0.999_999f64).prop_map(|(m, f)| CompetenceConfig { min_c: -m, eps_c: -m * f, ..Default::default() })

@@ -9,10 +9,10 @@ mod common;
 use proptest::prelude::*;
 
 use common::cases;
-use saggriac_core::block_index::BlockIndex;
-use saggriac_core::kd_tree::KdTree;
-use saggriac_core::memory::{IndexKind, SensorimotorMemory};
-use saggriac_core::neighbours::{BruteForce, Neighbour, NeighbourIndex, WarmStart};
+use saggriac_core::model::block_index::BlockIndex;
+use saggriac_core::model::kd_tree::KdTree;
+use saggriac_core::model::memory::{IndexKind, SensorimotorMemory};
+use saggriac_core::model::neighbours::{BruteForce, Neighbour, NeighbourIndex, WarmStart};
 use saggriac_core::rng::{index, rng_from_seed, uniform, unit};
 
 #[derive(Debug, Clone, Copy)]
@@ -124,7 +124,7 @@ proptest! {
             // Radius-bounded search, the radius sometimes exactly a stored point's distance.
             let radius = if n > 0 && unit(&mut r) < 0.7 {
                 let j = index(&mut r, n);
-                saggriac_core::neighbours::dist_sq(&q, &pts[j * dim..(j + 1) * dim])
+                saggriac_core::model::neighbours::dist_sq(&q, &pts[j * dim..(j + 1) * dim])
             } else {
                 uniform(&mut r, 0.0, 2.0)
             };

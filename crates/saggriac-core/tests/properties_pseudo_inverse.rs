@@ -11,7 +11,7 @@ use proptest::prelude::*;
 
 use common::{cases, DEFAULT_SEED};
 use proptest::test_runner::RngSeed;
-use saggriac_core::local_model::{pinv_apply, pinv_apply_svd, pinv_apply_wide, FitFailure, MIN_RCOND};
+use saggriac_core::model::local_model::{pinv_apply, pinv_apply_svd, pinv_apply_wide, FitFailure, MIN_RCOND};
 
 #[derive(Debug, Clone, Copy)]
 enum Shape {

@@ -9,8 +9,8 @@ mod common;
 use proptest::prelude::*;
 
 use common::{cases, TestResult};
-use saggriac_core::interest::InterestDivisor;
-use saggriac_core::region_tree::{RegionTree, RegionTreeConfig};
+use saggriac_core::high_level::interest::InterestDivisor;
+use saggriac_core::high_level::region_tree::{RegionTree, RegionTreeConfig};
 use saggriac_core::rng::{index, rng_from_seed, uniform, unit, CoreRng};
 
 /// Bounds of one dimension: ordinary, tiny, huge, and far from zero with coarse float spacing.

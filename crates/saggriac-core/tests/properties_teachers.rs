@@ -6,16 +6,16 @@ mod common;
 use proptest::prelude::*;
 
 use common::{cases, TestResult};
-use saggriac_core::ask_tell::AskTell;
-use saggriac_core::goal_selection::ModeProbabilities;
-use saggriac_core::interest::InterestDivisor;
-use saggriac_core::region_tree::RegionTreeConfig;
+use saggriac_core::high_level::ask_tell::AskTell;
+use saggriac_core::high_level::goal_selection::ModeProbabilities;
+use saggriac_core::high_level::interest::InterestDivisor;
+use saggriac_core::high_level::region_tree::RegionTreeConfig;
+use saggriac_core::high_level::teachers::alp_gmm::AlpGmmConfig;
+use saggriac_core::high_level::teachers::covar_gmm::CovarGmmConfig;
+use saggriac_core::high_level::teachers::discrete_lp::DiscreteLpConfig;
+use saggriac_core::high_level::teachers::riac::RiacConfig;
+use saggriac_core::high_level::teachers::TeacherSpec;
 use saggriac_core::rng::{rng_from_seed, uniform};
-use saggriac_core::teachers::alp_gmm::AlpGmmConfig;
-use saggriac_core::teachers::covar_gmm::CovarGmmConfig;
-use saggriac_core::teachers::discrete_lp::DiscreteLpConfig;
-use saggriac_core::teachers::riac::RiacConfig;
-use saggriac_core::teachers::TeacherSpec;
 
 fn spec() -> impl Strategy<Value = TeacherSpec> {
     let bounds = (1usize..=6)

@@ -1,18 +1,18 @@
-//! Binding of the ask/tell goal selectors (`saggriac_core::ask_tell`), numpy at the boundary.
+//! Binding of the ask/tell goal selectors (`saggriac_core::high_level::ask_tell`), numpy at the boundary.
 
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use saggriac_core::ask_tell::AskTell;
 use saggriac_core::config::high_level::InterestDivisor;
 use saggriac_core::error::invalid;
-use saggriac_core::goal_selection::ModeProbabilities;
-use saggriac_core::region_tree::RegionTreeConfig;
-use saggriac_core::teachers::alp_gmm::AlpGmmConfig;
-use saggriac_core::teachers::covar_gmm::CovarGmmConfig;
-use saggriac_core::teachers::discrete_lp::DiscreteLpConfig;
-use saggriac_core::teachers::riac::RiacConfig;
-use saggriac_core::teachers::TeacherSpec;
+use saggriac_core::high_level::ask_tell::AskTell;
+use saggriac_core::high_level::goal_selection::ModeProbabilities;
+use saggriac_core::high_level::region_tree::RegionTreeConfig;
+use saggriac_core::high_level::teachers::alp_gmm::AlpGmmConfig;
+use saggriac_core::high_level::teachers::covar_gmm::CovarGmmConfig;
+use saggriac_core::high_level::teachers::discrete_lp::DiscreteLpConfig;
+use saggriac_core::high_level::teachers::riac::RiacConfig;
+use saggriac_core::high_level::teachers::TeacherSpec;
 use saggriac_core::Error;
 
 use crate::errors::{to_py, wrap};

@@ -1,9 +1,9 @@
-//! Binding of the chain body's kinematics (`saggriac_core::chain`), so that Python can check a
+//! Binding of the chain body's kinematics (`saggriac_core::body::chain`), so that Python can check a
 //! chain read out of a MuJoCo model against MuJoCo, draw it, and tell where it reaches.
 
 use numpy::{IntoPyArray, PyArray2, PyReadonlyArray2};
 use pyo3::prelude::*;
-use saggriac_core::chain::{reachable_cloud, Chain};
+use saggriac_core::body::chain::{reachable_cloud, Chain};
 use saggriac_core::rng::rng_from_seed;
 
 use crate::errors::wrap;

@@ -1,10 +1,10 @@
-//! Binding of the competence measure (`saggriac_core::competence`, paper eq. 7), so that Python
+//! Binding of the competence measure (`saggriac_core::high_level::competence`, paper eq. 7), so that Python
 //! code outside a run (a Gymnasium wrapper, a user's loop) scores attempts exactly as a run does.
 
 use numpy::{IntoPyArray, PyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
-use saggriac_core::competence::{competence_of, CompetenceConfig, CompetenceKind};
 use saggriac_core::error::invalid;
+use saggriac_core::high_level::competence::{competence_of, CompetenceConfig, CompetenceKind};
 
 use crate::errors::wrap;
 

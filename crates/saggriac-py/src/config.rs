@@ -3,13 +3,13 @@
 
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use saggriac_core::arm::{ArmConfig, ArmKind};
-use saggriac_core::chain::{Chain, ChainSpec};
+use saggriac_core::body::arm::{ArmConfig, ArmKind};
+use saggriac_core::body::chain::{Chain, ChainSpec};
 use saggriac_core::config::evaluation::TestConfigs;
 use saggriac_core::config::high_level::{CompetenceKind, InterestDivisor, Teacher};
 use saggriac_core::config::Paradigm;
 use saggriac_core::error::invalid;
-use saggriac_core::memory::IndexKind;
+use saggriac_core::model::memory::IndexKind;
 use saggriac_core::{Condition, Error, RunConfig};
 
 use crate::errors::to_py;

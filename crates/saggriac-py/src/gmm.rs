@@ -1,10 +1,10 @@
-//! Binding of the Gaussian-mixture EM (`saggriac_core::teachers::gmm`), so that tests can hold
+//! Binding of the Gaussian-mixture EM (`saggriac_core::high_level::teachers::gmm`), so that tests can hold
 //! it against scikit-learn from the same start.
 
 use numpy::{IntoPyArray, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use saggriac_core::teachers::gmm::{fit_from, rows, EmConfig, Gmm};
+use saggriac_core::high_level::teachers::gmm::{fit_from, rows, EmConfig, Gmm};
 
 use crate::errors::wrap;
 

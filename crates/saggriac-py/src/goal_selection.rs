@@ -5,7 +5,7 @@
 use numpy::{IntoPyArray, PyArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use saggriac_core::goal_selection::{GoalChoice, GoalSelector, Mode};
+use saggriac_core::high_level::goal_selection::{GoalChoice, GoalSelector, Mode};
 
 use crate::errors::{keep_first, Failure, Slot};
 use crate::values::vector;

@@ -115,7 +115,7 @@ pub struct BodyChange {
 /// axis (3), low, high.
 pub const CHAIN_JOINT_LEN: usize = 15;
 
-/// One hinge of a chain (`crate::chain` has the kinematics): the fixed transform from the
+/// One hinge of a chain (`crate::body::chain` has the kinematics): the fixed transform from the
 /// previous joint's frame to this joint's body, the hinge's anchor and unit axis in that body,
 /// and its range (radians, measured from the model's rest angle).
 #[derive(Debug, Clone, PartialEq)]

@@ -154,7 +154,7 @@ impl ModeProbabilities {
 /// Which teacher chooses the goals of the goal-babbling condition (beyond the paper). `Own` is
 /// the condition's own high level: SAGG-RIAC's (the paper's), or uniform goals for SAGG-Random.
 /// The others replace SAGG-RIAC's high level, with their papers' default parameters
-/// (`crate::teachers`).
+/// (`crate::high_level::teachers`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Teacher {
     #[default]

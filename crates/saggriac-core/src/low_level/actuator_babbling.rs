@@ -6,7 +6,7 @@
 //! most distant reachable points.
 
 use crate::config::{Condition, RunConfig};
-use crate::goal_selection::GoalChoice;
+use crate::high_level::goal_selection::GoalChoice;
 use crate::low_level::LowLevel;
 use crate::parts::{ActionKind, Parts};
 use crate::rng::uniform;
@@ -81,8 +81,8 @@ pub fn actuator_reset_period(cfg: &RunConfig, rest: Point) -> usize {
         Some(spec) => {
             let mut rng = crate::rng::rng_from_seed(0x5eed_c4a1);
             let inside = |p: &Point| (0..cfg.goal_low.len()).all(|i| p[i] >= cfg.goal_low[i] && p[i] <= cfg.goal_high[i]);
-            let chain = crate::chain::Chain::new(spec);
-            crate::chain::reachable_cloud(&chain, cfg.arm.joint_limit, 2_000, &mut rng).into_iter().filter(inside).collect()
+            let chain = crate::body::chain::Chain::new(spec);
+            crate::body::chain::reachable_cloud(&chain, cfg.arm.joint_limit, 2_000, &mut rng).into_iter().filter(inside).collect()
         }
         None => reachable_boundary(&cfg.goal_low, &cfg.goal_high, reach, 200),
     };

@@ -6,12 +6,12 @@
 //! region tree over theta, the interest being the forward model's error. The goal selectors and
 //! the evaluation's test sets are the same as for micro-actions.
 
-use crate::competence::{competence_of, CompetenceConfig};
 pub use crate::config::low_level::EpisodicConfig;
 use crate::config::{Condition, RunConfig};
-use crate::goal_selection::GoalChoice;
+use crate::high_level::competence::{competence_of, CompetenceConfig};
+use crate::high_level::goal_selection::GoalChoice;
 use crate::low_level::LowLevel;
-use crate::neighbours::Neighbour;
+use crate::model::neighbours::Neighbour;
 use crate::parts::Parts;
 use crate::recorder::{AttemptRow, GoalRow};
 use crate::rng::{normal, uniform};

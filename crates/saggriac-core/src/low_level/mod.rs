@@ -12,7 +12,7 @@ pub mod episodic;
 pub mod exploration_phase;
 pub mod ssa_reacher;
 
-use crate::goal_selection::GoalChoice;
+use crate::high_level::goal_selection::GoalChoice;
 use crate::parts::Parts;
 
 pub trait LowLevel: Send + Sync {

@@ -5,11 +5,11 @@
 //! model exists yet), until the target is reached or the attempt times out. Each subgoal's
 //! competence goes to the high level.
 
-use crate::competence::{clip, cost_of, CompetenceConfig};
 use crate::config::low_level::ExplorationConfig;
 pub use crate::config::low_level::ReachingConfig;
 use crate::config::RunConfig;
-use crate::goal_selection::GoalChoice;
+use crate::high_level::competence::{clip, cost_of, CompetenceConfig};
+use crate::high_level::goal_selection::GoalChoice;
 use crate::low_level::exploration_phase::explore;
 use crate::low_level::LowLevel;
 use crate::parts::{ActionKind, Parts};

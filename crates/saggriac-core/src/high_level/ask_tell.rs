@@ -1,0 +1,347 @@
+//! Goal selection on its own (ask/tell): any learner asks for a goal, tries it, and tells the
+//! competence it obtained. This is how later work uses SAGG-RIAC as a curriculum "teacher". The
+//! wrapper checks every input, and keeps the history of what was asked and told.
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::{invalid, Error, Result};
+use crate::high_level::goal_selection::{GoalChoice, GoalSelector, ModeProbabilities, SelectorState};
+use crate::high_level::region_tree::RegionTreeConfig;
+use crate::high_level::teachers::TeacherSpec;
+
+/// Bumped whenever the saved layout changes. Format 1 (saggriac <= 0.2, before SAGG-RIAC's tree
+/// had an eq.-2 divisor) is still read, as the `Window` reading it ran; older ones are refused.
+const FORMAT: u32 = 2;
+/// Told competences are bounded so that every teacher's sums, squares and mixtures of them stay
+/// finite (a mixture teacher squares differences of competences).
+pub const MAX_COMPETENCE: f64 = 1e100;
+/// The most goals one `sample_batch` returns, and the most coordinates in all.
+pub const MAX_BATCH: usize = 10_000_000;
+pub const MAX_BATCH_VALUES: usize = 100_000_000;
+
+/// CRC-32C of the encoding, as checkpoints have: a damaged save is refused, never half-read.
+const CHECKSUM: crc::Crc<u32> = crc::Crc::<u32>::new(&crc::CRC_32_ISCSI);
+
+/// What `AskTell::save` writes: the teacher's parameters, its state and the history. Generic in
+/// the parameters' layout, so that an older format is read with the same struct.
+#[derive(Serialize, Deserialize)]
+struct SavedAs<Spec> {
+    format: u32,
+    version: String,
+    spec: Spec,
+    state: SelectorState,
+    asked: Vec<f64>,
+    asked_mode: Vec<u8>,
+    asked_region: Vec<i64>,
+    told: Vec<f64>,
+    told_competence: Vec<f64>,
+    told_region: Vec<i64>,
+}
+
+type Saved = SavedAs<TeacherSpec>;
+
+enum DecodeError {
+    Trailing,
+    Postcard(postcard::Error),
+}
+
+fn decode<T: serde::de::DeserializeOwned>(bytes: &[u8]) -> std::result::Result<T, DecodeError> {
+    match postcard::take_from_bytes_crc32::<T>(bytes, CHECKSUM.digest()) {
+        Ok((s, [])) => Ok(s),
+        Ok(_) => Err(DecodeError::Trailing),
+        Err(e) => Err(DecodeError::Postcard(e)),
+    }
+}
+
+/// The layout of format 1 (saggriac <= 0.2): the same but for SAGG-RIAC's tree parameters.
+mod legacy {
+    use super::*;
+    use crate::config::high_level::InterestDivisor;
+    use crate::high_level::teachers::alp_gmm::AlpGmmConfig;
+    use crate::high_level::teachers::covar_gmm::CovarGmmConfig;
+    use crate::high_level::teachers::discrete_lp::DiscreteLpConfig;
+    use crate::high_level::teachers::riac::RiacConfig;
+
+    #[derive(Deserialize)]
+    pub struct TreeV1 {
+        g_max: usize,
+        zeta: usize,
+        min_child: usize,
+    }
+
+    /// `TeacherSpec` as format 1 wrote it (variants in the same order).
+    #[derive(Deserialize)]
+    pub enum SpecV1 {
+        SaggRiac { low: Vec<f64>, high: Vec<f64>, tree: TreeV1, modes: ModeProbabilities, seed: u64 },
+        Random { low: Vec<f64>, high: Vec<f64>, seed: u64 },
+        Riac { low: Vec<f64>, high: Vec<f64>, cfg: RiacConfig, seed: u64 },
+        DiscreteLp { cfg: DiscreteLpConfig, seed: u64 },
+        AlpGmm { low: Vec<f64>, high: Vec<f64>, cfg: AlpGmmConfig, seed: u64 },
+        CovarGmm { low: Vec<f64>, high: Vec<f64>, cfg: CovarGmmConfig, seed: u64 },
+    }
+
+    pub type SavedV1 = SavedAs<SpecV1>;
+
+    impl From<SpecV1> for TeacherSpec {
+        fn from(s: SpecV1) -> Self {
+            match s {
+                // saggriac <= 0.2 divided a young region's eq. 2 by its own window.
+                SpecV1::SaggRiac { low, high, tree, modes, seed } => {
+                    let tree = RegionTreeConfig { g_max: tree.g_max, zeta: tree.zeta, min_child: tree.min_child, divisor: InterestDivisor::Window };
+                    TeacherSpec::SaggRiac { low, high, tree, modes, seed }
+                }
+                SpecV1::Random { low, high, seed } => TeacherSpec::Random { low, high, seed },
+                SpecV1::Riac { low, high, cfg, seed } => TeacherSpec::Riac { low, high, cfg, seed },
+                SpecV1::DiscreteLp { cfg, seed } => TeacherSpec::DiscreteLp { cfg, seed },
+                SpecV1::AlpGmm { low, high, cfg, seed } => TeacherSpec::AlpGmm { low, high, cfg, seed },
+                SpecV1::CovarGmm { low, high, cfg, seed } => TeacherSpec::CovarGmm { low, high, cfg, seed },
+            }
+        }
+    }
+
+    impl From<SavedV1> for Saved {
+        fn from(s: SavedV1) -> Self {
+            let SavedAs { version, spec, state, asked, asked_mode, asked_region, told, told_competence, told_region, .. } = s;
+            SavedAs { format: FORMAT, version, spec: spec.into(), state, asked, asked_mode, asked_region, told, told_competence, told_region }
+        }
+    }
+}
+
+pub struct AskTell {
+    spec: TeacherSpec,
+    selector: Box<dyn GoalSelector>,
+    /// Sampled goals, row by row, with their mode and region (-1: none).
+    pub asked: Vec<f64>,
+    pub asked_mode: Vec<u8>,
+    pub asked_region: Vec<i64>,
+    /// Told goals, row by row, with their competence and the region that recorded it.
+    pub told: Vec<f64>,
+    pub told_competence: Vec<f64>,
+    pub told_region: Vec<i64>,
+}
+
+impl AskTell {
+    /// The teacher `spec` describes, with an empty history.
+    pub fn new(spec: TeacherSpec) -> Result<Self> {
+        let selector = spec.build()?;
+        Ok(AskTell { spec, selector, asked: Vec::new(), asked_mode: Vec::new(), asked_region: Vec::new(), told: Vec::new(), told_competence: Vec::new(), told_region: Vec::new() })
+    }
+
+    /// SAGG-RIAC over the box [low, high] of any dimension.
+    pub fn sagg_riac(low: &[f64], high: &[f64], tree: RegionTreeConfig, modes: ModeProbabilities, seed: u64) -> Result<Self> {
+        Self::new(TeacherSpec::SaggRiac { low: low.to_vec(), high: high.to_vec(), tree, modes, seed })
+    }
+
+    /// Goals uniform in [low, high] (SAGG-Random's high level).
+    pub fn random(low: &[f64], high: &[f64], seed: u64) -> Result<Self> {
+        Self::new(TeacherSpec::Random { low: low.to_vec(), high: high.to_vec(), seed })
+    }
+
+    pub fn spec(&self) -> &TeacherSpec {
+        &self.spec
+    }
+
+    /// Everything needed to continue later: the parameters, the state (generator included) and
+    /// the history. `restore` gives a teacher that asks exactly the goals this one would have.
+    pub fn save(&self) -> Result<Vec<u8>> {
+        let state = self.selector.save().ok_or_else(|| Error::InvalidInput(format!("The {} teacher cannot be saved.", self.spec.kind())))?;
+        let saved = Saved {
+            format: FORMAT,
+            version: env!("CARGO_PKG_VERSION").to_string(),
+            spec: self.spec.clone(),
+            state,
+            asked: self.asked.clone(),
+            asked_mode: self.asked_mode.clone(),
+            asked_region: self.asked_region.clone(),
+            told: self.told.clone(),
+            told_competence: self.told_competence.clone(),
+            told_region: self.told_region.clone(),
+        };
+        postcard::to_stdvec_crc32(&saved, CHECKSUM.digest()).map_err(|e| Error::InvalidInput(format!("Could not encode the teacher: {e}.")))
+    }
+
+    /// The teacher `save` wrote.
+    pub fn restore(bytes: &[u8]) -> Result<Self> {
+        let refuse = |why: String| Error::InvalidInput(format!("{why} It cannot be restored; save the teacher again."));
+        // The format comes first in every layout: read it alone, then the layout it names.
+        let format = postcard::take_from_bytes::<u32>(bytes).map(|(f, _)| f).unwrap_or(FORMAT);
+        let decoded = if format == 1 { decode::<legacy::SavedV1>(bytes).map(Saved::from) } else { decode::<Saved>(bytes) };
+        let s = match decoded {
+            Ok(s) => s,
+            Err(DecodeError::Trailing) => return Err(refuse("The saved teacher is damaged: bytes follow its end.".into())),
+            Err(DecodeError::Postcard(postcard::Error::DeserializeBadCrc)) => return Err(refuse("The saved teacher is damaged: its checksum does not match its content.".into())),
+            Err(DecodeError::Postcard(e)) => return Err(refuse(format!("The data is damaged or not a saved saggriac teacher ({e})."))),
+        };
+        if s.format != FORMAT {
+            return Err(refuse(format!(
+                "The saved teacher has format {} but this saggriac ({}) reads format {FORMAT}; it was written by saggriac {}.",
+                s.format,
+                env!("CARGO_PKG_VERSION"),
+                s.version
+            )));
+        }
+        let mut t = AskTell::new(s.spec)?;
+        if !t.selector.load(&s.state) {
+            return Err(refuse(format!("The saved state does not belong to a {} teacher.", t.spec.kind())));
+        }
+        (t.asked, t.asked_mode, t.asked_region) = (s.asked, s.asked_mode, s.asked_region);
+        (t.told, t.told_competence, t.told_region) = (s.told, s.told_competence, s.told_region);
+        Ok(t)
+    }
+
+    pub fn selector(&self) -> &dyn GoalSelector {
+        self.selector.as_ref()
+    }
+    pub fn dim(&self) -> usize {
+        self.selector.dim()
+    }
+
+    pub fn sample(&mut self) -> GoalChoice {
+        let c = self.selector.sample();
+        self.asked.extend_from_slice(&c.goal);
+        self.asked_mode.push(c.mode as u8);
+        self.asked_region.push(c.region.map(|r| r as i64).unwrap_or(-1));
+        c
+    }
+
+    /// `n` goals in a row, flattened row by row (no update in between, so the same tree).
+    pub fn sample_batch(&mut self, n: usize) -> Result<Vec<f64>> {
+        if n > MAX_BATCH || n.saturating_mul(self.dim()) > MAX_BATCH_VALUES {
+            return Err(invalid("sample_batch", "n", format!("an int with n <= {MAX_BATCH} and n * dim <= {MAX_BATCH_VALUES} (dim = {})", self.dim()), n));
+        }
+        let mut out = Vec::with_capacity(n * self.dim());
+        for _ in 0..n {
+            out.extend(self.sample().goal);
+        }
+        Ok(out)
+    }
+
+    /// Check a told goal: the right length, finite, inside the box; a finite competence.
+    fn check(&self, goal: &[f64], competence: f64, row: Option<usize>) -> Result<()> {
+        let at = row.map(|r| format!(" (row {r})")).unwrap_or_default();
+        let d = self.dim();
+        if goal.len() != d {
+            return Err(Error::InvalidInput(format!("goal{at} must have {d} coordinates, the dimension of the goal space; got {}.", goal.len())));
+        }
+        if !(competence.is_finite() && competence.abs() <= MAX_COMPETENCE) {
+            return Err(Error::InvalidInput(format!("competence{at} must be a finite float with |competence| <= 1e100; got {competence}.")));
+        }
+        let (lo, hi) = (self.selector.low(), self.selector.high());
+        for i in 0..d {
+            if !(goal[i] >= lo[i] && goal[i] <= hi[i]) {
+                return Err(Error::InvalidInput(format!("goal{at} must lie in the goal space [low, high]; coordinate {i} is {} but the bounds are [{}, {}].", goal[i], lo[i], hi[i])));
+            }
+        }
+        self.selector.check_told(goal, competence).map_err(|e| match (e, row) {
+            (Error::InvalidInput(m), Some(r)) => Error::InvalidInput(m.replacen("goal ", &format!("goal (row {r}) "), 1).replacen("competence ", &format!("competence (row {r}) "), 1)),
+            (e, _) => e,
+        })
+    }
+
+    /// Tell the competence obtained at `goal`; returns the region that recorded it (-1: none).
+    pub fn update(&mut self, goal: &[f64], competence: f64) -> Result<i64> {
+        self.check(goal, competence, None)?;
+        Ok(self.record(goal, competence))
+    }
+
+    /// Tell a batch (goals row by row). Every row is checked before any is recorded, so a bad
+    /// batch changes nothing.
+    pub fn update_batch(&mut self, goals: &[f64], competences: &[f64]) -> Result<Vec<i64>> {
+        let d = self.dim();
+        if goals.len() != competences.len() * d {
+            return Err(Error::InvalidInput(format!("goals must have one row of {d} coordinates per competence; got {} values for {} competences.", goals.len(), competences.len())));
+        }
+        for (i, (g, c)) in goals.chunks_exact(d).zip(competences).enumerate() {
+            self.check(g, *c, Some(i))?;
+        }
+        Ok(goals.chunks_exact(d).zip(competences).map(|(g, c)| self.record(g, *c)).collect())
+    }
+
+    fn record(&mut self, goal: &[f64], competence: f64) -> i64 {
+        let r = self.selector.update(goal, competence).map(|r| r as i64).unwrap_or(-1);
+        self.told.extend_from_slice(goal);
+        self.told_competence.push(competence);
+        self.told_region.push(r);
+        r
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A SAGG-RIAC teacher saved by saggriac 0.2.0 (format 1; ac8c087, 200 goals told) restores
+    /// with the reading it ran, and asks the 20 goals 0.2.0 asked next, to the bit.
+    #[test]
+    fn a_teacher_saved_by_saggriac_0_2_continues_exactly() {
+        use crate::config::high_level::InterestDivisor;
+        use crate::rng::{rng_from_seed, uniform};
+        let bytes = include_bytes!("../../tests/data/teacher_v1_sagg_riac.bin");
+        let next = include_str!("../../tests/data/teacher_v1_sagg_riac.next");
+        let mut a = AskTell::restore(bytes).unwrap();
+        let TeacherSpec::SaggRiac { tree, .. } = a.spec() else { panic!("not SAGG-RIAC") };
+        assert_eq!((tree.g_max, tree.zeta, tree.min_child, tree.divisor), (12, 8, 2, InterestDivisor::Window));
+        assert_eq!(a.told_competence.len(), 200);
+        // The competences 0.2.0's generator drew, replayed: the first 200 went into the save.
+        let mut r = rng_from_seed(5);
+        for _ in 0..200 {
+            uniform(&mut r, 0.0, 1.0);
+        }
+        for line in next.lines() {
+            let bits: Vec<u64> = line.split(' ').map(|b| b.parse().unwrap()).collect();
+            let g = a.sample().goal;
+            assert_eq!((g[0].to_bits(), g[1].to_bits()), (bits[0], bits[1]));
+            a.update(&g, -uniform(&mut r, 0.0, 1.0) * (g[0] / 2.0)).unwrap();
+        }
+        // Saved again, it is a format-2 teacher that restores as itself.
+        let again = AskTell::restore(&a.save().unwrap()).unwrap();
+        assert_eq!(again.spec(), a.spec());
+    }
+
+    #[test]
+    fn rejects_bad_input_and_keeps_state() {
+        let mut a = AskTell::sagg_riac(&[0.0, 0.0], &[1.0, 1.0], RegionTreeConfig::default(), ModeProbabilities::default(), 1).unwrap();
+        let e = a.update(&[0.5], -0.1).unwrap_err().to_string();
+        assert!(e.contains("2 coordinates"), "{e}");
+        let e = a.update(&[0.5, 1.5], -0.1).unwrap_err().to_string();
+        assert!(e.contains("coordinate 1 is 1.5"), "{e}");
+        let e = a.update(&[0.5, 0.5], f64::NAN).unwrap_err().to_string();
+        assert!(e.contains("finite"), "{e}");
+        let e = a.update_batch(&[0.1, 0.1, 0.2, f64::INFINITY], &[-0.1, -0.2]).unwrap_err().to_string();
+        assert!(e.contains("row 1"), "{e}");
+        assert!(a.told_competence.is_empty());
+        assert_eq!(a.selector().tree().unwrap().n_measurements(), 0);
+        assert_eq!(a.update_batch(&[0.1, 0.1, 0.2, 0.2], &[-0.1, -0.2]).unwrap(), vec![0, 0]);
+    }
+
+    /// Half a session, a save, a restore: the restored teacher asks the same goals as one that
+    /// never stopped, and keeps the history.
+    #[test]
+    fn a_restored_teacher_continues_exactly() {
+        let make = || AskTell::sagg_riac(&[0.0, 0.0, 0.0], &[1.0, 1.0, 1.0], RegionTreeConfig { g_max: 10, zeta: 5, min_child: 2, ..Default::default() }, ModeProbabilities::default(), 3).unwrap();
+        let competence = |g: &[f64]| -(g[0] - 0.3).abs() - 0.5 * g[1];
+        let (mut a, mut b) = (make(), make());
+        for _ in 0..300 {
+            let g = a.sample().goal;
+            a.update(&g, competence(&g)).unwrap();
+            let g = b.sample().goal;
+            b.update(&g, competence(&g)).unwrap();
+        }
+        let bytes = b.save().unwrap();
+        let mut b = AskTell::restore(&bytes).unwrap();
+        assert_eq!((b.asked.len(), b.told_competence.len()), (900, 300));
+        for _ in 0..300 {
+            let (ga, gb) = (a.sample(), b.sample());
+            assert_eq!(ga, gb);
+            a.update(&ga.goal, competence(&ga.goal)).unwrap();
+            b.update(&gb.goal, competence(&gb.goal)).unwrap();
+        }
+        assert_eq!(a.selector().tree().unwrap().regions().len(), b.selector().tree().unwrap().regions().len());
+        // A damaged save is refused, naming the problem.
+        let mut bad = bytes.clone();
+        bad[bytes.len() / 2] ^= 1;
+        let e = AskTell::restore(&bad).err().unwrap().to_string();
+        assert!(e.contains("damaged"), "{e}");
+        assert!(AskTell::restore(b"not a teacher").is_err());
+    }
+}

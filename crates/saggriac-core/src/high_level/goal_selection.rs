@@ -1,0 +1,402 @@
+//! Goal self-generation (paper II.D.3): which goal to try next. SAGG-RIAC picks goals by
+//! competence progress over the region tree; SAGG-Random picks them uniformly. Both are usable
+//! on their own, ask/tell style: `sample()` a goal, `update(goal, competence)`.
+
+use crate::config::high_level::check_bounds;
+pub use crate::config::high_level::ModeProbabilities;
+use crate::error::Result;
+use crate::high_level::region_tree::{RegionTree, RegionTreeConfig};
+use crate::rng::{index, rng_from_seed, uniform, unit, CoreRng};
+
+/// How a goal was chosen.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[repr(u8)]
+pub enum Mode {
+    /// Uniform in the space before the first split.
+    Initial = 0,
+    /// mode(1): a region drawn with probability proportional to interest - min interest (eq. 3).
+    Interest = 1,
+    /// mode(2): uniform in the whole space.
+    Global = 2,
+    /// mode(3): the region of lowest mean competence.
+    LowestCompetence = 3,
+    /// A selector without a high level (SAGG-Random).
+    Random = 4,
+    /// A goal from a user's selector.
+    External = 5,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct GoalChoice {
+    pub goal: Vec<f64>,
+    pub mode: Mode,
+    /// The leaf the goal was drawn in (modes 1 and 3).
+    pub region: Option<usize>,
+}
+
+/// One leaf of `GoalSelector::leaf_table`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LeafRow {
+    pub low: Vec<f64>,
+    pub high: Vec<f64>,
+    pub interest: f64,
+    pub n_measurements: usize,
+}
+
+/// A goal selector, usable inside the run loop or on its own.
+pub trait GoalSelector: Send + Sync {
+    fn low(&self) -> &[f64];
+    fn dim(&self) -> usize {
+        self.low().len()
+    }
+    fn high(&self) -> &[f64];
+    fn sample(&mut self) -> GoalChoice;
+    /// Report the competence obtained for a goal (or subgoal) at `point`; returns the region
+    /// that recorded it, if the selector has regions.
+    fn update(&mut self, point: &[f64], competence: f64) -> Option<usize>;
+    /// Choose one of `candidates` (points of the selector's space, at least one) rather than
+    /// draw a point anywhere: how R-IAC picks an action in the current context. None for a
+    /// selector without regions to choose by.
+    fn choose(&mut self, _candidates: &[Vec<f64>]) -> Option<GoalChoice> {
+        None
+    }
+    fn tree(&self) -> Option<&RegionTree> {
+        None
+    }
+    /// The leaves of a selector with regions but no `RegionTree` (RIAC): bounds, interest and
+    /// measurements held.
+    fn leaf_table(&self) -> Vec<LeafRow> {
+        Vec::new()
+    }
+    /// The selector's state for a checkpoint (None: this selector cannot be checkpointed).
+    fn save(&self) -> Option<SelectorState> {
+        None
+    }
+    /// Restore a state saved by `save` on a selector built with the same parameters.
+    fn load(&mut self, _state: &SelectorState) -> bool {
+        false
+    }
+    /// Checks of a told goal and competence beyond the box and finiteness (a task index, a
+    /// success rate), made before anything is recorded.
+    fn check_told(&self, _goal: &[f64], _competence: f64) -> Result<()> {
+        Ok(())
+    }
+    /// True once a user's selector has failed; the run loop stops.
+    fn failed(&self) -> bool {
+        false
+    }
+}
+
+fn uniform_in(rng: &mut CoreRng, low: &[f64], high: &[f64]) -> Vec<f64> {
+    low.iter().zip(high).map(|(l, h)| uniform(rng, *l, *h)).collect()
+}
+
+/// A mixture as saved: weights, then means and covariances flattened (`Gmm::to_flat`).
+pub type SavedGmm = (Vec<f64>, (Vec<f64>, Vec<f64>));
+
+/// What a checkpoint keeps of a built-in selector: its generator, and for SAGG-RIAC every
+/// measurement in order (replaying them rebuilds the same tree, splits and interests included).
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+pub enum SelectorState {
+    SaggRiac {
+        rng: CoreRng,
+        points: Vec<f64>,
+        values: Vec<f64>,
+    },
+    Random {
+        rng: CoreRng,
+    },
+    /// RIAC (`crate::high_level::teachers::riac`): its regions replay from the measurements.
+    Riac {
+        rng: CoreRng,
+        points: Vec<f64>,
+        values: Vec<f64>,
+    },
+    /// The discrete learning-progress teacher: both moving averages of every task.
+    DiscreteLp {
+        rng: CoreRng,
+        fast: Vec<f64>,
+        slow: Vec<f64>,
+    },
+    /// ALP-GMM and Covar-GMM: generators, what was told, the fitting window and the mixture
+    /// (weights, then means and covariances flattened).
+    Mixture {
+        rng: CoreRng,
+        fit_rng: CoreRng,
+        points: Vec<f64>,
+        values: Vec<f64>,
+        window: Vec<f64>,
+        gmm: Option<SavedGmm>,
+    },
+}
+
+/// SAGG-RIAC's high level.
+#[derive(Debug, Clone)]
+pub struct SaggRiac {
+    tree: RegionTree,
+    modes: ModeProbabilities,
+    rng: CoreRng,
+}
+
+impl SaggRiac {
+    pub fn new(low: &[f64], high: &[f64], tree: RegionTreeConfig, modes: ModeProbabilities, seed: u64) -> Result<Self> {
+        modes.validate()?;
+        Ok(SaggRiac { tree: RegionTree::new(low, high, tree)?, modes, rng: rng_from_seed(seed) })
+    }
+
+    /// Draw a leaf with probability |interest - min interest| / sum (eq. 3); uniform when all
+    /// interests are equal.
+    fn interest_leaf(&mut self) -> usize {
+        let total = self.tree.interest_weight_total();
+        let leaves = self.tree.leaves();
+        let interest = self.tree.leaf_interests();
+        let min = self.tree.min_leaf_interest();
+        if !(total > 0.0 && total.is_finite()) {
+            return leaves[index(&mut self.rng, leaves.len())];
+        }
+        let mut u = unit(&mut self.rng) * total;
+        for (&l, i) in leaves.iter().zip(interest) {
+            let w = (i - min).abs();
+            if u < w {
+                return l;
+            }
+            u -= w;
+        }
+        // Rounding left u just above the last weight: take the last leaf with weight.
+        leaves.iter().zip(interest).rev().find(|(_, &i)| i > min).map(|(&l, _)| l).unwrap_or(leaves[leaves.len() - 1])
+    }
+
+    /// The leaf of lowest mean competence among leaves holding measurements.
+    fn lowest_leaf(&self) -> usize {
+        let mut best = (f64::INFINITY, self.tree.leaves()[0]);
+        for (&l, &m) in self.tree.leaves().iter().zip(self.tree.leaf_means()) {
+            // NaN marks an empty leaf, which `m < best` skips.
+            if m < best.0 {
+                best = (m, l);
+            }
+        }
+        best.1
+    }
+}
+
+impl GoalSelector for SaggRiac {
+    fn low(&self) -> &[f64] {
+        self.tree.low()
+    }
+    fn high(&self) -> &[f64] {
+        self.tree.high()
+    }
+    fn sample(&mut self) -> GoalChoice {
+        if self.tree.leaves().len() < 2 {
+            let goal = uniform_in(&mut self.rng, self.tree.low(), self.tree.high());
+            return GoalChoice { goal, mode: Mode::Initial, region: None };
+        }
+        let u = unit(&mut self.rng);
+        let (mode, leaf) = if u < self.modes.p_interest {
+            (Mode::Interest, Some(self.interest_leaf()))
+        } else if u < self.modes.p_interest + self.modes.p_global {
+            (Mode::Global, None)
+        } else {
+            (Mode::LowestCompetence, Some(self.lowest_leaf()))
+        };
+        let goal = match leaf {
+            Some(l) => {
+                let r = self.tree.region(l);
+                uniform_in(&mut self.rng, &r.low, &r.high)
+            }
+            None => uniform_in(&mut self.rng, self.tree.low(), self.tree.high()),
+        };
+        GoalChoice { goal, mode, region: leaf }
+    }
+    fn update(&mut self, point: &[f64], competence: f64) -> Option<usize> {
+        Some(self.tree.add(point, competence).0)
+    }
+    /// R-IAC in the current context (SPEC "ACTUATOR-RIAC, faithfully"): each candidate is
+    /// located in its leaf, and the three modes choose among the candidates through their
+    /// leaves: mode 1 with probability |interest - min interest| (eq. 3, the minimum over all
+    /// leaves), mode 2 uniformly, mode 3 the candidate in the leaf of lowest mean competence.
+    /// Uniform before the first split, and in mode 1 when no candidate's leaf has weight.
+    fn choose(&mut self, candidates: &[Vec<f64>]) -> Option<GoalChoice> {
+        let pick = |c: usize, mode: Mode, leaf: Option<usize>| Some(GoalChoice { goal: candidates[c].clone(), mode, region: leaf });
+        if candidates.is_empty() {
+            return None;
+        }
+        if self.tree.leaves().len() < 2 {
+            return pick(index(&mut self.rng, candidates.len()), Mode::Initial, None);
+        }
+        let leaves: Vec<usize> = candidates.iter().map(|c| self.tree.leaf_of(c)).collect();
+        let u = unit(&mut self.rng);
+        if u < self.modes.p_interest {
+            let min = self.tree.min_leaf_interest();
+            let w: Vec<f64> = leaves.iter().map(|&l| (self.tree.region(l).interest - min).abs()).collect();
+            let total: f64 = w.iter().sum();
+            if !(total > 0.0 && total.is_finite()) {
+                let c = index(&mut self.rng, candidates.len());
+                return pick(c, Mode::Interest, Some(leaves[c]));
+            }
+            let mut r = unit(&mut self.rng) * total;
+            let mut chosen = w.iter().rposition(|&x| x > 0.0).unwrap_or(0);
+            for (c, &x) in w.iter().enumerate() {
+                if r < x {
+                    chosen = c;
+                    break;
+                }
+                r -= x;
+            }
+            pick(chosen, Mode::Interest, Some(leaves[chosen]))
+        } else if u < self.modes.p_interest + self.modes.p_global {
+            let c = index(&mut self.rng, candidates.len());
+            pick(c, Mode::Global, Some(leaves[c]))
+        } else {
+            // Empty leaves (no mean) are skipped; if all are empty, the first candidate.
+            let c = (0..candidates.len()).filter_map(|c| self.tree.region(leaves[c]).mean().map(|m| (m, c))).min_by(|a, b| a.0.total_cmp(&b.0)).map_or(0, |(_, c)| c);
+            pick(c, Mode::LowestCompetence, Some(leaves[c]))
+        }
+    }
+    fn tree(&self) -> Option<&RegionTree> {
+        Some(&self.tree)
+    }
+    fn save(&self) -> Option<SelectorState> {
+        let n = self.tree.n_measurements();
+        let points = (0..n).flat_map(|i| self.tree.point(i).to_vec()).collect();
+        let values = (0..n).map(|i| self.tree.value(i)).collect();
+        Some(SelectorState::SaggRiac { rng: self.rng.clone(), points, values })
+    }
+    fn load(&mut self, state: &SelectorState) -> bool {
+        let SelectorState::SaggRiac { rng, points, values } = state else { return false };
+        let Ok(mut tree) = RegionTree::new(self.tree.low(), self.tree.high(), *self.tree.config()) else { return false };
+        let d = tree.dim();
+        for (p, v) in points.chunks_exact(d).zip(values) {
+            tree.add(p, *v);
+        }
+        self.tree = tree;
+        self.rng = rng.clone();
+        true
+    }
+}
+
+/// Goals uniform in the box, no high level (SAGG-Random).
+#[derive(Debug, Clone)]
+pub struct RandomGoals {
+    low: Vec<f64>,
+    high: Vec<f64>,
+    rng: CoreRng,
+}
+
+impl RandomGoals {
+    pub fn new(low: &[f64], high: &[f64], seed: u64) -> Result<Self> {
+        check_bounds("RandomGoals", low, high)?;
+        Ok(RandomGoals { low: low.to_vec(), high: high.to_vec(), rng: rng_from_seed(seed) })
+    }
+}
+
+impl GoalSelector for RandomGoals {
+    fn low(&self) -> &[f64] {
+        &self.low
+    }
+    fn high(&self) -> &[f64] {
+        &self.high
+    }
+    fn sample(&mut self) -> GoalChoice {
+        GoalChoice { goal: uniform_in(&mut self.rng, &self.low, &self.high), mode: Mode::Random, region: None }
+    }
+    fn update(&mut self, _point: &[f64], _competence: f64) -> Option<usize> {
+        None
+    }
+    fn save(&self) -> Option<SelectorState> {
+        Some(SelectorState::Random { rng: self.rng.clone() })
+    }
+    fn load(&mut self, state: &SelectorState) -> bool {
+        let SelectorState::Random { rng } = state else { return false };
+        self.rng = rng.clone();
+        true
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Choosing among candidates: uniform before the first split; then mode 1 favours the
+    /// candidates in the leaf of high interest, and mode 3 takes the one in the leaf of lowest
+    /// mean competence.
+    #[test]
+    fn chooses_among_candidates_by_their_leaves() {
+        let cfg = RegionTreeConfig { g_max: 20, zeta: 10, min_child: 3, ..Default::default() };
+        let mut s = SaggRiac::new(&[0.0, 0.0], &[1.0, 1.0], cfg, ModeProbabilities::default(), 3).unwrap();
+        let cands = vec![vec![0.1, 0.5], vec![0.9, 0.5]];
+        let first = s.choose(&cands).unwrap();
+        assert_eq!(first.mode, Mode::Initial);
+        // Left half: competence rising (interest); right half: flat at -0.9 (no interest, lowest).
+        let mut r = rng_from_seed(5);
+        for i in 0..60 {
+            s.update(&[uniform(&mut r, 0.0, 0.5), uniform(&mut r, 0.0, 1.0)], -1.0 + i as f64 / 60.0);
+            s.update(&[uniform(&mut r, 0.5, 1.0), uniform(&mut r, 0.0, 1.0)], -0.9);
+        }
+        assert!(s.tree.leaves().len() >= 2);
+        let (mut left, mut by_mode) = (0, std::collections::HashMap::new());
+        for _ in 0..2000 {
+            let c = s.choose(&cands).unwrap();
+            assert!(c.goal == cands[0] || c.goal == cands[1]);
+            assert_eq!(c.region, Some(s.tree.leaf_of(&c.goal)));
+            *by_mode.entry(c.mode as u8).or_insert(0) += 1;
+            if c.mode == Mode::Interest && c.goal == cands[0] {
+                left += 1;
+            }
+            if c.mode == Mode::LowestCompetence {
+                assert_eq!(c.goal, cands[1], "the right half has the lowest mean competence");
+            }
+        }
+        let interest = by_mode[&(Mode::Interest as u8)];
+        assert!((1250..1550).contains(&interest), "{interest} of 2000 in mode 1 (p = 0.7)");
+        assert!(left as f64 > 0.9 * interest as f64, "mode 1 chose the learnable half {left} of {interest} times");
+        // A selector without regions cannot choose.
+        let mut random = RandomGoals::new(&[0.0, 0.0], &[1.0, 1.0], 1).unwrap();
+        assert!(random.choose(&cands).is_none());
+    }
+
+    /// Competence on a toy task: the left quarter of [0,1]^2 improves with practice, the rest is
+    /// hopeless (always min_C). SAGG-RIAC must concentrate its goals where progress is.
+    #[test]
+    fn concentrates_on_the_learnable_region() {
+        let mut s = SaggRiac::new(&[0.0, 0.0], &[1.0, 1.0], RegionTreeConfig::default(), ModeProbabilities::default(), 7).unwrap();
+        let mut practice = 0.0;
+        let mut inside = 0;
+        let n = 4000;
+        for i in 0..n {
+            let g = s.sample();
+            let c = if g.goal[0] < 0.25 {
+                practice += 1.0;
+                // noisy progress: competence rises with practice
+                -1.0 / (1.0 + 0.02 * practice) * (0.8 + 0.4 * ((i * 7919) % 100) as f64 / 100.0)
+            } else {
+                -1.0
+            };
+            s.update(&g.goal, c.max(-1.0));
+            if i >= n / 2 && g.goal[0] < 0.25 {
+                inside += 1;
+            }
+        }
+        let share = inside as f64 / (n / 2) as f64;
+        assert!(share > 0.5, "share of goals in the learnable quarter: {share}");
+    }
+
+    #[test]
+    fn same_seed_same_goals() {
+        let mk = || SaggRiac::new(&[0.0], &[1.0], RegionTreeConfig { g_max: 10, zeta: 4, min_child: 2, ..Default::default() }, ModeProbabilities::default(), 3).unwrap();
+        let (mut a, mut b) = (mk(), mk());
+        for i in 0..500 {
+            let (ga, gb) = (a.sample(), b.sample());
+            assert_eq!(ga, gb);
+            let c = -((i % 7) as f64) / 7.0 * ga.goal[0];
+            a.update(&ga.goal, c);
+            b.update(&gb.goal, c);
+        }
+    }
+
+    #[test]
+    fn probabilities_must_sum_to_one() {
+        let e = ModeProbabilities { p_interest: 0.7, p_global: 0.2, p_lowest: 0.2 }.validate().unwrap_err();
+        assert!(e.to_string().contains("p_interest + p_global + p_lowest = 1"), "{e}");
+    }
+}

@@ -1,0 +1,172 @@
+//! What ALP-GMM and Covar-GMM share: the task box scaled to [0, 1], their two generators, what
+//! was told, the window the mixtures are fitted on, the current mixture, and how a goal is drawn
+//! from it. Each teacher adds only its own coordinates (ALP; time and competence).
+
+use std::collections::VecDeque;
+use std::ops::Range;
+
+use nalgebra::DVector;
+use serde::{Deserialize, Serialize};
+
+use crate::config::high_level::check_bounds;
+use crate::error::{invalid, Check, Result, MAX_COUNT};
+use crate::high_level::goal_selection::{GoalChoice, Mode, SelectorState};
+use crate::high_level::teachers::gmm::{best_by_aic, EmConfig, Gmm};
+use crate::rng::{child_seed, index, rng_from_seed, uniform, unit, CoreRng};
+
+/// The parameters both mixture teachers share (ALP-GMM's names and defaults).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct AlpGmmConfig {
+    /// Tasks between refits, and the window they are fitted on (250).
+    pub fit_rate: usize,
+    /// Mixtures of 2 to this many components are tried (10).
+    pub max_components: usize,
+    /// Share of uniform goals after the bootstrap (0.2).
+    pub random_task_ratio: f64,
+    /// Uniform goals first (250, as fit_rate).
+    pub bootstrap: usize,
+}
+
+impl Default for AlpGmmConfig {
+    fn default() -> Self {
+        AlpGmmConfig { fit_rate: 250, max_components: 10, random_task_ratio: 0.2, bootstrap: 250 }
+    }
+}
+
+impl AlpGmmConfig {
+    pub fn validate(&self, owner: &'static str) -> Result<()> {
+        let c = Check { owner };
+        c.within("fit_rate", self.fit_rate, 2, MAX_COUNT)?;
+        // EM tries every number of components up to this one at each refit.
+        c.within("max_components", self.max_components, 2, 100)?;
+        c.within("bootstrap", self.bootstrap, 0, MAX_COUNT)?;
+        c.probability("random_task_ratio", self.random_task_ratio)?;
+        if self.max_components > self.fit_rate {
+            return Err(invalid(owner, "max_components", format!("an int <= fit_rate (fit_rate = {})", self.fit_rate), self.max_components));
+        }
+        Ok(())
+    }
+}
+
+/// The box and its scaling to [0, 1].
+#[derive(Debug, Clone)]
+pub(crate) struct UnitBox {
+    pub low: Vec<f64>,
+    pub high: Vec<f64>,
+}
+
+impl UnitBox {
+    pub fn to_unit(&self, p: &[f64]) -> Vec<f64> {
+        p.iter().zip(self.low.iter().zip(&self.high)).map(|(v, (l, h))| ((v - l) / (h - l)).clamp(0.0, 1.0)).collect()
+    }
+    pub fn scale_back(&self, u: &[f64]) -> Vec<f64> {
+        u.iter().zip(self.low.iter().zip(&self.high)).map(|(v, (l, h))| (l + v.clamp(0.0, 1.0) * (h - l)).clamp(*l, *h)).collect()
+    }
+    pub fn uniform(&self, rng: &mut CoreRng) -> Vec<f64> {
+        self.low.iter().zip(&self.high).map(|(l, h)| uniform(rng, *l, *h)).collect()
+    }
+}
+
+/// A component drawn in proportion to `weight(j)` (uniformly if none has weight).
+fn proportional_component(gmm: &Gmm, weight: impl Fn(usize) -> f64, rng: &mut CoreRng) -> usize {
+    let w: Vec<f64> = (0..gmm.n_components()).map(|j| weight(j).max(0.0)).collect();
+    let total: f64 = w.iter().sum();
+    if !(total > 0.0 && total.is_finite()) {
+        return index(rng, w.len());
+    }
+    let mut u = unit(rng) * total;
+    for (j, x) in w.iter().enumerate() {
+        if u < *x {
+            return j;
+        }
+        u -= x;
+    }
+    w.iter().rposition(|x| *x > 0.0).unwrap_or(0)
+}
+
+pub(crate) struct MixtureCore {
+    pub cfg: AlpGmmConfig,
+    pub unit_box: UnitBox,
+    rng: CoreRng,
+    /// The mixtures' k-means starts draw from their own generator.
+    fit_rng: CoreRng,
+    /// Every told task (raw) and competence, in order.
+    pub points: Vec<f64>,
+    pub values: Vec<f64>,
+    /// The last `fit_rate` rows of the teacher's own coordinates.
+    pub window: VecDeque<Vec<f64>>,
+    pub gmm: Option<Gmm>,
+}
+
+impl MixtureCore {
+    pub fn new(owner: &'static str, low: &[f64], high: &[f64], cfg: AlpGmmConfig, seed: u64) -> Result<Self> {
+        check_bounds(owner, low, high)?;
+        cfg.validate(owner)?;
+        Ok(MixtureCore {
+            cfg,
+            unit_box: UnitBox { low: low.to_vec(), high: high.to_vec() },
+            rng: rng_from_seed(seed),
+            fit_rng: rng_from_seed(child_seed(seed, 1)),
+            points: Vec::new(),
+            values: Vec::new(),
+            window: VecDeque::new(),
+            gmm: None,
+        })
+    }
+
+    /// Record a told task and its window row; true when a refit is due.
+    pub fn record(&mut self, point: &[f64], competence: f64, row: Vec<f64>) -> bool {
+        self.points.extend_from_slice(point);
+        self.values.push(competence);
+        self.window.push_back(row);
+        if self.window.len() > self.cfg.fit_rate {
+            self.window.pop_front();
+        }
+        self.values.len() % self.cfg.fit_rate == 0
+    }
+
+    /// The mixture of 2 to `max_components` components of lowest AIC on `data`.
+    pub fn fit(&mut self, data: &[DVector<f64>]) {
+        let ks: Vec<usize> = (2..=self.cfg.max_components).collect();
+        self.gmm = best_by_aic(data, &ks, EmConfig::default(), &mut self.fit_rng);
+    }
+
+    /// Uniform during the bootstrap and with probability `random_task_ratio`; otherwise the
+    /// coordinates `task` of a draw from a component drawn in proportion to `weight`.
+    pub fn sample(&mut self, weight: impl Fn(&Gmm, usize) -> f64, task: Range<usize>) -> GoalChoice {
+        let random = self.values.len() < self.cfg.bootstrap || unit(&mut self.rng) < self.cfg.random_task_ratio;
+        match (&self.gmm, random) {
+            (Some(g), false) => {
+                let j = proportional_component(g, |j| weight(g, j), &mut self.rng);
+                let x = g.sample_component(j, &mut self.rng);
+                GoalChoice { goal: self.unit_box.scale_back(&x.as_slice()[task]), mode: Mode::Interest, region: Some(j) }
+            }
+            _ => GoalChoice { goal: self.unit_box.uniform(&mut self.rng), mode: Mode::Global, region: None },
+        }
+    }
+
+    pub fn save(&self) -> SelectorState {
+        SelectorState::Mixture {
+            rng: self.rng.clone(),
+            fit_rng: self.fit_rng.clone(),
+            points: self.points.clone(),
+            values: self.values.clone(),
+            window: self.window.iter().flatten().copied().collect(),
+            gmm: self.gmm.as_ref().map(|g| (g.weights.clone(), g.to_flat())),
+        }
+    }
+
+    /// Restore what `save` wrote for rows of `row_len` numbers and a mixture in `gmm_dim`
+    /// dimensions; false (nothing changed) if the state does not fit.
+    pub fn load(&mut self, state: &SelectorState, row_len: usize, gmm_dim: usize) -> bool {
+        let SelectorState::Mixture { rng, fit_rng, points, values, window, gmm } = state else { return false };
+        if points.len() != values.len() * self.unit_box.low.len() || window.len() % row_len != 0 {
+            return false;
+        }
+        (self.points, self.values) = (points.clone(), values.clone());
+        self.window = window.chunks_exact(row_len).map(|r| r.to_vec()).collect();
+        self.gmm = gmm.as_ref().map(|(w, (m, c))| Gmm::from_flat(gmm_dim, w, m, c));
+        (self.rng, self.fit_rng) = (rng.clone(), fit_rng.clone());
+        true
+    }
+}
