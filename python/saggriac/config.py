@@ -374,9 +374,6 @@ def _check_magnitudes(cfg: Config) -> None:
         for v in vals:
             if _number(v, float) and math.isfinite(v) and abs(v) > MAX_MAGNITUDE:
                 raise ParameterError(f"The '{name}' parameter of Config must be at most {MAX_MAGNITUDE:g} in absolute value (lengths in the units of the task space). Got {v!r} instead.", name, repr(v))
-    from .resources import check_config_fits
-
-    check_config_fits(cfg)
 
 
 def check_keys(d: dict[str, Any], source: Path | None) -> None:

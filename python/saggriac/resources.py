@@ -74,16 +74,6 @@ def _gb(b: float) -> str:
     return f"{b / 1e9:.3g} GB"
 
 
-def check_config_fits(cfg: Config) -> None:
-    """Refuse a configuration whose arm alone (before any sample) cannot fit in this machine."""
-    if isinstance(cfg.n_joints, bool) or not isinstance(cfg.n_joints, int):
-        return  # the core names the wrong type
-    total, _ = machine_memory()
-    need = 64 * cfg.joints
-    if total is not None and need > total:
-        raise ParameterError(f"The 'n_joints' parameter of Config asks for an arm of {cfg.joints} joints, whose state alone takes about {_gb(need)}, more than this machine's {_gb(total)} of memory.", "n_joints", repr(cfg.joints))
-
-
 def check_run_fits(cfg: Config) -> int:
     """Refuse, before any work, a run whose estimated memory exceeds what this machine has
     available; return the estimate."""

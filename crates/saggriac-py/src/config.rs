@@ -5,6 +5,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use saggriac_core::body::arm::{ArmConfig, ArmKind};
 use saggriac_core::body::chain::{Chain, ChainSpec};
+use saggriac_core::config::body::MAX_JOINTS;
 use saggriac_core::config::evaluation::TestConfigs;
 use saggriac_core::config::high_level::{CompetenceKind, InterestDivisor, Teacher};
 use saggriac_core::config::Paradigm;
@@ -74,8 +75,9 @@ pub fn run_config_from_dict(d: &Bound<'_, PyDict>) -> PyResult<RunConfig> {
     let links: Option<Vec<f64>> = get(d, "link_lengths", None, "a list of floats")?;
     let limit = get(d, "joint_limit", c.arm.joint_limit, "a float")?;
     let max_step = get(d, "max_joint_step", c.arm.max_joint_step, "a float")?;
-    if n_joints == 0 {
-        return Err(to_py(py, invalid("Config", "n_joints", "an int >= 1", 0)));
+    if n_joints == 0 || n_joints > MAX_JOINTS {
+        // Refused before the arm's vectors are allocated.
+        return Err(to_py(py, invalid("Config", "n_joints", format!("an int in [1, {MAX_JOINTS}]"), n_joints)));
     }
     c.arm = match links.clone() {
         Some(l) => ArmConfig { link_lengths: l, ..ArmConfig::uniform(1, 1.0, limit, max_step) },

@@ -90,6 +90,9 @@ impl ArmConfig {
         if self.link_lengths.is_empty() {
             return Err(invalid("Arm", "link_lengths", "a non-empty list of floats > 0", "[]"));
         }
+        if self.link_lengths.len() > MAX_JOINTS {
+            return Err(invalid("Arm", "n_joints", format!("an int in [1, {MAX_JOINTS}]"), self.link_lengths.len()));
+        }
         for &l in &self.link_lengths {
             if !(l.is_finite() && l > 0.0) {
                 return Err(invalid("Arm", "link_lengths", "a list of finite floats > 0", format!("{:?}", self.link_lengths)));
@@ -114,6 +117,9 @@ pub struct BodyChange {
 /// Numbers per joint in the flat form of a chain: pos (3), quat (w, x, y, z: 4), anchor (3),
 /// axis (3), low, high.
 pub const CHAIN_JOINT_LEN: usize = 15;
+/// The most joints an arm may have: a bound of the configuration, the same on every machine
+/// (whether a run of so many fits in memory is checked where the run starts).
+pub const MAX_JOINTS: usize = 1_000_000;
 
 /// One hinge of a chain (`crate::body::chain` has the kinematics): the fixed transform from the
 /// previous joint's frame to this joint's body, the hinge's anchor and unit axis in that body,
