@@ -5,17 +5,74 @@ Quick start::
     import saggriac
     res = saggriac.run(saggriac.Config.from_preset("exp1"), seed=0)
     res.reach_error  # learning curve, numpy array
+
+``import saggriac`` (and ``import saggriac.teachers``) loads numpy and the compiled core only;
+runs, results and studies, which need pandas and pyarrow, load on first use of their names.
 """
+
+from importlib import import_module
+from typing import Any
 
 from . import _core, environments, testing
 from .competence import competence
 from .config import PRESETS, Config
-from .goal_selection import AlpGmmSelector, CovarGmmSelector, DiscreteLpSelector, RandomSelector, RiacSelector, SaggRiacSelector, load_selector
 from .errors import ConformanceError, InputError, ParameterError, SaggriacError, StorageError
-from .result import RunResult
-from .runner import resume, run
-from .study import Study, load_study, run_study
+from .teachers import AlpGmmSelector, CovarGmmSelector, DiscreteLpSelector, RandomSelector, RiacSelector, SaggRiacSelector, load_selector
 
 __version__ = _core.__version__
 
-__all__ = ["Config", "PRESETS", "run", "resume", "RunResult", "SaggRiacSelector", "RandomSelector", "RiacSelector", "DiscreteLpSelector", "AlpGmmSelector", "CovarGmmSelector", "load_selector", "Study", "run_study", "load_study", "SaggriacError", "ConformanceError", "ParameterError", "InputError", "StorageError", "competence", "__version__"]
+# Names whose modules need pandas and pyarrow: imported when first asked for.
+_LAZY = {
+    "run": "runner",
+    "resume": "runner",
+    "RunResult": "result",
+    "Study": "study",
+    "run_study": "study",
+    "load_study": "study",
+}
+
+
+# Modules that ``import saggriac`` used to load with everything (so ``saggriac.runner`` worked
+# without its own import): loaded when first asked for.
+_SUBMODULES = ("goal_selection", "reachable", "resources", "result", "runner", "seeding", "storage", "study", "time_budget")
+
+
+def __getattr__(name: str) -> Any:
+    if name in _LAZY:
+        value = getattr(import_module(f".{_LAZY[name]}", __name__), name)
+    elif name in _SUBMODULES:
+        value = import_module(f".{name}", __name__)
+    else:
+        raise AttributeError(f"module 'saggriac' has no attribute {name!r}")
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_LAZY) | set(_SUBMODULES))
+
+
+__all__ = [
+    "Config",
+    "PRESETS",
+    "run",
+    "resume",
+    "RunResult",
+    "SaggRiacSelector",
+    "RandomSelector",
+    "RiacSelector",
+    "DiscreteLpSelector",
+    "AlpGmmSelector",
+    "CovarGmmSelector",
+    "load_selector",
+    "Study",
+    "run_study",
+    "load_study",
+    "SaggriacError",
+    "ConformanceError",
+    "ParameterError",
+    "InputError",
+    "StorageError",
+    "competence",
+    "__version__",
+]

@@ -34,7 +34,7 @@ CHECKPOINT_FILES = frozenset({"state.bin", "checkpoint.json"})
 
 if TYPE_CHECKING:
     from .environments import Environment
-    from .goal_selection import GoalSelectorProtocol
+    from .teachers import GoalSelectorProtocol
 
 
 def _xy_columns(d: dict[str, np.ndarray]) -> pd.DataFrame:

@@ -14,7 +14,7 @@ import numpy as np
 import pandas as pd
 
 from .config import Config
-from .goal_selection import SaggRiacSelector
+from .teachers import SaggRiacSelector
 from .reachable import ReachableSet
 
 

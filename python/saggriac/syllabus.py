@@ -40,7 +40,7 @@ import numpy as np
 
 from .competence import competence as _competence
 from .errors import ConformanceError, InputError, ParameterError
-from .goal_selection import DiscreteLpSelector
+from .teachers import DiscreteLpSelector
 from .gym.goals import _check_goal_taken, _sample_batch
 
 COMPETENCES = ("progress", "return")

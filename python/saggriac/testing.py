@@ -209,7 +209,7 @@ def _check_restore(selector: Any, n_goals: int, rng: np.random.Generator, compet
     import pickle
     import tempfile
 
-    from .goal_selection import load_selector
+    from .teachers import load_selector
 
     try:
         copies = [("pickle", pickle.loads(pickle.dumps(selector)))]

@@ -16,7 +16,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from .goal_selection import MODES
+from .teachers import MODES
 from .reachable import ReachableSet
 
 

@@ -1,0 +1,346 @@
+"""Teachers (goal selectors) on their own, ask/tell style: SAGG-RIAC and the field's other
+learning-progress teachers as curricula for any learner. ``saggriac.goal_selection`` is the same
+module under its former name.
+
+    teacher = SaggRiacSelector(low=[0, 0], high=[1, 1], seed=0)
+    for _ in range(1000):
+        goal = teacher.sample()
+        competence = my_learner.try_goal(goal)   # a float (|c| <= 1e100), higher is better (paper: <= 0)
+        teacher.update(goal, competence)
+
+The region tree, the interest (competence progress) and the three goal modes are the Rust core's,
+the same code the run loop uses.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+from typing import Any, Protocol, runtime_checkable
+
+import numpy as np
+
+from .. import _core
+from ..errors import InputError, ParameterError, StorageError
+from ..files import as_path, check_flag, starts_with, write_file
+from ..values import as_numbers as _numbers
+
+#: The first bytes of a teacher saved by ``save(path)``.
+MAGIC = b"saggriac-teacher\n"
+
+#: Names of the mode codes in ``history()["asked_mode"]`` and ``last_mode``.
+MODES = {0: "initial", 1: "interest", 2: "global", 3: "lowest_competence", 4: "random", 5: "external"}
+
+
+@runtime_checkable
+class GoalSelectorProtocol(Protocol):
+    """What the run loop needs from a goal selector (built-in or written in Python)."""
+
+    low: np.ndarray
+    high: np.ndarray
+
+    def sample(self) -> np.ndarray: ...
+
+    def update(self, goal: np.ndarray, competence: float) -> Any: ...
+
+
+def _vector(name: str, value: Any, dim: int | None = None) -> np.ndarray:
+    arr = np.ascontiguousarray(_numbers(name, value))
+    if arr.ndim != 1 or (dim is not None and arr.shape[0] != dim):
+        want = f"shape ({dim},)" if dim is not None else "a 1-D array"
+        raise InputError(f"{name} must have {want}; got shape {arr.shape}.")
+    return arr
+
+
+def _int_param(owner: str, name: str, value: Any, low: int, high: int) -> int:
+    """An int argument in [low, high): numpy ints are taken, floats and bools refused (never
+    truncated), and the range is checked here so the core's fixed-width ints never overflow
+    (the core checks each parameter's own rule)."""
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not low <= int(value) < high:
+        span = f"in [{low}, 2**{high.bit_length() - 1})"
+        raise ParameterError(f"The '{name}' parameter of {owner} must be an int {span}. Got {value!r} instead.", name, repr(value))
+    return int(value)
+
+
+def _float_param(owner: str, name: str, value: Any) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise ParameterError(f"The '{name}' parameter of {owner} must be a float. Got {value!r} instead.", name, repr(value))
+    return float(value)
+
+
+class _AskTellSelector:
+    _kind = ""
+    #: The competences the teacher takes (saggriac.testing.check_goal_selector tells these).
+    competence_range = (-1.0, 0.0)
+
+    def __init__(self, low: Any, high: Any, seed: int, **params: Any) -> None:
+        owner = type(self).__name__
+        lo = _vector("low", low)
+        hi = _vector("high", high)
+        seed = _int_param(owner, "seed", seed, 0, 2**64)
+        for name, value in params.items():
+            if name == "interest_divisor":
+                if not isinstance(value, str):
+                    raise ParameterError(f"The 'interest_divisor' parameter of {owner} must be one of 'zeta', 'window'. Got {value!r} instead.", name, repr(value))
+            elif name.startswith("p_"):
+                params[name] = _float_param(owner, name, value)
+            else:
+                params[name] = _int_param(owner, name, value, 0, 2**63)
+        self._inner = _core.AskTell(self._kind, lo.tolist(), hi.tolist(), seed, **params)
+        self.last_mode: str | None = None
+        self.last_region: int | None = None
+
+    @property
+    def seed(self) -> int:
+        """The seed of the teacher's generator."""
+        return int(self._inner.seed)
+
+    @property
+    def dim(self) -> int:
+        return self._inner.dim
+
+    @property
+    def low(self) -> np.ndarray:
+        return self._inner.low
+
+    @property
+    def high(self) -> np.ndarray:
+        return self._inner.high
+
+    def sample(self) -> np.ndarray:
+        """Next goal (1-D array). Its mode and region are in ``last_mode`` / ``last_region``."""
+        goal, mode, region = self._inner.sample()
+        self.last_mode = MODES[mode]
+        self.last_region = None if region < 0 else region
+        return goal
+
+    def sample_batch(self, n: int) -> np.ndarray:
+        """``n`` goals at once, shape (n, dim): as n calls of ``sample()`` without updates."""
+        n = _int_param(f"{type(self).__name__}.sample_batch", "n", n, 0, 2**63)
+        return self._inner.sample_batch(n)
+
+    def update(self, goal: Any, competence: float) -> int | None:
+        """Report the competence obtained for ``goal``. Returns the region that recorded it."""
+        g = _vector("goal", goal, self.dim)
+        c = _numbers("competence", competence)
+        if c.ndim != 0:
+            raise InputError(f"competence must be one float; got shape {c.shape}.")
+        r = self._inner.update(g, float(c))
+        return None if r < 0 else int(r)
+
+    def update_batch(self, goals: Any, competences: Any) -> np.ndarray:
+        """Report many competences at once (goals shape (n, dim)). A bad row changes nothing."""
+        g = np.ascontiguousarray(_numbers("goals", goals))
+        c = np.ascontiguousarray(_numbers("competences", competences))
+        if g.ndim != 2 or c.ndim != 1 or g.shape[0] != c.shape[0]:
+            raise InputError(f"goals must have shape (n, {self.dim}) and competences shape (n,); got {g.shape} and {c.shape}.")
+        return self._inner.update_batch(g, c)
+
+    def regions(self) -> dict[str, np.ndarray]:
+        """Every region (inner nodes too): bounds, interest, measurements, split, depth."""
+        return self._inner.regions()
+
+    def leaves(self) -> dict[str, np.ndarray]:
+        """The current leaves only: the regions goals are drawn from."""
+        r = self.regions()
+        keep = r["is_leaf"]
+        return {k: v[keep] for k, v in r.items()}
+
+    @property
+    def n_regions(self) -> int:
+        """Number of leaves (1 before the first split)."""
+        return max(1, int(self.regions()["is_leaf"].sum()))
+
+    def history(self) -> dict[str, np.ndarray]:
+        """What was asked (goal, mode, region) and told (goal, competence, region), in order."""
+        return self._inner.history()
+
+    def __repr__(self) -> str:
+        return f"{type(self).__name__}(dim={self.dim}, seed={self.seed}, regions={self.n_regions})"
+
+    # Saving: pickle (and copy.deepcopy) go through the core's own encoding, so a restored
+    # teacher asks exactly the goals the original would have asked next.
+    def __getstate__(self) -> dict[str, Any]:
+        return {"teacher": bytes(self._inner.save()), "last_mode": self.last_mode, "last_region": self.last_region, "pickled_in": os.getpid()}
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        inner = _core.AskTell.restore(state["teacher"])
+        if inner.kind != self._kind:
+            raise InputError(f"The saved teacher is a {inner.kind!r} teacher, not a {type(self).__name__}.")
+        self._inner = inner
+        self.last_mode, self.last_region = state["last_mode"], state["last_region"]
+        self._pickled_in = state.get("pickled_in")
+
+    @property
+    def is_worker_copy(self) -> bool:
+        """True for a copy of a teacher unpickled in a child of the process that pickled it: what
+        a SubprocVecEnv or a process pool makes of a teacher captured by its workers. Each copy
+        would learn from its own worker only, while the original is told nothing; saggriac's
+        wrappers refuse such copies (saggriac.sb3.TeacherCallback keeps one teacher in the main
+        process instead)."""
+        origin = getattr(self, "_pickled_in", None)
+        return origin is not None and origin != os.getpid() and origin == os.getppid()
+
+    def save(self, path: str | os.PathLike[str], overwrite: bool = False) -> Path:
+        """Write the teacher (parameters, state, history) to the file ``path``, atomically;
+        :func:`load_selector` reads it back. An existing file is replaced only with
+        ``overwrite=True``, and only if it is a teacher file saggriac saved: a link, a device, a
+        FIFO or any other file is refused before anything is written."""
+        owner = f"{type(self).__name__}.save"
+        check_flag(overwrite, "overwrite", owner)
+        path = as_path(path, "path", owner)
+        if path.is_dir() and not path.is_symlink():
+            raise StorageError(f"{path} is a folder; give the path of a file to save the teacher to.")
+        data = MAGIC + bytes(self._inner.save())
+        return write_file(path, lambda tmp: tmp.write_bytes(data), what="a teacher", overwrite=overwrite, ours=starts_with(MAGIC))
+
+
+def load_selector(path: str | os.PathLike[str]) -> _AskTellSelector:
+    """The teacher saved by ``save(path)``, as an instance of its class, continuing where it stopped."""
+    path = Path(path)
+    try:
+        data = path.read_bytes()
+    except OSError as e:
+        raise StorageError(f"Cannot read {path}: {e.strerror or e}.") from e
+    if not data.startswith(MAGIC):
+        raise InputError(f"{path} is not a teacher saved by saggriac (it does not start with {MAGIC!r}).")
+    inner = _core.AskTell.restore(data[len(MAGIC) :])
+    cls = _CLASSES[inner.kind]
+    obj = cls.__new__(cls)
+    obj._inner, obj.last_mode, obj.last_region = inner, None, None
+    return obj
+
+
+class SaggRiacSelector(_AskTellSelector):
+    """SAGG-RIAC's high level over the box [low, high] of any dimension.
+
+    Goals come from a region drawn by interest (``p_interest``), from the whole box
+    (``p_global``) or from the region of lowest mean competence (``p_lowest``). A region holding
+    more than ``g_max`` measurements is split where the interest of its two halves differs most;
+    interest is the competence progress over the last ``zeta`` measurements (eq. 2), divided by
+    ``zeta`` for every region as the paper prints it. ``interest_divisor="window"`` divides a
+    region holding fewer than ``zeta`` measurements by its own count instead (saggriac <= 0.2).
+    """
+
+    _kind = "sagg_riac"
+
+    def __init__(self, low: Any, high: Any, seed: int = 0, *, g_max: int = 50, zeta: int = 20, min_child: int = 5, interest_divisor: str = "zeta", p_interest: float = 0.7, p_global: float = 0.2, p_lowest: float = 0.1) -> None:
+        super().__init__(low, high, seed, g_max=g_max, zeta=zeta, min_child=min_child, interest_divisor=interest_divisor, p_interest=p_interest, p_global=p_global, p_lowest=p_lowest)
+
+
+class RandomSelector(_AskTellSelector):
+    """Goals uniform in [low, high] (SAGG-Random's high level); ``update`` only records."""
+
+    _kind = "random"
+
+    def __init__(self, low: Any, high: Any, seed: int = 0) -> None:
+        super().__init__(low, high, seed)
+
+
+class RiacSelector(_AskTellSelector):
+    """RIAC as the baseline of Portelas et al. (CoRL 2019), after R-IAC (Baranes & Oudeyer,
+    IEEE TAMD 2009), over the box [low, high] of any dimension.
+
+    A region's absolute learning progress (ALP) is the change of mean competence between the
+    older and the newer half of what it recorded. A region holding more than ``max_region_size``
+    measurements is split by the best of ``split_attempts`` random cuts: the one whose children's
+    ALP differ most, each child keeping at least ``min_child_share`` of the measurements and
+    ``min_dims_range_ratio`` of the box's width in every dimension. Goals: a region drawn by ALP,
+    uniform in it (``p_alp``); uniform in the box (``p_random``); or near the worst goal of a
+    region drawn by ALP (the rest).
+    """
+
+    _kind = "riac"
+
+    def __init__(self, low: Any, high: Any, seed: int = 0, *, max_region_size: int = 200, split_attempts: int = 50, min_child_share: float = 0.25, min_dims_range_ratio: float = 1 / 6, p_alp: float = 0.7, p_random: float = 0.2) -> None:
+        owner = type(self).__name__
+        lo, hi = _vector("low", low), _vector("high", high)
+        ints = {k: _int_param(owner, k, v, 0, 2**63) for k, v in (("max_region_size", max_region_size), ("split_attempts", split_attempts))}
+        floats = {k: _float_param(owner, k, v) for k, v in (("min_child_share", min_child_share), ("min_dims_range_ratio", min_dims_range_ratio), ("p_alp", p_alp), ("p_random", p_random))}
+        self._inner = _core.AskTell.riac(lo.tolist(), hi.tolist(), _int_param(owner, "seed", seed, 0, 2**64), **ints, **floats)
+        self.last_mode, self.last_region = None, None
+
+
+class DiscreteLpSelector(_AskTellSelector):
+    """Learning progress over a list of ``n_tasks`` tasks (Kanitscheider et al., "Multi-task
+    curriculum learning in a complex, visual, hard-exploration domain: Minecraft", 2021).
+
+    Goals are task indices (``sample()`` gives ``[i]``; ``sample_task()`` the int), and the
+    competence told is a success rate in [0, 1]. Each task keeps a fast moving average of its
+    success and a slow one following it (step ``alpha``); its progress is the gap between the
+    two after the paper's reweighting (``theta``), which stretches small success rates. Tasks
+    are drawn in proportion to the sigmoid of their progress z-scored over all tasks (so tasks
+    without progress keep some probability); with the same progress everywhere, uniformly.
+    """
+
+    _kind = "discrete_lp"
+    competence_range = (0.0, 1.0)
+
+    def __init__(self, n_tasks: int, seed: int = 0, *, alpha: float = 0.1, theta: float = 0.1) -> None:
+        owner = type(self).__name__
+        n = _int_param(owner, "n_tasks", n_tasks, 0, 2**32)
+        self._inner = _core.AskTell.discrete_lp(n, _int_param(owner, "seed", seed, 0, 2**64), _float_param(owner, "alpha", alpha), _float_param(owner, "theta", theta))
+        self.last_mode, self.last_region = None, None
+
+    def sample_task(self) -> int:
+        """The next task's index."""
+        return int(self.sample()[0])
+
+    def update(self, goal: Any, competence: float) -> int | None:
+        """Report the success rate in [0, 1] obtained on task ``goal`` (an index, or ``[index]``)."""
+        return super().update(np.atleast_1d(_numbers("goal", goal)), competence)
+
+
+class _MixtureSelector(_AskTellSelector):
+    _make = ""
+
+    def __init__(self, low: Any, high: Any, seed: int, **params: Any) -> None:
+        owner = type(self).__name__
+        lo, hi = _vector("low", low), _vector("high", high)
+        for k, v in params.items():
+            if k in ("fit_rate", "max_components", "bootstrap"):
+                params[k] = _int_param(owner, k, v, 0, 2**63)
+            elif k == "absolute_lp":
+                if not isinstance(v, (bool, np.bool_)):
+                    raise ParameterError(f"The 'absolute_lp' parameter of {owner} must be a bool. Got {v!r} instead.", "absolute_lp", repr(v))
+                params[k] = bool(v)
+            else:
+                params[k] = _float_param(owner, k, v)
+        self._inner = getattr(_core.AskTell, self._make)(lo.tolist(), hi.tolist(), _int_param(owner, "seed", seed, 0, 2**64), **params)
+        self.last_mode, self.last_region = None, None
+
+
+class AlpGmmSelector(_MixtureSelector):
+    """ALP-GMM (Portelas, Colas, Hofmann & Oudeyer, CoRL 2019) over the box [low, high].
+
+    A told task's absolute learning progress (ALP) is |competence - competence of the nearest
+    earlier task|. Every ``fit_rate`` tasks, Gaussian mixtures of 2 to ``max_components``
+    components are fitted to the last ``fit_rate`` (task, ALP) pairs and the one of lowest AIC
+    is kept. Goals are uniform for the first ``bootstrap`` tasks and then with probability
+    ``random_task_ratio``; otherwise from a component drawn in proportion to its mean ALP.
+    Tasks are scaled to [0, 1] per dimension inside the teacher.
+    """
+
+    _kind, _make = "alp_gmm", "alp_gmm"
+
+    def __init__(self, low: Any, high: Any, seed: int = 0, *, fit_rate: int = 250, max_components: int = 10, random_task_ratio: float = 0.2, bootstrap: int = 250) -> None:
+        super().__init__(low, high, seed, fit_rate=fit_rate, max_components=max_components, random_task_ratio=random_task_ratio, bootstrap=bootstrap)
+
+
+class CovarGmmSelector(_MixtureSelector):
+    """Covar-GMM (Moulin-Frier, Nguyen & Oudeyer, 2014) over the box [low, high].
+
+    Gaussian mixtures over (time, task, competence) of the last ``fit_rate`` tasks, refitted
+    every ``fit_rate`` tasks with the number of components chosen by AIC. A component's progress
+    is its covariance of time and competence; goals come from a component drawn in proportion
+    to its absolute progress (positive progress only with ``absolute_lp=False``), with the
+    bootstrap and random share of :class:`AlpGmmSelector`.
+    """
+
+    _kind, _make = "covar_gmm", "covar_gmm"
+
+    def __init__(self, low: Any, high: Any, seed: int = 0, *, fit_rate: int = 250, max_components: int = 10, random_task_ratio: float = 0.2, bootstrap: int = 250, absolute_lp: bool = True) -> None:
+        super().__init__(low, high, seed, fit_rate=fit_rate, max_components=max_components, random_task_ratio=random_task_ratio, bootstrap=bootstrap, absolute_lp=absolute_lp)
+
+
+_CLASSES: dict[str, type[_AskTellSelector]] = {"sagg_riac": SaggRiacSelector, "random": RandomSelector, "riac": RiacSelector, "discrete_lp": DiscreteLpSelector, "alp_gmm": AlpGmmSelector, "covar_gmm": CovarGmmSelector}

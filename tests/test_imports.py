@@ -1,0 +1,44 @@
+"""The package's import weight and its names (issue 26): a teacher costs numpy and the core, not
+pandas; the former module name ``saggriac.goal_selection`` is the same module as
+``saggriac.teachers``; run, results and studies load on first use."""
+
+import pickle
+import subprocess
+import sys
+
+import saggriac
+
+HEAVY = ("pandas", "pyarrow", "matplotlib", "scipy", "tqdm")
+
+
+def _loaded_after(code: str) -> list[str]:
+    probe = f"import sys\n{code}\nprint(','.join(m for m in {HEAVY!r} if m in sys.modules))"
+    out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True)
+    return [m for m in out.stdout.strip().split(",") if m]
+
+
+def test_a_teacher_loads_no_dataframe_library():
+    assert _loaded_after("import saggriac.teachers as t\nt.SaggRiacSelector([0, 0], [1, 1]).sample()") == []
+    assert _loaded_after("import saggriac\nsaggriac.Config.from_preset('exp2')") == []
+
+
+def test_run_and_studies_load_on_first_use():
+    assert "pandas" in _loaded_after("import saggriac\nsaggriac.run")
+    assert {"run", "resume", "RunResult", "Study", "run_study", "load_study"} <= set(dir(saggriac))
+    from saggriac import load_study, run
+
+    assert callable(run) and callable(load_study)
+
+
+def test_the_former_module_name_is_the_same_module():
+    import saggriac.goal_selection as old
+    import saggriac.teachers as new
+
+    assert old is new and old.MODES[1] == "interest"
+    # A teacher pickled when the classes lived in saggriac.goal_selection still loads.
+    t = saggriac.SaggRiacSelector([0, 0], [1, 1], seed=3)
+    t.update(t.sample(), -0.5)
+    old_pickle = pickle.dumps(t, protocol=0).replace(b"saggriac.teachers", b"saggriac.goal_selection")
+    assert b"saggriac.goal_selection" in old_pickle
+    back = pickle.loads(old_pickle)
+    assert type(back) is saggriac.SaggRiacSelector and back.sample().tolist() == t.sample().tolist()
