@@ -385,8 +385,9 @@ def test_a_failed_checkpoint_write_warns_and_the_run_finishes(tmp_path, monkeypa
 
 def test_a_study_run_that_cannot_be_written_says_where_it_went(tmp_path, monkeypatch):
     from saggriac import study as study_mod
+    from saggriac.study import spec
 
-    real = study_mod.run
+    real = spec.run
 
     def unwritable(cfg, seed, out_dir, **kw):
         res = real(cfg, seed=seed, **kw)
@@ -394,7 +395,7 @@ def test_a_study_run_that_cannot_be_written_says_where_it_went(tmp_path, monkeyp
         e.result = res
         raise e
 
-    monkeypatch.setattr(study_mod, "run", unwritable)
+    monkeypatch.setattr(spec, "run", unwritable)
     cfg = Config.from_preset("exp1", n_steps=300, n_evals=1, n_test_goals=3, n_test_configs=3)
     task = study_mod.Study(cfg, "sagg_riac", (0,)).tasks()[0]
     with pytest.raises(StorageError, match="saved to (.*recovered-[^ ]*)") as e:

@@ -13,7 +13,7 @@ runs, results and studies, which need pandas and pyarrow, load on first use of t
 from importlib import import_module
 from typing import Any
 
-from . import _core, environments, testing
+from . import _core, environments, testing  # noqa: F401 (saggriac.environments and saggriac.testing without their own import)
 from .competence import competence
 from .config import PRESETS, Config
 from .errors import ConformanceError, InputError, ParameterError, SaggriacError, StorageError

@@ -1,0 +1,169 @@
+"""Where a study's runs are computed: a local process pool, or Dask (a local cluster that serves
+no HTTP, a scheduler's address, a client, or a cluster object such as SLURMCluster)."""
+
+from __future__ import annotations
+
+import ctypes
+import os
+import re
+import signal
+import sys
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+from pathlib import Path
+from typing import Any
+
+from ..errors import ParameterError
+from .spec import Task, run_task
+
+
+def _default_workers() -> int:
+    # Honour CPU affinity (SLURM allocations, containers), where os.cpu_count() counts the node.
+    if hasattr(os, "process_cpu_count"):
+        return os.process_cpu_count() or 1
+    if hasattr(os, "sched_getaffinity"):
+        return len(os.sched_getaffinity(0)) or 1
+    return os.cpu_count() or 1
+
+
+def _die_with_parent(parent_pid: int) -> None:
+    """Pool worker initializer: on Linux, be killed when the study process dies, so a killed
+    study leaves no orphan still writing runs into the folder."""
+    if sys.platform.startswith("linux"):
+        try:
+            ctypes.CDLL(None, use_errno=True).prctl(1, int(signal.SIGKILL))  # PR_SET_PDEATHSIG
+        except (OSError, AttributeError):  # pragma: no cover - exotic libc
+            return
+        if os.getppid() != parent_pid:  # the parent died before prctl
+            os._exit(1)
+
+
+# Relative cost of a run per micro-action, by condition (exp2 at full scale, docs/reproduction.md:
+# ACTUATOR-RIAC 28 s, ACTUATOR-Random 11 s, the SAGG conditions 6.4 s). Used only to order work.
+_COST_HINT = {"actuator_riac": 4.0, "actuator_random": 1.7}
+
+
+def _longest_first_by_seed(tasks: list[Task]) -> list[Task]:
+    """The tasks seed by seed (a partial study still compares conditions on the same seeds), the
+    costliest first within a seed, so the last seed's long run does not start last and leave the
+    other workers idle at the end."""
+    seed_rank = {seed: i for i, seed in enumerate(dict.fromkeys(t.seed for t in tasks))}
+
+    def cost(t: Task) -> float:
+        return float(t.config.get("n_steps", 1)) * _COST_HINT.get(t.condition, 1.0)
+
+    return sorted(tasks, key=lambda t: (seed_rank[t.seed], -cost(t)))
+
+
+def _run_local(tasks: list[Task], out: Path, n_workers: int, on_done: Callable[[Task, Any], None]) -> None:
+    import concurrent.futures as cf
+    import multiprocessing
+
+    ctx = multiprocessing.get_context("spawn")
+    with cf.ProcessPoolExecutor(max_workers=n_workers, mp_context=ctx, initializer=_die_with_parent, initargs=(os.getpid(),)) as pool:
+        futures = {pool.submit(run_task, t, str(out)): t for t in tasks}
+        try:
+            for fut in cf.as_completed(futures):
+                on_done(futures[fut], fut)
+        except BaseException:
+            pool.shutdown(wait=False, cancel_futures=True)
+            raise
+
+
+def _import_distributed() -> Any:
+    try:
+        import distributed
+    except ImportError as e:
+        raise ImportError(f'backend="dask" needs Dask distributed, which is not installed ({e}). Install it with: pip install "saggriac[dask]"') from e
+    return distributed
+
+
+@contextmanager
+def local_cluster(n_workers: int) -> Iterator[Any]:
+    """A Dask LocalCluster of ``n_workers`` single-threaded worker processes on 127.0.0.1 that
+    serves no HTTP. Dask's scheduler always starts an HTTP server (on port 8787 when
+    ``dashboard_address=None``, with a warning and another port if 8787 is taken); here it has no
+    routes, listens on a free loopback port only while the cluster starts, and is then closed.
+    Workers serve no routes either."""
+    distributed = _import_distributed()
+    import dask
+
+    quiet = {"distributed.scheduler.http.routes": [], "distributed.worker.http.routes": []}
+    with dask.config.set(quiet):
+        cluster = distributed.LocalCluster(
+            n_workers=n_workers,
+            threads_per_worker=1,
+            processes=True,
+            host="127.0.0.1",
+            dashboard_address="127.0.0.1:0",
+            worker_dashboard_address="127.0.0.1:0",
+            scheduler_kwargs={"dashboard": False},
+        )
+    with cluster:
+        server = getattr(cluster.scheduler, "http_server", None)
+        if server is not None:
+            server.stop()
+        with distributed.Client(cluster, set_as_default=False) as client:
+            client.run(_stop_worker_http)
+        yield cluster
+
+
+def _stop_worker_http(dask_worker: Any) -> None:
+    """Run in each worker of :func:`local_cluster`: close its (route-less) HTTP server."""
+    server = getattr(dask_worker, "http_server", None)
+    if server is not None:
+        server.stop()
+
+
+@contextmanager
+def _dask_client(distributed: Any, scheduler: Any, n_workers: int) -> Iterator[Any]:
+    if isinstance(scheduler, distributed.Client):
+        yield scheduler  # the caller's client: theirs to close
+    elif scheduler is None:
+        with local_cluster(n_workers) as cluster, distributed.Client(cluster, set_as_default=False) as client:
+            yield client
+    else:  # an address, or a cluster object (LocalCluster, dask_jobqueue.SLURMCluster, ...)
+        try:
+            client = distributed.Client(scheduler, set_as_default=False, timeout=SCHEDULER_TIMEOUT)
+        except (OSError, TimeoutError, ValueError) as e:
+            raise ParameterError(f"The 'scheduler' parameter of run_study names a Dask scheduler that does not answer within {SCHEDULER_TIMEOUT} s: {scheduler!r} ({type(e).__name__}: {e}).", "scheduler", repr(scheduler)) from None
+        with client:
+            yield client
+
+
+#: Seconds to wait for a Dask scheduler to answer before giving up.
+SCHEDULER_TIMEOUT = 10
+
+
+def _check_scheduler(address: str) -> None:
+    """Refuse, before anything is written, an address that is not one or a scheduler that does
+    not answer within SCHEDULER_TIMEOUT seconds (Dask itself waits 30 s, then may hang on exit)."""
+    import socket
+
+    rule = "an address such as 'tcp://HOST:PORT'"
+    m = re.fullmatch(r"(?:(tcp|tls)://)?\[?([A-Za-z0-9_.:-]*?)\]?:(\d{1,5})", address.strip())
+    if m is None:
+        if re.fullmatch(r"[a-z]+://.+", address.strip()):
+            return  # another Dask protocol (ucx://, inproc://): Dask checks it, with the timeout
+        raise ParameterError(f"The 'scheduler' parameter of run_study must be {rule}. Got {address!r} instead.", "scheduler", repr(address))
+    host, port = m.group(2) or "127.0.0.1", int(m.group(3))
+    if not 0 < port < 65536:
+        raise ParameterError(f"The 'scheduler' parameter of run_study must be {rule} with a port in 1..65535. Got {address!r} instead.", "scheduler", repr(address))
+    try:
+        socket.create_connection((host, port), timeout=SCHEDULER_TIMEOUT).close()
+    except OSError as e:
+        raise ParameterError(f"The 'scheduler' parameter of run_study names {address!r}, where no Dask scheduler answers within {SCHEDULER_TIMEOUT} s ({e.strerror or e}). Start it (dask scheduler) or check the address.", "scheduler", repr(address)) from None
+
+
+def _run_dask(tasks: list[Task], out: Path, n_workers: int, scheduler: Any, on_done: Callable[[Task, Any], None]) -> None:
+    distributed = _import_distributed()
+    with _dask_client(distributed, scheduler, n_workers) as client:
+        futures = {client.submit(run_task, t, str(out), pure=False): t for t in tasks}
+        try:
+            for fut in distributed.as_completed(list(futures), loop=client.loop):
+                on_done(futures.pop(fut), fut)
+        except BaseException:
+            client.cancel(list(futures))
+            raise
+
+
