@@ -19,7 +19,6 @@ import time
 
 import saggriac
 from saggriac import _core
-from saggriac.seeding import derive_seeds
 
 EXPLAUTO_SECONDS = {"sagg_riac": 160.0, "sagg_random": 20.0}
 
@@ -32,16 +31,16 @@ def main() -> None:
     p.add_argument("--condition", default="sagg_riac")
     a = p.parse_args()
     cfg = saggriac.Config.from_preset("explauto", n_steps=a.steps, condition=a.condition)
-    learner_seed, eval_seed = derive_seeds(a.seed)
     times, last = [], None
     for _ in range(a.repeats):
-        learner = _core.Learner(cfg.core_dict(), learner_seed, eval_seed)
+        # One thread, as the core runs by default: the figures compare with explauto's.
+        learner = saggriac.Learner(cfg, a.seed, threads=1)
         t0 = time.perf_counter()
         learner.run()
         times.append(time.perf_counter() - t0)
-        last = learner
-    m = last.metrics()
-    prof = last.profile()
+        last = learner.result()
+    m = {k: last.metrics[k].to_numpy() for k in last.metrics.columns}
+    prof = last.manifest["profile"]
     best, med = min(times), statistics.median(times)
     print(f"saggriac {saggriac.__version__} ({_core.GIT_COMMIT[:12]}), Python {platform.python_version()}, {platform.machine()}")
     print(f"explauto preset, condition {a.condition}, seed {a.seed}, {a.steps} iterations, {len(m['step'])} evaluations")

@@ -22,7 +22,6 @@ import numpy as np
 import saggriac
 from saggriac import _core
 from saggriac.environments import PlanarArm, SpatialArm
-from saggriac.seeding import derive_seeds
 
 
 def forward_of(cfg: saggriac.Config):
@@ -39,17 +38,19 @@ def oracle_errors(cfg: saggriac.Config, goals: np.ndarray) -> np.ndarray:
     eye = np.eye(n) * h
     theta = np.zeros(n)
     errors = []
+    lengths = cfg.lengths()  # v and eval_tolerance as the run uses them (they follow the reach)
+    v, tolerance = lengths["v"], lengths["eval_tolerance"]
     for i, g in enumerate(goals):
         if i % 2 == 0:
             theta = np.zeros(n)
         x = fk(theta)[0][:m]
         d0 = np.linalg.norm(g - x)
         best, since = d0, 0
-        for _ in range(int(np.ceil(cfg.eval_timeout_factor * d0 / cfg.v)) + cfg.eval_timeout_min):
+        for _ in range(int(np.ceil(cfg.eval_timeout_factor * d0 / v)) + cfg.eval_timeout_min):
             d = np.linalg.norm(g - x)
-            if d <= cfg.eval_tolerance:
+            if d <= tolerance:
                 break
-            dx = (g - x) * min(cfg.v, d) / d
+            dx = (g - x) * min(v, d) / d
             pts = fk(np.vstack([theta + eye, theta - eye]))[:, :m]
             jac = ((pts[:n] - pts[n:]) / (2 * h)).T
             dtheta = np.linalg.pinv(jac, rcond=cfg.pinv_rcond) @ dx
@@ -82,8 +83,7 @@ def main() -> None:
     cfg = saggriac.Config.from_preset(a.preset)
     means = []
     for seed in a.seeds:
-        learner_seed, eval_seed = derive_seeds(seed)
-        goals = np.asarray(_core.Learner(cfg.core_dict(), learner_seed, eval_seed).test_set()["goals"], float)
+        goals = np.asarray(saggriac.Learner(cfg, seed).test_set()["goals"], float)
         e = oracle_errors(cfg, goals)
         means.append(e.mean())
         print(f"seed {seed:3d}: mean {e.mean():7.3f}  median {np.median(e):7.3f}  goals within 1 unit {np.mean(e <= 1.0):5.0%}")

@@ -23,6 +23,7 @@ __version__ = _core.__version__
 
 # Names whose modules need pandas and pyarrow: imported when first asked for.
 _LAZY = {
+    "Learner": "learner",
     "run": "runner",
     "resume": "runner",
     "RunResult": "result",
@@ -34,7 +35,7 @@ _LAZY = {
 
 # Modules that ``import saggriac`` used to load with everything (so ``saggriac.runner`` worked
 # without its own import): loaded when first asked for.
-_SUBMODULES = ("goal_selection", "reachable", "resources", "result", "runner", "seeding", "storage", "study", "time_budget")
+_SUBMODULES = ("goal_selection", "learner", "reachable", "resources", "result", "runner", "seeding", "storage", "study", "time_budget")
 
 
 def __getattr__(name: str) -> Any:
@@ -55,6 +56,7 @@ def __dir__() -> list[str]:
 __all__ = [
     "Config",
     "PRESETS",
+    "Learner",
     "run",
     "resume",
     "RunResult",

@@ -90,42 +90,45 @@ def run(
     check_run_fits(config)
     if out is not None:
         check_output_dir(out, overwrite, _min_free(config, checkpoint_every))
+    learner, info, extras = _build(config, seed, threads, environment, goal_selector, "run")
+    info["overwrite"] = overwrite
+    with _holding(out, overwrite):
+        return _drive(learner, config, info, out, progress, checkpoint_every, extras)
+
+
+def _build(config: Config, seed: int, threads: int, environment: Any, goal_selector: Any, owner: str) -> tuple[Any, dict[str, Any], dict[str, Any]]:
+    """The core's learner for ``config`` and root ``seed``, the user's parts checked first; with
+    the seeds (``info``) and what run.json says of the parts (``extras``). Built before any
+    output is locked or made, so a refused environment or selector leaves nothing on disk."""
     learner_seed, eval_seed = derive_seeds(seed)
-    extra = {}
+    extra: dict[str, Any] = {}
+    extras: dict[str, Any] = {"scale": _arm_scale(config)}
+    core = config.core_dict()
     if environment is not None:
         # The core calls it from its loop; check the protocol first so mistakes read plainly.
         from .testing import check_environment_interface
 
         check_environment_interface(environment, config)
         extra["environment"] = environment
+        extras["environment"] = f"{type(environment).__module__}.{type(environment).__qualname__}"
+        if config.chain is None:
+            # A user's body: the length parameters and the test goals follow its size and place.
+            body = body_scale(environment, *_joint_space(environment), len(config.goal_low))
+            core = config.core_dict(reach=body.reach)
+            extras["scale"] = body.summary(config.lengths(body.reach))
+            if body.positions is not None:
+                extra["test_cloud"] = (body.configs.tolist(), body.positions.tolist())
     if goal_selector is not None:
         if config.teacher != "own":
-            raise ParameterError(f"The 'goal_selector' parameter of run replaces the run's teacher, and Config names teacher={config.teacher!r}: give one of them (Config(teacher='own') with a goal_selector).", "goal_selector", type(goal_selector).__name__)
+            raise ParameterError(f"The 'goal_selector' parameter of {owner} replaces the run's teacher, and Config names teacher={config.teacher!r}: give one of them (Config(teacher='own') with a goal_selector).", "goal_selector", type(goal_selector).__name__)
         from .testing import check_goal_selector_interface
 
         check_goal_selector_interface(goal_selector, config)
         extra["goal_selector"] = goal_selector
-    info = {"seed": seed, "learner_seed": learner_seed, "eval_seed": eval_seed, "overwrite": overwrite}
-    extras: dict[str, Any] = {}
-    if environment is not None:
-        extras["environment"] = f"{type(environment).__module__}.{type(environment).__qualname__}"
-    if goal_selector is not None:
         extras["goal_selector"] = f"{type(goal_selector).__module__}.{type(goal_selector).__qualname__}"
-    # Built before the target is locked (and its parent made): a refused environment or
-    # selector leaves nothing on disk.
-    core = config.core_dict()
-    extras["scale"] = _arm_scale(config)
-    if environment is not None and config.chain is None:
-        # A user's body: the length parameters and the test goals follow its size and place.
-        body = body_scale(environment, *_joint_space(environment), len(config.goal_low))
-        core = config.core_dict(reach=body.reach)
-        extras["scale"] = body.summary(config.lengths(body.reach))
-        if body.positions is not None:
-            extra["test_cloud"] = (body.configs.tolist(), body.positions.tolist())
     learner = _core.Learner(core, learner_seed, eval_seed, env_seed=environment_seed(seed), **extra)
     learner.set_threads(threads)
-    with _holding(out, overwrite):
-        return _drive(learner, config, info, out, progress, checkpoint_every, extras)
+    return learner, {"seed": seed, "learner_seed": learner_seed, "eval_seed": eval_seed}, extras
 
 
 def _arm_scale(config: Config) -> dict[str, Any]:
@@ -257,6 +260,24 @@ def _drive(learner: Any, config: Config, info: dict[str, Any], out: Path | None,
             bar.close()
     wall = time.perf_counter() - t0
 
+    result = _result(learner, config, info, extras, wall)
+    metrics, goals, attempts, regions, manifest = result.metrics, result.goals, result.attempts, result.regions, result.manifest
+    if out is not None:
+        try:
+            result.path = write_run(out, manifest, {"metrics": metrics, "goals": goals, "attempts": attempts, "regions": regions}, info["overwrite"])
+        except StorageError as e:
+            # The disk filled up or vanished after the work was done: keep the work.
+            e.result = result
+            e.args = (f"{e} The result is kept in this exception's .result; save it elsewhere with .result.save(path).",)
+            raise
+        if _is_checkpoint(checkpoint_dir(out)):
+            shutil.rmtree(checkpoint_dir(out), ignore_errors=True)
+    return result
+
+
+def _result(learner: Any, config: Config, info: dict[str, Any], extras: dict[str, Any], wall: float) -> RunResult:
+    """What ``learner`` has done so far, as a run's result: its four tables and run.json."""
+    seed = info["seed"]
     metrics = signed_integers(pd.DataFrame(learner.metrics()))
     goals = _xy_columns(learner.goals())
     attempts = _xy_columns(learner.attempts())
@@ -279,18 +300,7 @@ def _drive(learner: Any, config: Config, info: dict[str, Any], out: Path | None,
     manifest["test_set"] = _test_set_summary(learner.test_set(), config, extras["scale"]["reach"])
     reachable = ReachableSet(config) if reach is not None and config.chain is not None else reach
     manifest["time_budget"] = time_budget(goals, manifest["profile"], config.n_steps, reachable)
-    result = RunResult(config=config, seed=seed, metrics=metrics, goals=goals, attempts=attempts, regions=regions, manifest=manifest, path=None)
-    if out is not None:
-        try:
-            result.path = write_run(out, manifest, {"metrics": metrics, "goals": goals, "attempts": attempts, "regions": regions}, info["overwrite"])
-        except StorageError as e:
-            # The disk filled up or vanished after the work was done: keep the work.
-            e.result = result
-            e.args = (f"{e} The result is kept in this exception's .result; save it elsewhere with .result.save(path).",)
-            raise
-        if _is_checkpoint(checkpoint_dir(out)):
-            shutil.rmtree(checkpoint_dir(out), ignore_errors=True)
-    return result
+    return RunResult(config=config, seed=seed, metrics=metrics, goals=goals, attempts=attempts, regions=regions, manifest=manifest, path=None)
 
 
 def recover(result: RunResult, out: Path, why: str) -> str:
