@@ -27,13 +27,14 @@ from typing import Any
 import numpy as np
 
 from .errors import ConformanceError
+from .seeding import FIXED
 
 #: Placements made to measure a body without a declared reach.
 CLOUD_SIZE = 10_000
 #: Directions along which the extreme positions are kept for the diameter, per dimension.
 DIRECTIONS = 256
 #: The generator of the configurations (fixed: a body's size does not depend on the run's seed).
-CLOUD_SEED = 0x5CA1E
+CLOUD_SEED = FIXED["body_measure"]
 
 
 @dataclass

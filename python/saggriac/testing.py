@@ -13,6 +13,7 @@ from typing import Any
 import numpy as np
 
 from .errors import ConformanceError, ParameterError
+from .seeding import FIXED
 
 
 def _bounds(obj: Any, owner: str, attr_low: str, attr_high: str) -> tuple[np.ndarray, np.ndarray]:
@@ -97,7 +98,7 @@ def _check_placement(env: Any, lo: np.ndarray, hi: np.ndarray) -> None:
     fixed configurations (the same for every run, so the check changes no result) must be taken
     as asked and give two different positions."""
     n = len(hi)
-    rng = np.random.default_rng(20101018)
+    rng = np.random.default_rng(FIXED["placement_check"])
     seen = []
     for _ in range(2):
         target = lo + (hi - lo) * rng.uniform(0.25, 0.75, n)
