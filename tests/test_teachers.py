@@ -160,3 +160,13 @@ def test_a_teacher_chooses_the_goals_of_a_run(teacher, tmp_path):
     b = sg.run(cfg, seed=4, out_dir=tmp_path / "b", checkpoint_every=1000)
     assert a.attempts.equals(b.attempts) and np.array_equal(a.reach_error, b.reach_error)
     assert sg.RunResult.load(tmp_path / "b").config.teacher == teacher
+
+
+@pytest.mark.parametrize("teacher", ["riac", "alp_gmm", "covar_gmm"])
+@pytest.mark.parametrize("kw", [dict(g_max=40), dict(zeta=10), dict(p_interest=0.6, p_global=0.3), dict(interest_divisor="window")])
+def test_sagg_riac_parameters_are_refused_under_another_teacher(teacher, kw):
+    """They set SAGG-RIAC's own high level, which another teacher replaces: ignoring them
+    silently (as before) would run something else than asked."""
+    with pytest.raises(sg.ParameterError, match=f"'{next(iter(kw))}' parameter of Config must be left at its default with teacher '{teacher}'"):
+        sg.Config(teacher=teacher, **kw)
+    assert sg.Config(teacher=teacher).teacher == teacher

@@ -174,6 +174,29 @@ impl RunConfig {
                 format!("'{}'", self.teacher.name()),
             ));
         }
+        if self.teacher != Teacher::Own {
+            // Another teacher replaces SAGG-RIAC's high level, with its paper's parameters: a
+            // SAGG-RIAC parameter set here would be ignored without a word.
+            let (t, d) = (self.tree, high_level::RegionTreeConfig::default());
+            let (m, dm) = (self.modes, high_level::ModeProbabilities::default());
+            let changed = [
+                ("g_max", t.g_max != d.g_max, t.g_max.to_string()),
+                ("zeta", t.zeta != d.zeta, t.zeta.to_string()),
+                ("min_child", t.min_child != d.min_child, t.min_child.to_string()),
+                ("interest_divisor", t.divisor != d.divisor, format!("'{}'", t.divisor.name())),
+                ("p_interest", m.p_interest != dm.p_interest, m.p_interest.to_string()),
+                ("p_global", m.p_global != dm.p_global, m.p_global.to_string()),
+                ("p_lowest", m.p_lowest != dm.p_lowest, m.p_lowest.to_string()),
+            ];
+            if let Some((name, _, value)) = changed.iter().find(|(_, c, _)| *c) {
+                return Err(invalid(
+                    "Run",
+                    name,
+                    format!("left at its default with teacher '{}' (it sets SAGG-RIAC's own high level, which that teacher replaces with its paper's parameters; tune that teacher through saggriac.{}Selector and goal_selector=)", self.teacher.name(), teacher_class(self.teacher)),
+                    value,
+                ));
+            }
+        }
         c.positive("babble_step", self.babble_step)?;
         self.eval.validate(self.n_steps)?;
         self.episodic.validate(self.arm.link_lengths.len())?;
@@ -191,5 +214,15 @@ impl RunConfig {
             }
         }
         Ok(())
+    }
+}
+
+/// The Python class of a teacher, for messages.
+fn teacher_class(t: Teacher) -> &'static str {
+    match t {
+        Teacher::Own => "SaggRiac",
+        Teacher::Riac => "Riac",
+        Teacher::AlpGmm => "AlpGmm",
+        Teacher::CovarGmm => "CovarGmm",
     }
 }
