@@ -33,3 +33,15 @@ def test_stub_matches_module():
 def test_config_keys_match():
     cfg = saggriac.Config()
     assert set(cfg.core_dict()) == set(_core.CONFIG_KEYS)
+
+
+def test_python_defaults_are_the_cores():
+    """Config()'s defaults build exactly the core's default configuration (the evaluation
+    schedule, which Python derives from n_evals, given to both); so a default changed on one
+    side only fails here. The same for each preset against its own keys."""
+    schedule = saggriac.Config().schedule()
+    assert _core.config_debug(saggriac.Config().core_dict()) == _core.config_debug({"eval_schedule": schedule})
+    for name, keys in saggriac.config.PRESETS.items():
+        cfg = saggriac.Config.from_preset(name)
+        given = {k: cfg.core_dict()[k] for k in keys} | {"eval_schedule": cfg.schedule()}
+        assert _core.config_debug(cfg.core_dict()) == _core.config_debug(given), name

@@ -25,6 +25,13 @@ fn validate_config(config: &Bound<'_, pyo3::types::PyDict>) -> PyResult<()> {
     config::run_config_from_dict(config).map(|_| ())
 }
 
+/// config_debug(config: dict) -> str: the core's configuration built from `config` (missing keys
+/// take the core's defaults), printed; lets a test check that Python's defaults are the core's.
+#[pyfunction]
+fn config_debug(config: &Bound<'_, pyo3::types::PyDict>) -> PyResult<String> {
+    config::run_config_from_dict(config).map(|c| format!("{c:?}"))
+}
+
 /// child_seed(parent, stream) -> int: the core's seed of one component (SplitMix64 mixing; stream
 /// 1 is the high level, 2 the low level's generator).
 #[pyfunction]
@@ -42,6 +49,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     // A test configuration further than this times the reach from its goal did not reach it.
     m.add("IK_TOLERANCE", saggriac_core::evaluation::test_set::IK_TOLERANCE)?;
     m.add_function(wrap_pyfunction!(validate_config, m)?)?;
+    m.add_function(wrap_pyfunction!(config_debug, m)?)?;
     m.add_function(wrap_pyfunction!(child_seed, m)?)?;
     m.add_function(wrap_pyfunction!(competence::competence, m)?)?;
     m.add_function(wrap_pyfunction!(chain::chain_forward, m)?)?;
