@@ -6,6 +6,7 @@
 //! SSA reacher, actuator babbling, the episodic paradigm), the high level (competence, interest,
 //! region tree, goal selection), the evaluation, the recorder, and the run loop composing them.
 
+pub mod assembly;
 pub mod body;
 pub mod checkpoint;
 pub mod config;

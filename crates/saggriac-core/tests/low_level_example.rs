@@ -3,13 +3,13 @@
 //! without subgoals or exploration phases; where no local model can be fitted yet it babbles one
 //! random micro-action instead. It runs inside the same loop as the built-in controllers.
 
+use saggriac_core::assembly::UserParts;
 use saggriac_core::high_level::competence::competence;
 use saggriac_core::high_level::goal_selection::GoalChoice;
 use saggriac_core::low_level::LowLevel;
 use saggriac_core::parts::{ActionKind, Parts};
 use saggriac_core::recorder::{AttemptRow, GoalRow};
 use saggriac_core::rng::uniform;
-use saggriac_core::run_loop::UserParts;
 use saggriac_core::task_space::{desired_step, distance, point};
 use saggriac_core::{Learner, RunConfig};
 

@@ -4,11 +4,11 @@
 
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use saggriac_core::assembly::UserParts;
 use saggriac_core::body::Body;
 use saggriac_core::evaluation::reachable_cloud::Cloud;
 use saggriac_core::high_level::goal_selection::GoalSelector;
 use saggriac_core::recorder::MetricRow;
-use saggriac_core::run_loop::UserParts;
 use saggriac_core::task_space::point;
 use saggriac_core::Learner;
 
