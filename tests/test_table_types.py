@@ -50,3 +50,15 @@ def test_old_unsigned_tables_read_back_signed():
     new = signed_integers(old.copy())
     assert new["step"].dtype == np.int64 and new["mode"].dtype == np.int64 and new["x"].dtype == np.float64
     assert (new["step"] - 10).tolist() == [-5, -3]
+
+
+def test_the_core_hands_out_signed_counts():
+    from saggriac import _core
+    from saggriac.seeding import derive_seeds
+
+    cfg = sg.Config(n_steps=600, n_evals=2, n_test_goals=5, n_test_configs=5)
+    learner = _core.Learner(cfg.core_dict(), *derive_seeds(0))
+    learner.run()
+    tables = [learner.metrics(), learner.goals(), learner.attempts(), learner.regions(), sg.SaggRiacSelector([0, 0], [1, 1]).regions()]
+    unsigned = [k for t in tables for k, v in t.items() if np.asarray(v).dtype.kind == "u"]
+    assert unsigned == []

@@ -27,7 +27,7 @@ from .files import check_seal, seal
 from .seeding import check_seed, derive_seeds, environment_seed
 from .testing import _joint_space
 from .resources import check_run_fits, check_threads, checkpoint_bytes
-from .storage import MIN_FREE_BYTES, as_path, check_output_dir, replace_dir, sibling, signed_integers, target_lock, write_run
+from .storage import MIN_FREE_BYTES, as_path, check_output_dir, replace_dir, sibling, target_lock, write_run
 from .time_budget import time_budget
 
 CHECKPOINT_FILES = frozenset({"state.bin", "checkpoint.json"})
@@ -48,7 +48,7 @@ def _xy_columns(d: dict[str, np.ndarray]) -> pd.DataFrame:
                 cols[f"{k}_{names[i]}"] = v[:, i]
         else:
             cols[k] = v
-    return signed_integers(pd.DataFrame(cols))
+    return pd.DataFrame(cols)
 
 
 def run(
@@ -278,7 +278,7 @@ def _drive(learner: Any, config: Config, info: dict[str, Any], out: Path | None,
 def _result(learner: Any, config: Config, info: dict[str, Any], extras: dict[str, Any], wall: float) -> RunResult:
     """What ``learner`` has done so far, as a run's result: its four tables and run.json."""
     seed = info["seed"]
-    metrics = signed_integers(pd.DataFrame(learner.metrics()))
+    metrics = pd.DataFrame(learner.metrics())
     goals = _xy_columns(learner.goals())
     attempts = _xy_columns(learner.attempts())
     regions = _xy_columns(learner.regions())

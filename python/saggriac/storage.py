@@ -363,9 +363,10 @@ def run_damage(path: Path) -> str | None:
 
 
 def signed_integers(frame: pd.DataFrame) -> pd.DataFrame:
-    """``frame`` with every unsigned integer column as int64, in place: steps and counts that
-    users subtract (``step_end - step_start``) must not wrap around, in pandas or in polars
-    reading the Parquet files. Counters stay far below 2**63."""
+    """``frame`` with every unsigned integer column as int64, in place: what the tables of runs
+    written before saggriac 0.4 held unsigned (the core now hands out int64), so that steps and
+    counts users subtract (``step_end - step_start``) do not wrap around. Counters stay far
+    below 2**63."""
     for c in frame.columns:
         if frame[c].dtype.kind == "u":
             frame[c] = frame[c].astype(np.int64)

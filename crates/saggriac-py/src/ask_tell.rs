@@ -194,23 +194,12 @@ impl PyAskTell {
             d.set_item("low", rows(py, leaves.iter().flat_map(|r| r.low.clone()).collect(), dim)?)?;
             d.set_item("high", rows(py, leaves.iter().flat_map(|r| r.high.clone()).collect(), dim)?)?;
             d.set_item("interest", leaves.iter().map(|r| r.interest).collect::<Vec<_>>().into_pyarray(py))?;
-            d.set_item("n_measurements", leaves.iter().map(|r| r.n_measurements as u64).collect::<Vec<_>>().into_pyarray(py))?;
+            d.set_item("n_measurements", leaves.iter().map(|r| r.n_measurements as i64).collect::<Vec<_>>().into_pyarray(py))?;
             d.set_item("is_leaf", vec![true; n].into_pyarray(py))?;
             return Ok(d);
         }
-        let regs = self.inner.selector().tree().map(|t| t.regions().to_vec()).unwrap_or_default();
-        d.set_item("low", rows(py, regs.iter().flat_map(|r| r.low.clone()).collect(), dim)?)?;
-        d.set_item("high", rows(py, regs.iter().flat_map(|r| r.high.clone()).collect(), dim)?)?;
-        d.set_item("interest", regs.iter().map(|r| r.interest).collect::<Vec<_>>().into_pyarray(py))?;
-        d.set_item("n_measurements", regs.iter().map(|r| r.entries.len() as u64).collect::<Vec<_>>().into_pyarray(py))?;
-        d.set_item("mean_competence", regs.iter().map(|r| r.mean().unwrap_or(f64::NAN)).collect::<Vec<_>>().into_pyarray(py))?;
-        d.set_item("is_leaf", regs.iter().map(|r| r.is_leaf()).collect::<Vec<_>>().into_pyarray(py))?;
-        d.set_item("parent", regs.iter().map(|r| r.parent.map(|p| p as i64).unwrap_or(-1)).collect::<Vec<_>>().into_pyarray(py))?;
-        d.set_item("depth", regs.iter().map(|r| r.depth).collect::<Vec<_>>().into_pyarray(py))?;
-        d.set_item("split_dim", regs.iter().map(|r| if r.is_leaf() { -1 } else { r.split_dim as i64 }).collect::<Vec<_>>().into_pyarray(py))?;
-        d.set_item("split_value", regs.iter().map(|r| r.split_value).collect::<Vec<_>>().into_pyarray(py))?;
-        d.set_item("created_at", regs.iter().map(|r| r.created_at).collect::<Vec<_>>().into_pyarray(py))?;
-        Ok(d)
+        // A tree's regions: the table a run's regions.parquet holds.
+        crate::goal_selection::regions(py, self.inner.selector())
     }
 
     /// What was asked (goal, mode, region) and told (goal, competence, region), in order.

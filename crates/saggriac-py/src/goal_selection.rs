@@ -105,9 +105,9 @@ pub fn regions<'py>(py: Python<'py>, selector: &dyn GoalSelector) -> PyResult<Bo
     d.set_item("split_dim", col(py, regs.iter().map(|r| if r.is_leaf() { -1 } else { r.split_dim as i64 }).collect()))?;
     d.set_item("split_value", col(py, regs.iter().map(|r| r.split_value).collect()))?;
     d.set_item("interest", col(py, regs.iter().map(|r| r.interest).collect()))?;
-    d.set_item("n_measurements", col(py, regs.iter().map(|r| r.entries.len() as u64).collect()))?;
+    d.set_item("n_measurements", col(py, regs.iter().map(|r| r.entries.len() as i64).collect()))?;
     d.set_item("mean_competence", col(py, regs.iter().map(|r| r.mean().unwrap_or(f64::NAN)).collect()))?;
-    d.set_item("created_at", col(py, regs.iter().map(|r| r.created_at).collect()))?;
-    d.set_item("depth", col(py, regs.iter().map(|r| r.depth).collect()))?;
+    d.set_item("created_at", col(py, regs.iter().map(|r| r.created_at as i64).collect()))?;
+    d.set_item("depth", col(py, regs.iter().map(|r| r.depth as i64).collect()))?;
     Ok(d)
 }

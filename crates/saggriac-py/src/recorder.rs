@@ -6,6 +6,8 @@ use pyo3::types::PyDict;
 use saggriac_core::recorder::{MetricRow, Recorder};
 use saggriac_core::task_space::Point;
 
+// Counts and steps go out as int64, never unsigned: a user's difference of two steps must not
+// wrap around (pandas, polars, the Parquet files).
 fn col<'py, T: numpy::Element>(py: Python<'py>, v: Vec<T>) -> Bound<'py, PyArray1<T>> {
     v.into_pyarray(py)
 }
@@ -35,13 +37,13 @@ pub fn metric_row<'py>(py: Python<'py>, m: &MetricRow) -> PyResult<Bound<'py, Py
 pub fn metrics<'py>(py: Python<'py>, r: &Recorder) -> PyResult<Bound<'py, PyDict>> {
     let m = &r.metrics;
     let d = PyDict::new(py);
-    d.set_item("step", col(py, m.iter().map(|r| r.step).collect()))?;
-    d.set_item("n_samples", col(py, m.iter().map(|r| r.n_samples).collect()))?;
+    d.set_item("step", col(py, m.iter().map(|r| r.step as i64).collect()))?;
+    d.set_item("n_samples", col(py, m.iter().map(|r| r.n_samples as i64).collect()))?;
     d.set_item("reach_error", col(py, m.iter().map(|r| r.reach_error).collect()))?;
     d.set_item("pred_error", col(py, m.iter().map(|r| r.pred_error).collect()))?;
     d.set_item("dx_error", col(py, m.iter().map(|r| r.dx_error).collect()))?;
-    d.set_item("n_goals", col(py, m.iter().map(|r| r.n_goals).collect()))?;
-    d.set_item("n_regions", col(py, m.iter().map(|r| r.n_regions).collect()))?;
+    d.set_item("n_goals", col(py, m.iter().map(|r| r.n_goals as i64).collect()))?;
+    d.set_item("n_regions", col(py, m.iter().map(|r| r.n_regions as i64).collect()))?;
     Ok(d)
 }
 
@@ -49,13 +51,13 @@ pub fn metrics<'py>(py: Python<'py>, r: &Recorder) -> PyResult<Bound<'py, PyDict
 pub fn goals<'py>(py: Python<'py>, r: &Recorder, m: usize) -> PyResult<Bound<'py, PyDict>> {
     let g = &r.goals;
     let d = PyDict::new(py);
-    d.set_item("goal_index", col(py, g.iter().map(|r| r.goal_index).collect()))?;
-    d.set_item("step_start", col(py, g.iter().map(|r| r.step_start).collect()))?;
-    d.set_item("step_end", col(py, g.iter().map(|r| r.step_end).collect()))?;
+    d.set_item("goal_index", col(py, g.iter().map(|r| r.goal_index as i64).collect()))?;
+    d.set_item("step_start", col(py, g.iter().map(|r| r.step_start as i64).collect()))?;
+    d.set_item("step_end", col(py, g.iter().map(|r| r.step_end as i64).collect()))?;
     d.set_item("goal", xy(py, g.iter().map(|r| r.goal).collect(), m)?)?;
     d.set_item("start", xy(py, g.iter().map(|r| r.start).collect(), m)?)?;
     d.set_item("end", xy(py, g.iter().map(|r| r.end).collect(), m)?)?;
-    d.set_item("mode", col(py, g.iter().map(|r| r.mode as u8).collect()))?;
+    d.set_item("mode", col(py, g.iter().map(|r| r.mode as i64).collect()))?;
     d.set_item("region", col(py, g.iter().map(|r| r.region.map(|x| x as i64).unwrap_or(-1)).collect()))?;
     d.set_item("competence", col(py, g.iter().map(|r| r.competence).collect()))?;
     Ok(d)
@@ -65,9 +67,9 @@ pub fn goals<'py>(py: Python<'py>, r: &Recorder, m: usize) -> PyResult<Bound<'py
 pub fn attempts<'py>(py: Python<'py>, r: &Recorder, m: usize) -> PyResult<Bound<'py, PyDict>> {
     let a = &r.attempts;
     let d = PyDict::new(py);
-    d.set_item("goal_index", col(py, a.iter().map(|r| r.goal_index).collect()))?;
-    d.set_item("subgoal", col(py, a.iter().map(|r| r.subgoal).collect()))?;
-    d.set_item("step_end", col(py, a.iter().map(|r| r.step_end).collect()))?;
+    d.set_item("goal_index", col(py, a.iter().map(|r| r.goal_index as i64).collect()))?;
+    d.set_item("subgoal", col(py, a.iter().map(|r| r.subgoal as i64).collect()))?;
+    d.set_item("step_end", col(py, a.iter().map(|r| r.step_end as i64).collect()))?;
     d.set_item("target", xy(py, a.iter().map(|r| r.target).collect(), m)?)?;
     d.set_item("end", xy(py, a.iter().map(|r| r.end).collect(), m)?)?;
     d.set_item("competence", col(py, a.iter().map(|r| r.competence).collect()))?;
