@@ -1,18 +1,24 @@
 //! The parts a learner is made of, and the path of one micro-action through them. Each part owns
-//! its state: the body, the sensorimotor model, the goal selector (high level), the learner's
-//! generator, the evaluator and the recorder. A low-level controller acts only through `Parts`:
+//! its state, and saves and restores it for a checkpoint: the body, the sensorimotor model, the
+//! goal selector (high level), the learner's generator, the evaluator and the recorder. A
+//! low-level controller acts only through `Parts` (the contract is `crate::low_level::LowLevel`'s):
 //! it reads the body and the model, draws from the generator, executes micro-actions (or whole
-//! movements) with `micro_action` / `movement`, and tells the high level what it measured.
+//! movements) with `micro_action` / `movement`, tells the high level what it measured (`tell`)
+//! and records it (`record_attempt`, `finish_goal`).
 
 use std::time::Instant;
 
+use serde::{Deserialize, Serialize};
+
+use crate::body::arm::ArmState;
 use crate::body::Body;
 use crate::config::BodyChange;
-use crate::evaluation::Evaluator;
-use crate::high_level::goal_selection::{GoalChoice, GoalSelector};
+use crate::error::Error;
+use crate::evaluation::{Evaluator, EvaluatorState};
+use crate::high_level::goal_selection::{GoalChoice, GoalSelector, SelectorState};
 use crate::model::local_model::FitFailure;
-use crate::model::sensorimotor_model::SensorimotorModel;
-use crate::recorder::{MetricRow, Recorder};
+use crate::model::sensorimotor_model::{ModelState, SensorimotorModel};
+use crate::recorder::{AttemptRow, GoalRow, MetricRow, Recorder};
 use crate::rng::CoreRng;
 use crate::task_space::Point;
 
@@ -25,15 +31,15 @@ pub enum ActionKind {
 }
 
 pub struct Parts {
-    pub(crate) body: Box<dyn Body>,
-    pub(crate) model: SensorimotorModel,
-    pub(crate) selector: Box<dyn GoalSelector>,
+    body: Box<dyn Body>,
+    model: SensorimotorModel,
+    selector: Box<dyn GoalSelector>,
     /// The learner's own draws (exploration, babbling, episodic noise).
-    pub(crate) rng: CoreRng,
-    pub(crate) evaluator: Evaluator,
-    pub(crate) recorder: Recorder,
+    rng: CoreRng,
+    evaluator: Evaluator,
+    recorder: Recorder,
     /// End-effector position at rest (the start of every episodic movement).
-    pub(crate) rest_x: Point,
+    rest_x: Point,
     budget: u64,
     body_change: Option<BodyChange>,
     /// The configuration before the current micro-action.
@@ -82,6 +88,51 @@ impl Parts {
     }
     pub fn evaluator(&self) -> &Evaluator {
         &self.evaluator
+    }
+    pub(crate) fn evaluator_mut(&mut self) -> &mut Evaluator {
+        &mut self.evaluator
+    }
+
+    /// Every part's state, for a checkpoint. Only built-in bodies and goal selectors can be saved.
+    pub(crate) fn save(&self) -> crate::error::Result<PartsState> {
+        let refuse = |what: &str| Error::InvalidInput(format!("This run cannot be checkpointed: its {what} is a user's object, whose state saggriac cannot save."));
+        Ok(PartsState {
+            rng: self.rng.clone(),
+            model: self.model.save(),
+            selector: self.selector.save().ok_or_else(|| refuse("goal selector"))?,
+            body: self.body.save().ok_or_else(|| refuse("environment"))?,
+            evaluator: self.evaluator.save(),
+            recorder: self.recorder.clone(),
+        })
+    }
+
+    /// Put every part back in the state `save` recorded; false if the saved selector or body is
+    /// not of this run's kind.
+    pub(crate) fn restore(&mut self, state: PartsState) -> bool {
+        if !self.selector.load(&state.selector) || !self.body.load(&state.body) {
+            return false;
+        }
+        self.model.restore(&state.model);
+        self.evaluator.restore(state.evaluator);
+        self.rng = state.rng;
+        self.recorder = state.recorder;
+        true
+    }
+
+    /// Record one measurement told to the high level: the attempt at (sub)goal `target`, number
+    /// `subgoal` of the current goal, ended at `end` with `competence` (0: reached), taken by
+    /// `region`.
+    pub fn record_attempt(&mut self, subgoal: u32, target: Point, end: Point, competence: f64, region: Option<usize>) {
+        let r = &mut self.recorder;
+        r.attempts.push(AttemptRow { goal_index: r.goals_done(), subgoal, step_end: r.steps(), target, end, competence, reached: competence == 0.0, region });
+    }
+
+    /// Close the current goal (the high level's `choice`), attempted from time step `step_start`
+    /// and position `start`, ended at `end` (as measured then: a body change may follow the
+    /// last step); `competence` is the last attempt's (NaN if the budget cut it).
+    pub fn finish_goal(&mut self, choice: &GoalChoice, goal: Point, step_start: u64, start: Point, end: Point, competence: f64) {
+        let r = &mut self.recorder;
+        r.goal_done(GoalRow { goal_index: r.goals_done(), step_start, step_end: r.steps(), goal, start, end, mode: choice.mode, region: choice.region, competence });
     }
 
     pub fn budget_spent(&self) -> bool {
@@ -159,8 +210,8 @@ impl Parts {
     }
 
     /// The episodic paradigm's time step: put the body in `theta` at once and store the movement.
-    /// Returns the position reached. The caller evaluates (`evaluate_due`) once it has told the
-    /// high level, so that the evaluation's row counts this goal.
+    /// Returns the position reached. An evaluation due now runs after the attempt (the run loop
+    /// calls `evaluate_due`), so that its row counts this goal and what the high level was told.
     pub fn movement(&mut self, theta: &[f64]) -> Point {
         self.body.set_theta(theta);
         let x = self.body.position();
@@ -233,4 +284,15 @@ impl Parts {
         self.recorder.metrics.push(row.clone());
         row
     }
+}
+
+/// Every part's state in a checkpoint (the low-level controller's is beside it).
+#[derive(Serialize, Deserialize)]
+pub(crate) struct PartsState {
+    rng: CoreRng,
+    model: ModelState,
+    selector: SelectorState,
+    body: ArmState,
+    evaluator: EvaluatorState,
+    recorder: Recorder,
 }

@@ -69,8 +69,9 @@ pub struct Timers {
     pub total: f64,
 }
 
-/// The rows, counters, timers and clock of one run.
-#[derive(Debug, Clone, Default)]
+/// The rows, counters, timers and clock of one run. A checkpoint keeps all of it but the
+/// evaluations still running (a checkpoint is taken when none is).
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
 pub struct Recorder {
     pub metrics: Vec<MetricRow>,
     pub goals: Vec<GoalRow>,
@@ -84,6 +85,7 @@ pub struct Recorder {
     /// Metric rows already shown to the caller of `run`.
     pub(crate) reported: usize,
     /// Metric rows whose evaluation is still running on another thread.
+    #[serde(skip)]
     pub(crate) pending: Vec<usize>,
 }
 

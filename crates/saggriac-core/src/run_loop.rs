@@ -28,8 +28,8 @@ pub struct Learner {
 
 impl Learner {
     /// Algorithm 1, one iteration: back to rest if due, the high level's choice if the low level
-    /// wants one, one attempt (which tells the high level what it measured, and evaluates at the
-    /// scheduled steps).
+    /// wants one, one attempt (which tells the high level what it measured). Evaluations run at
+    /// their scheduled steps: inside a micro-action, or after a movement's attempt.
     fn iteration(&mut self) {
         let (parts, low) = (&mut self.parts, &mut self.low_level);
         if low.rest_due(parts) {
@@ -37,6 +37,7 @@ impl Learner {
         }
         let choice = low.asks_high_level().then(|| parts.select());
         low.attempt(choice, parts);
+        parts.evaluate_due();
     }
 
     /// Run until the step budget is spent, evaluating on the schedule. `on_eval` sees each new
@@ -44,7 +45,7 @@ impl Learner {
     pub fn run(&mut self, on_eval: &mut dyn FnMut(&MetricRow) -> bool) -> bool {
         let t0 = Instant::now();
         self.parts.evaluate_due();
-        let mut completed = self.parts.recorder.report(on_eval);
+        let mut completed = self.parts.recorder_mut().report(on_eval);
         while completed && !self.parts.budget_spent() && !self.parts.failed() {
             for _ in 0..self.low_level.attempts_per_report() {
                 if self.parts.budget_spent() || self.parts.failed() {
@@ -53,14 +54,14 @@ impl Learner {
                 self.iteration();
             }
             self.parts.collect_evaluations(false);
-            completed = self.parts.recorder.report(on_eval);
+            completed = self.parts.recorder_mut().report(on_eval);
         }
         // Nothing runs on after a return: a checkpoint taken now holds every row.
         self.parts.collect_evaluations(true);
         if completed {
-            completed = self.parts.recorder.report(on_eval);
+            completed = self.parts.recorder_mut().report(on_eval);
         }
-        self.parts.recorder.timers.total += t0.elapsed().as_secs_f64();
+        self.parts.recorder_mut().timers.total += t0.elapsed().as_secs_f64();
         completed && self.parts.budget_spent()
     }
 
@@ -75,52 +76,52 @@ impl Learner {
         self.seeds
     }
     pub fn steps(&self) -> u64 {
-        self.parts.recorder.steps()
+        self.parts.recorder().steps()
     }
     /// Dimension of the task space.
     pub fn task_dim(&self) -> usize {
-        self.parts.model.task_dim()
+        self.parts.model().task_dim()
     }
     pub fn model(&self) -> &SensorimotorModel {
-        &self.parts.model
+        self.parts.model()
     }
     pub fn memory(&self) -> &SensorimotorMemory {
-        self.parts.model.samples()
+        self.parts.model().samples()
     }
     pub fn selector(&self) -> &dyn GoalSelector {
-        self.parts.selector.as_ref()
+        self.parts.selector()
     }
     pub fn recorder(&self) -> &Recorder {
-        &self.parts.recorder
+        self.parts.recorder()
     }
     pub fn metrics(&self) -> &[MetricRow] {
-        &self.parts.recorder.metrics
+        &self.parts.recorder().metrics
     }
     pub fn goals(&self) -> &[GoalRow] {
-        &self.parts.recorder.goals
+        &self.parts.recorder().goals
     }
     pub fn attempts(&self) -> &[AttemptRow] {
-        &self.parts.recorder.attempts
+        &self.parts.recorder().attempts
     }
     pub fn counters(&self) -> &Counters {
-        &self.parts.recorder.counters
+        &self.parts.recorder().counters
     }
     pub fn timers(&self) -> &Timers {
-        &self.parts.recorder.timers
+        &self.parts.recorder().timers
     }
     pub fn test_set(&self) -> &TestSet {
-        &self.parts.evaluator.tests
+        &self.parts.evaluator().tests
     }
     /// Seconds of neighbour search and of local fits spent inside evaluations.
     pub fn evaluation_split(&self) -> (f64, f64) {
-        (self.parts.evaluator.time_knn, self.parts.evaluator.time_fit)
+        (self.parts.evaluator().time_knn, self.parts.evaluator().time_fit)
     }
     /// Rest-reset period of the ACTUATOR conditions (the paper's `max`).
     pub fn actuator_reset_period(&self) -> usize {
         self.actuator_reset
     }
     pub fn body(&self) -> &dyn Body {
-        self.parts.body.as_ref()
+        self.parts.body()
     }
     /// A user's body or goal selector failed: the run stops and the binding reports why.
     pub fn failed(&self) -> bool {
@@ -129,7 +130,7 @@ impl Learner {
     /// Let evaluations use `threads` threads, this one included (default 1: every evaluation in
     /// this thread). Results do not depend on it.
     pub fn set_threads(&mut self, threads: usize) {
-        self.parts.evaluator.set_threads(threads);
+        self.parts.evaluator_mut().set_threads(threads);
     }
 
     /// Run one evaluation now and record it.

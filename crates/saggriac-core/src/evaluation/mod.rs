@@ -17,6 +17,9 @@ pub mod test_set;
 
 use std::sync::Arc;
 
+use serde::{Deserialize, Serialize};
+
+use crate::body::arm::ArmState;
 use crate::body::Body;
 pub use crate::config::evaluation::EvalConfig;
 use crate::config::{EpisodicConfig, RunConfig};
@@ -28,7 +31,7 @@ use crate::model::episodic_memory::EpisodicMemory;
 use crate::model::memory::SensorimotorMemory;
 use crate::model::neighbours::Neighbour;
 use crate::model::sensorimotor_model::ModelView;
-use crate::task_space::{distance, sub, MAX_TASK_DIM};
+use crate::task_space::{distance, sub, Point, MAX_TASK_DIM};
 
 pub struct Evaluator {
     pub cfg: EvalConfig,
@@ -41,7 +44,7 @@ pub struct Evaluator {
     /// Micro-actions: the same for the local model's predictions.
     predict_cache: Vec<(Vec<Neighbour>, usize)>,
     /// The body the test reaches run on, when the learner's body can make a copy.
-    pub(crate) scratch: Option<Box<dyn Body>>,
+    scratch: Option<Box<dyn Body>>,
     params: MicroParams,
     micro: MicroScratch,
     episodic: EpisodicConfig,
@@ -49,7 +52,7 @@ pub struct Evaluator {
     /// Nearest-neighbour scratch of the episodic inverse model.
     nb: Vec<Neighbour>,
     /// Scheduled evaluations done so far.
-    pub(crate) next_eval: usize,
+    next_eval: usize,
     /// Seconds spent in neighbour search and in local fits during evaluations (summed over
     /// threads).
     pub time_knn: f64,
@@ -85,6 +88,22 @@ impl Evaluator {
             pool: None,
             elsewhere: 0,
         }
+    }
+
+    /// What a checkpoint keeps of the evaluator: how far along the schedule it is, the scratch
+    /// body's state, and the test motions' true outcomes (they follow a changed body).
+    pub(crate) fn save(&self) -> EvaluatorState {
+        EvaluatorState { next_eval: self.next_eval, scratch: self.scratch.as_ref().and_then(|s| s.save()), true_x: self.tests.true_x.clone(), true_dx: self.tests.true_dx.clone() }
+    }
+
+    pub(crate) fn restore(&mut self, state: EvaluatorState) {
+        if let (Some(sc), Some(st)) = (self.scratch.as_mut(), &state.scratch) {
+            sc.load(st);
+        }
+        let tests = Arc::make_mut(&mut self.tests);
+        tests.true_x = state.true_x;
+        tests.true_dx = state.true_dx;
+        self.next_eval = state.next_eval;
     }
 
     /// Let evaluations use `threads` threads, the learner's included. They run on copies of the
@@ -242,4 +261,13 @@ impl Evaluator {
         let steps = reach_errors.len() as u64;
         EvalResult { reach_errors, pred_errors, dx_errors, test_steps: steps }
     }
+}
+
+/// The evaluator's part of a checkpoint.
+#[derive(Serialize, Deserialize)]
+pub(crate) struct EvaluatorState {
+    next_eval: usize,
+    scratch: Option<ArmState>,
+    true_x: Vec<Point>,
+    true_dx: Vec<Point>,
 }

@@ -151,7 +151,7 @@ impl LowLevel for ActuatorBabbling {
     /// One babbling micro-action.
     fn attempt(&mut self, choice: Option<GoalChoice>, parts: &mut Parts) {
         self.babbled += 1;
-        let theta0 = parts.body.theta().to_vec();
+        let theta0 = parts.body().theta().to_vec();
         let n = theta0.len();
         // A point (theta, dtheta) of the region tree, whose dtheta is executed from here.
         let point = match choice {
@@ -163,7 +163,7 @@ impl LowLevel for ActuatorBabbling {
                 let mut candidates: Vec<Vec<f64>> = (0..self.candidates)
                     .map(|_| {
                         let mut p = theta0.clone();
-                        p.extend((0..n).map(|_| uniform(&mut parts.rng, -self.step, self.step)));
+                        p.extend((0..n).map(|_| uniform(parts.rng(), -self.step, self.step)));
                         p
                     })
                     .collect();
@@ -176,14 +176,14 @@ impl LowLevel for ActuatorBabbling {
             Some(p) => d.copy_from_slice(&p[n..]),
             None => {
                 for v in d.iter_mut() {
-                    *v = uniform(&mut parts.rng, -self.step, self.step);
+                    *v = uniform(parts.rng(), -self.step, self.step);
                 }
             }
         }
         // ACTUATOR-RIAC's interest: progress of the forward model's error (J dtheta with J fitted
         // on the neighbours, or no motion when no model is available yet).
         let predicted = self.riac.then(|| match parts.fit_here() {
-            Ok(()) => parts.model.expected_dx(d),
+            Ok(()) => parts.model().expected_dx(d),
             Err(_) => [0.0; MAX_TASK_DIM],
         });
         let dx = parts.micro_action(d, ActionKind::Babbling);

@@ -11,9 +11,9 @@ use crate::config::{Condition, RunConfig};
 use crate::high_level::competence::{competence_of, CompetenceConfig};
 use crate::high_level::goal_selection::GoalChoice;
 use crate::low_level::LowLevel;
+use crate::model::episodic_memory::EpisodicMemory;
 use crate::model::neighbours::Neighbour;
 use crate::parts::Parts;
-use crate::recorder::{AttemptRow, GoalRow};
 use crate::rng::{normal, uniform};
 use crate::task_space::{distance, point};
 
@@ -43,6 +43,10 @@ impl Episodic {
     }
 }
 
+fn episodes(parts: &Parts) -> &EpisodicMemory {
+    parts.model().episodes().expect("the episodic paradigm's model holds movements")
+}
+
 impl LowLevel for Episodic {
     fn asks_high_level(&self) -> bool {
         self.condition != Condition::ActuatorRandom
@@ -51,57 +55,54 @@ impl LowLevel for Episodic {
         64
     }
 
-    /// One movement: propose, execute at once, store, tell, evaluate if due.
+    /// One movement: propose, execute at once, store, tell.
     fn attempt(&mut self, choice: Option<GoalChoice>, parts: &mut Parts) {
-        let n = parts.body.n_joints();
+        let n = parts.body().n_joints();
         let lim = self.joint_limit;
         let rest = parts.rest_position();
-        let m = parts.model.task_dim();
+        let m = parts.model().task_dim();
         let mut theta = vec![0.0; n];
         let goal = match (&choice, self.condition.uses_goals()) {
             (Some(c), true) => Some(point(&c.goal[..m])),
             _ => None,
         };
-        let mem = parts.model.episodes().expect("the episodic paradigm's model holds movements");
         match (self.condition, &choice) {
-            (Condition::ActuatorRandom, _) => theta.iter_mut().for_each(|t| *t = uniform(&mut parts.rng, -lim, lim)),
+            (Condition::ActuatorRandom, _) => theta.iter_mut().for_each(|t| *t = uniform(parts.rng(), -lim, lim)),
             (Condition::ActuatorRiac, Some(c)) => theta.copy_from_slice(&c.goal),
             (_, _) => {
                 let g = goal.expect("a goal for the SAGG conditions");
                 let t1 = std::time::Instant::now();
                 // Before any movement the inverse model knows nothing: start from rest.
-                mem.inverse(&g, &self.cfg, self.rcond, &mut self.nb, &mut theta);
-                parts.recorder.timers.knn += t1.elapsed().as_secs_f64();
+                episodes(parts).inverse(&g, &self.cfg, self.rcond, &mut self.nb, &mut theta);
+                parts.recorder_mut().timers.knn += t1.elapsed().as_secs_f64();
                 let s = self.cfg.noise;
                 if s > 0.0 {
-                    theta.iter_mut().for_each(|t| *t += s * normal(&mut parts.rng));
+                    theta.iter_mut().for_each(|t| *t += s * normal(parts.rng()));
                 }
             }
         }
         theta.iter_mut().for_each(|t| *t = t.clamp(-lim, lim));
         // ACTUATOR-RIAC's interest: progress of the forward model's error on this movement.
-        let predicted = if self.condition == Condition::ActuatorRiac { mem.predict(&theta, &self.cfg, &mut self.nb) } else { None };
-        let step_start = parts.recorder.steps();
+        let predicted = if self.condition == Condition::ActuatorRiac { episodes(parts).predict(&theta, &self.cfg, &mut self.nb) } else { None };
+        let step_start = parts.recorder().steps();
         let x = parts.movement(&theta);
-        let r = &mut parts.recorder;
+        let r = &mut parts.recorder_mut();
         r.counters.babbling_steps += u64::from(goal.is_none());
         r.counters.reaching_steps += u64::from(goal.is_some());
         match (goal, &choice) {
             (Some(g), Some(c)) => {
                 let comp = competence_of(&self.competence, self.reach, &g, &x, &rest);
                 let region = parts.tell(&g[..m], comp);
-                let r = &mut parts.recorder;
-                r.attempts.push(AttemptRow { goal_index: r.goals_done(), subgoal: 1, step_end: r.steps(), target: g, end: x, competence: comp, reached: comp == 0.0, region });
-                r.goal_done(GoalRow { goal_index: r.goals_done(), step_start, step_end: r.steps(), goal: g, start: rest, end: x, mode: c.mode, region: c.region, competence: comp });
+                parts.record_attempt(1, g, x, comp, region);
+                parts.finish_goal(c, g, step_start, rest, x, comp);
             }
             (None, Some(_)) => {
                 if let Some(p) = predicted {
-                    let theta_now = parts.body.theta().to_vec();
+                    let theta_now = parts.body().theta().to_vec();
                     parts.tell(&theta_now, -distance(&p, &x));
                 }
             }
             _ => {}
         }
-        parts.evaluate_due();
     }
 }

@@ -12,13 +12,13 @@ use crate::rng::uniform;
 /// the caller's command buffer.
 pub fn explore(parts: &mut Parts, cfg: &ExplorationConfig, d: &mut [f64], deadline: Option<u64>) {
     let step = cfg.step;
-    let centre = parts.body.theta().to_vec();
+    let centre = parts.body().theta().to_vec();
     for _ in 0..cfg.q {
-        if deadline.is_some_and(|t| parts.recorder.steps() >= t) {
+        if deadline.is_some_and(|t| parts.recorder().steps() >= t) {
             return;
         }
-        for ((v, c), t) in d.iter_mut().zip(&centre).zip(parts.body.theta()) {
-            *v = c + uniform(&mut parts.rng, -step, step) - t;
+        for (i, (v, c)) in d.iter_mut().zip(&centre).enumerate() {
+            *v = c + uniform(parts.rng(), -step, step) - parts.body().theta()[i];
         }
         if parts.micro_action(d, ActionKind::Exploration).is_none() {
             return;

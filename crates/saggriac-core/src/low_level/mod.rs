@@ -5,7 +5,7 @@
 //! one attempt through the learner's `Parts`.
 //!
 //! Adding a controller: a new file here implementing `LowLevel`, and one line in
-//! `run_loop::low_level_for`, where conditions map to controllers (see docs/architecture.md).
+//! `assembly::low_level_for`, where conditions map to controllers (see docs/architecture.md).
 
 pub mod actuator_babbling;
 pub mod episodic;
@@ -22,8 +22,14 @@ pub trait LowLevel: Send + Sync {
     }
     /// Whether the next attempt starts from a choice of the high level (`GoalSelector::sample`).
     fn asks_high_level(&self) -> bool;
-    /// One attempt: act through `parts` (micro-actions or a movement), record its rows, and tell
-    /// the high level what was measured. `choice` is Some exactly when `asks_high_level`.
+    /// One attempt. `choice` is Some exactly when `asks_high_level`. The contract:
+    /// - act only through `parts`: `micro_action` (one time step; an evaluation due at that step
+    ///   runs inside it) or `movement` (one time step; an evaluation due runs when the attempt
+    ///   returns), reading the body and the model, drawing from `parts.rng()`;
+    /// - give every measurement to the high level with `parts.tell` and record it with
+    ///   `parts.record_attempt`;
+    /// - for a goal of the high level, end with `parts.finish_goal` (the next goal's index);
+    /// - stop acting once `micro_action` returns None (the budget is spent or a user's part failed).
     fn attempt(&mut self, choice: Option<GoalChoice>, parts: &mut Parts);
     /// Attempts between two reports of new evaluations to the caller of `run` (where a run can
     /// stop, and be checkpointed).

@@ -13,7 +13,6 @@ use crate::high_level::goal_selection::GoalChoice;
 use crate::low_level::exploration_phase::explore;
 use crate::low_level::LowLevel;
 use crate::parts::{ActionKind, Parts};
-use crate::recorder::{AttemptRow, GoalRow};
 pub use crate::task_space::desired_step;
 use crate::task_space::{distance, lerp, point, Point};
 
@@ -55,19 +54,19 @@ impl SsaReacher {
     /// One attempt to reach `target` from where the body is.
     pub fn reach(&mut self, target: Point, parts: &mut Parts) -> AttemptOutcome {
         let (rc, comp) = (self.reaching, self.competence);
-        let start = parts.body.position();
+        let start = parts.body().position();
         let timeout = rc.timeout(distance(&target, &start)) as u64;
-        let step0 = parts.recorder.steps();
+        let step0 = parts.recorder().steps();
         // Algorithm 1 checks the timeout between phases; the option also ends an exploration
         // phase at it.
         let deadline = rc.timeout_in_exploration.then_some(step0 + timeout);
         let mut interrupted = false;
         loop {
-            let x = parts.body.position();
+            let x = parts.body().position();
             if cost_of(&comp, self.reach, &target, &x, &start) > comp.eps_c {
                 break;
             }
-            if parts.recorder.steps() - step0 >= timeout {
+            if parts.recorder().steps() - step0 >= timeout {
                 break;
             }
             if parts.budget_spent() || parts.failed() {
@@ -85,22 +84,23 @@ impl SsaReacher {
                         // Compare with what the model expected of the command actually executed:
                         // the same as the desired dx unless the joint-step bound or a joint limit
                         // cut the command, which is no fault of the model.
-                        let expected = parts.model.expected_dx(&self.dtheta);
+                        let expected = parts.model().expected_dx(&self.dtheta);
                         if distance(&dx, &expected) > rc.eps_max {
-                            parts.recorder.counters.explorations += 1;
+                            parts.recorder_mut().counters.explorations += 1;
                             explore(parts, &self.exploration, &mut self.dtheta, deadline);
                         }
                     }
                 },
                 Err(_) => {
                     // No usable local model here yet: explore to build one.
-                    parts.recorder.counters.fit_failures += 1;
-                    parts.recorder.counters.explorations += 1;
+                    let counters = &mut parts.recorder_mut().counters;
+                    counters.fit_failures += 1;
+                    counters.explorations += 1;
                     explore(parts, &self.exploration, &mut self.dtheta, deadline);
                 }
             }
         }
-        let end = parts.body.position();
+        let end = parts.body().position();
         let c = clip(cost_of(&comp, self.reach, &target, &end, &start), &comp);
         AttemptOutcome { start, end, competence: c, reached: c == 0.0, interrupted: interrupted && c != 0.0 }
     }
@@ -108,7 +108,7 @@ impl SsaReacher {
 
 impl LowLevel for SsaReacher {
     fn rest_due(&self, parts: &Parts) -> bool {
-        parts.recorder.goals_done() % self.reset_every == 0
+        parts.recorder().goals_done() % self.reset_every == 0
     }
     fn asks_high_level(&self) -> bool {
         true
@@ -118,10 +118,10 @@ impl LowLevel for SsaReacher {
     /// itself; the high level gets each subgoal's competence.
     fn attempt(&mut self, choice: Option<GoalChoice>, parts: &mut Parts) {
         let choice = choice.expect("the SSA reacher reaches goals of the high level");
-        let m = parts.model.task_dim();
+        let m = parts.model().task_dim();
         let g = point(&choice.goal[..m]);
-        let start = parts.body.position();
-        let step_start = parts.recorder.steps();
+        let start = parts.body().position();
+        let step_start = parts.recorder().steps();
         let l = self.reaching.n_subgoals;
         let mut last_c = f64::NAN;
         for i in 1..=l {
@@ -132,14 +132,13 @@ impl LowLevel for SsaReacher {
                 break;
             }
             let region = parts.tell(&target[..m], out.competence);
-            let r = &mut parts.recorder;
-            r.attempts.push(AttemptRow { goal_index: r.goals_done(), subgoal: i as u32, step_end: r.steps(), target, end: out.end, competence: out.competence, reached: out.reached, region });
+            parts.record_attempt(i as u32, target, out.end, out.competence, region);
             if i == l {
                 last_c = out.competence;
             }
         }
-        let (r, end) = (&mut parts.recorder, parts.body.position());
-        r.goal_done(GoalRow { goal_index: r.goals_done(), step_start, step_end: r.steps(), goal: g, start, end, mode: choice.mode, region: choice.region, competence: last_c });
+        let end = parts.body().position();
+        parts.finish_goal(&choice, g, step_start, start, end, last_c);
     }
 }
 

@@ -8,6 +8,8 @@
 
 use std::time::Instant;
 
+use serde::{Deserialize, Serialize};
+
 use crate::config::RunConfig;
 use crate::model::episodic_memory::EpisodicMemory;
 use crate::model::local_model::{FitFailure, LocalModel};
@@ -136,19 +138,38 @@ impl SensorimotorModel {
         e
     }
 
+    /// What a checkpoint keeps of the model: the stored samples (the indexes are rebuilt).
+    pub(crate) fn save(&self) -> ModelState {
+        let [t, d, x, p] = self.samples.arrays();
+        ModelState {
+            samples: [t.to_vec(), d.to_vec(), x.to_vec(), p.to_vec()],
+            rejected: self.samples.rejected(),
+            episodes: self.episodes.as_ref().map(|m| (m.arrays().0.to_vec(), m.arrays().1.to_vec())),
+        }
+    }
+
     /// Rebuild the stored samples from a checkpoint (the indexes answer as before: every search
     /// is exact).
-    pub(crate) fn restore(&mut self, samples: &[Vec<f64>; 4], rejected: u64, episodes: Option<&(Vec<f64>, Vec<f64>)>) {
+    pub(crate) fn restore(&mut self, state: &ModelState) {
         let (n, m) = (self.samples.n_joints(), self.samples.task_dim());
-        let [t, d, x, p] = samples;
+        let [t, d, x, p] = &state.samples;
         for i in 0..t.len() / n {
             self.samples.add(&t[i * n..(i + 1) * n], &d[i * n..(i + 1) * n], &x[i * m..(i + 1) * m], &p[i * m..(i + 1) * m]);
         }
-        self.samples.set_rejected(rejected);
-        if let (Some(mem), Some((thetas, xs))) = (self.episodes.as_mut(), episodes) {
+        self.samples.set_rejected(state.rejected);
+        if let (Some(mem), Some((thetas, xs))) = (self.episodes.as_mut(), &state.episodes) {
             for i in 0..xs.len() / m {
                 mem.add(&thetas[i * n..(i + 1) * n], &xs[i * m..(i + 1) * m]);
             }
         }
     }
+}
+
+/// The model's part of a checkpoint: every sample in storage order (theta, dtheta, dx, x), the
+/// count of refused ones, and the episodic paradigm's movements (theta, x).
+#[derive(Serialize, Deserialize)]
+pub(crate) struct ModelState {
+    samples: [Vec<f64>; 4],
+    rejected: u64,
+    episodes: Option<(Vec<f64>, Vec<f64>)>,
 }
