@@ -109,8 +109,12 @@ class Config:
     p_lowest: float = 0.1
     reset_every: int = 2
     # Beyond the paper: the teacher choosing sagg_riac's goals. "own" is SAGG-RIAC's high level;
-    # "riac", "alp_gmm", "covar_gmm" replace it, with their papers' defaults (docs/teachers.md).
+    # "riac", "alp_gmm", "covar_gmm" replace it, with their papers' defaults (docs/teachers.md)
+    # except those teacher_params sets: a dict of the parameters of saggriac.RiacSelector,
+    # AlpGmmSelector or CovarGmmSelector (kept as sorted (name, value) pairs, so that a Config
+    # stays hashable; dict(cfg.teacher_params) gives the dict back).
     teacher: str = "own"
+    teacher_params: tuple[tuple[str, Any], ...] = ()
     # Evaluation (SPEC.md).
     n_test_goals: int = 100
     n_test_configs: int = 100
@@ -158,6 +162,7 @@ class Config:
                 object.__setattr__(self, name, tuple(val))
             elif not (isinstance(val, tuple) or (val is None and name in ("link_lengths", "eval_schedule", "chain"))):
                 raise ParameterError(f"The '{name}' parameter of Config must be a list of numbers. Got {val!r} instead.", name, repr(val))
+        object.__setattr__(self, "teacher_params", _pairs(self.teacher_params))
         if self.eval_schedule is not None and len(self.eval_schedule) == 0:
             raise ParameterError("The 'eval_schedule' parameter of Config must be a non-empty list of steps (or None for n_evals). Got () instead.", "eval_schedule", "()")
         _check_types(self)
@@ -220,12 +225,15 @@ class Config:
             if d[name] is not None:
                 d[name] = list(d[name])
         d["eval_schedule"] = self.schedule() if isinstance(self.n_steps, int) and self.n_steps > 0 else []
+        d["teacher_params"] = dict(self.teacher_params)
         return d
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready dict of every field (tuples as lists)."""
         d = dataclasses.asdict(self)
-        return {k: list(v) if isinstance(v, tuple) else v for k, v in d.items()}
+        d = {k: list(v) if isinstance(v, tuple) else v for k, v in d.items()}
+        d["teacher_params"] = dict(self.teacher_params)
+        return d
 
     @classmethod
     def from_saved(cls, d: Mapping[str, Any]) -> Config:
@@ -309,6 +317,23 @@ def read_toml(path: Path, preset: str | None = None) -> tuple[str, dict[str, Any
     return (named if named is not None else preset if preset is not None else "exp1"), data
 
 
+def _pairs(params: Any) -> tuple[tuple[str, Any], ...]:
+    """``teacher_params`` as sorted (name, value) pairs, from a dict (or the pairs themselves);
+    the core checks the names and values against the chosen teacher."""
+    if isinstance(params, Mapping):
+        items = [(n, _plain(v)) for n, v in params.items()]
+    elif isinstance(params, (tuple, list)) and all(isinstance(p, (tuple, list)) and len(p) == 2 for p in params):
+        items = [(n, _plain(v)) for n, v in params]
+    else:
+        raise ParameterError(f"The 'teacher_params' parameter of Config must be a dict of the teacher's parameters. Got {params!r} instead.", "teacher_params", repr(params))
+    for name, value in items:
+        if not isinstance(name, str) or not isinstance(value, (bool, int, float)):
+            raise ParameterError(f"The 'teacher_params' parameter of Config must map parameter names (str) to numbers or bools. Got {name!r}: {value!r} instead.", "teacher_params", repr(params))
+    if len({n for n, _ in items}) != len(items):
+        raise ParameterError(f"The 'teacher_params' parameter of Config must name each parameter once. Got {params!r} instead.", "teacher_params", repr(params))
+    return tuple(sorted(items))
+
+
 def _plain(value: Any) -> Any:
     if isinstance(value, np.generic):
         return value.item()
@@ -337,7 +362,7 @@ def _check_types(cfg: Config) -> None:
     for f in dataclasses.fields(cfg):
         v = getattr(cfg, f.name)
         kind = _OPTIONAL_KINDS.get(f.name, type(f.default))
-        if v is None or kind is str:
+        if v is None or kind is str or f.name == "teacher_params":
             continue
         if kind is bool:
             ok, rule = isinstance(v, bool), "a bool (true or false)"

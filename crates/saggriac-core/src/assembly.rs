@@ -10,9 +10,6 @@ use crate::error::{invalid, Result};
 use crate::evaluation::reachable_cloud::Cloud;
 use crate::evaluation::{Evaluator, TestSet};
 use crate::high_level::goal_selection::GoalSelector;
-use crate::high_level::teachers::alp_gmm::AlpGmmConfig;
-use crate::high_level::teachers::covar_gmm::CovarGmmConfig;
-use crate::high_level::teachers::riac::RiacConfig;
 use crate::high_level::teachers::TeacherSpec;
 use crate::low_level::actuator_babbling::{actuator_reset_period, ActuatorBabbling};
 use crate::low_level::episodic::Episodic;
@@ -43,16 +40,17 @@ pub struct UserParts {
     pub cloud: Option<Cloud>,
 }
 
-/// The teacher a run's own high level is: by condition, and for `sagg_riac` by `cfg.teacher`;
+/// The teacher a run's own high level is: by condition, and for `sagg_riac` by `cfg.teacher` (with
+/// its parameters);
 /// seeded with stream 1 of the learner's seed.
 pub fn run_teacher(cfg: &RunConfig, seed: u64) -> TeacherSpec {
     let (low, high, seed) = (cfg.goal_low.clone(), cfg.goal_high.clone(), child_seed(seed, 1));
     match cfg.condition {
         Condition::SaggRiac => match cfg.teacher {
             Teacher::Own => TeacherSpec::SaggRiac { low, high, tree: cfg.tree, modes: cfg.modes, seed },
-            Teacher::Riac => TeacherSpec::Riac { low, high, cfg: RiacConfig::default(), seed },
-            Teacher::AlpGmm => TeacherSpec::AlpGmm { low, high, cfg: AlpGmmConfig::default(), seed },
-            Teacher::CovarGmm => TeacherSpec::CovarGmm { low, high, cfg: CovarGmmConfig::default(), seed },
+            Teacher::Riac(cfg) => TeacherSpec::Riac { low, high, cfg, seed },
+            Teacher::AlpGmm(cfg) => TeacherSpec::AlpGmm { low, high, cfg, seed },
+            Teacher::CovarGmm(cfg) => TeacherSpec::CovarGmm { low, high, cfg, seed },
         },
         Condition::SaggRandom | Condition::ActuatorRandom => TeacherSpec::Random { low, high, seed },
         Condition::ActuatorRiac => {

@@ -8,6 +8,7 @@ use saggriac_core::body::chain::{Chain, ChainSpec};
 use saggriac_core::config::body::MAX_JOINTS;
 use saggriac_core::config::evaluation::TestConfigs;
 use saggriac_core::config::high_level::{CompetenceKind, InterestDivisor, Teacher};
+use saggriac_core::config::teachers::CovarGmmConfig;
 use saggriac_core::config::Paradigm;
 use saggriac_core::error::invalid;
 use saggriac_core::model::memory::IndexKind;
@@ -23,7 +24,7 @@ pub const KEYS: &[&str] = &[
     "bandwidth", "min_c", "eps_c", "competence", "g_max", "zeta", "min_child", "interest_divisor", "p_interest", "p_global", "p_lowest", "reset_every",
     "n_test_goals", "n_test_configs", "test_configs", "eval_tolerance", "eval_patience", "eval_timeout_factor", "eval_timeout_min",
     "eval_schedule", "knn_index", "warm_start_recent", "babble_step", "actuator_candidates", "actuator_reset_every", "paradigm", "episodic_noise", "episodic_refine", "episodic_k", "motor_noise", "sensor_noise", "body_change_step",
-    "body_change_link", "body_change_length", "chain", "teacher",
+    "body_change_link", "body_change_length", "chain", "teacher", "teacher_params",
 ];
 
 /// The core names a rule's parameter by the struct that owns it (`tolerance` of `Evaluation`);
@@ -34,6 +35,10 @@ pub fn in_config_terms(e: Error) -> Error {
             if param == "goal_selector" {
                 // An argument of saggriac.run, not a Config key.
                 return Error::InvalidParameter { owner: "run", param, rule, value };
+            }
+            if matches!(owner, "RiacSelector" | "AlpGmmSelector" | "CovarGmmSelector") {
+                // A rule of the teacher chosen by `teacher`, set through `teacher_params`.
+                return Error::InvalidParameter { owner: "Config", param: format!("teacher_params.{param}"), rule, value };
             }
             let key = match (owner, param.as_str()) {
                 ("Evaluation", "tolerance" | "patience" | "timeout_factor" | "timeout_min" | "schedule") => format!("eval_{param}"),
@@ -124,6 +129,10 @@ pub fn run_config_from_dict(d: &Bound<'_, PyDict>) -> PyResult<RunConfig> {
     c.competence.eps_c = get(d, "eps_c", c.competence.eps_c, "a float")?;
     let teacher: String = get(d, "teacher", c.teacher.name().to_string(), "a str")?;
     c.teacher = Teacher::parse(&teacher).map_err(|e| to_py(py, in_config_terms(e)))?;
+    if let Some(params) = d.get_item("teacher_params")?.filter(|p| !p.is_none()) {
+        let params = params.cast::<PyDict>().map_err(|_| to_py(py, invalid("Config", "teacher_params", "a dict of the teacher's parameters", "not a dict")))?;
+        c.teacher = teacher_with(c.teacher, params)?;
+    }
     let kind: String = get(d, "competence", c.competence.kind.name().to_string(), "a str")?;
     c.competence.kind = CompetenceKind::parse(&kind).ok_or_else(|| to_py(py, invalid("Config", "competence", "one of 'relative', 'absolute'", format!("'{kind}'"))))?;
     c.tree.g_max = get(d, "g_max", c.tree.g_max, "an int >= 2")?;
@@ -157,4 +166,51 @@ pub fn run_config_from_dict(d: &Bound<'_, PyDict>) -> PyResult<RunConfig> {
     c.episodic.k_refine = get(d, "episodic_k", c.episodic.k_refine, "an int >= 1")?;
     c.validate().map_err(|e| to_py(py, in_config_terms(e)))?;
     Ok(c)
+}
+
+/// `teacher` with the parameters `params` names (the others keep their papers' defaults).
+fn teacher_with(teacher: Teacher, params: &Bound<'_, PyDict>) -> PyResult<Teacher> {
+    let py = params.py();
+    let names: &[&str] = match teacher {
+        Teacher::Own => &[],
+        Teacher::Riac(_) => &["max_region_size", "split_attempts", "min_child_share", "min_dims_range_ratio", "p_alp", "p_random"],
+        Teacher::AlpGmm(_) => &["fit_rate", "max_components", "random_task_ratio", "bootstrap"],
+        Teacher::CovarGmm(_) => &["fit_rate", "max_components", "random_task_ratio", "bootstrap", "absolute_lp"],
+    };
+    let mut t = teacher;
+    for (k, v) in params.iter() {
+        let key: String = k.extract().map_err(|_| to_py(py, invalid("Config", "teacher_params", "a dict with str keys", "a key that is not a str")))?;
+        if !names.contains(&key.as_str()) {
+            let rule = match teacher {
+                Teacher::Own => "empty with teacher 'own' (SAGG-RIAC's own high level is set by g_max, zeta, min_child, interest_divisor, p_interest, p_global, p_lowest)".to_string(),
+                _ => format!("a dict of the '{}' teacher's parameters (those of saggriac.{}: {})", teacher.name(), teacher.class(), names.join(", ")),
+            };
+            return Err(to_py(py, invalid("Config", "teacher_params", rule, format!("a dict with key '{key}'"))));
+        }
+        let name = format!("teacher_params.{key}");
+        let shown = || v.repr().map(|r| r.to_string()).unwrap_or_else(|_| "?".into());
+        let wrong = |kind: &str| to_py(py, invalid("Config", &name, kind, shown()));
+        // A bool is an int to Python: refused where a number is meant, the only place it is meant.
+        let is_bool = v.is_instance_of::<pyo3::types::PyBool>();
+        let int = || if is_bool { Err(wrong("an int")) } else { v.extract::<usize>().map_err(|_| wrong("an int >= 0")) };
+        let float = || if is_bool { Err(wrong("a float")) } else { v.extract::<f64>().map_err(|_| wrong("a float")) };
+        match (&mut t, key.as_str()) {
+            (Teacher::Riac(c), "max_region_size") => c.max_region_size = int()?,
+            (Teacher::Riac(c), "split_attempts") => c.split_attempts = int()?,
+            (Teacher::Riac(c), "min_child_share") => c.min_child_share = float()?,
+            (Teacher::Riac(c), "min_dims_range_ratio") => c.min_dims_range_ratio = float()?,
+            (Teacher::Riac(c), "p_alp") => c.p_alp = float()?,
+            (Teacher::Riac(c), "p_random") => c.p_random = float()?,
+            (Teacher::CovarGmm(c), "absolute_lp") => c.absolute_lp = if is_bool { v.extract()? } else { return Err(wrong("a bool")) },
+            (Teacher::AlpGmm(m) | Teacher::CovarGmm(CovarGmmConfig { mixture: m, .. }), key) => match key {
+                "fit_rate" => m.fit_rate = int()?,
+                "max_components" => m.max_components = int()?,
+                "random_task_ratio" => m.random_task_ratio = float()?,
+                "bootstrap" => m.bootstrap = int()?,
+                _ => unreachable!("absolute_lp is set above"),
+            },
+            _ => unreachable!("every name of `names` is set above"),
+        }
+    }
+    Ok(t)
 }

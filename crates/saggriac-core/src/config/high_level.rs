@@ -1,6 +1,7 @@
 //! The high level's parameters: competence, the region tree, the goal selection modes, and the
 //! rule every box of a goal space obeys.
 
+use crate::config::teachers::{AlpGmmConfig, CovarGmmConfig, RiacConfig};
 use crate::error::{invalid, Check, Result, MAX_COUNT};
 
 /// What an attempt's final distance to its goal is measured against.
@@ -151,33 +152,56 @@ impl ModeProbabilities {
     }
 }
 
-/// Which teacher chooses the goals of the goal-babbling condition (beyond the paper). `Own` is
-/// the condition's own high level: SAGG-RIAC's (the paper's), or uniform goals for SAGG-Random.
-/// The others replace SAGG-RIAC's high level, with their papers' default parameters
-/// (`crate::high_level::teachers`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+/// Which teacher chooses the goals of the goal-babbling condition (beyond the paper), with its
+/// parameters. `Own` is the condition's own high level: SAGG-RIAC's (the paper's, set by the
+/// region tree's and the modes' parameters), or uniform goals for SAGG-Random. The others replace
+/// SAGG-RIAC's high level (`crate::high_level::teachers`).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub enum Teacher {
     #[default]
     Own,
-    Riac,
-    AlpGmm,
-    CovarGmm,
+    Riac(RiacConfig),
+    AlpGmm(AlpGmmConfig),
+    CovarGmm(CovarGmmConfig),
 }
 
 impl Teacher {
     pub const NAMES: [&'static str; 4] = ["own", "riac", "alp_gmm", "covar_gmm"];
 
+    /// The teacher `s` with its paper's parameters.
     pub fn parse(s: &str) -> Result<Self> {
         match s {
             "own" => Ok(Teacher::Own),
-            "riac" => Ok(Teacher::Riac),
-            "alp_gmm" => Ok(Teacher::AlpGmm),
-            "covar_gmm" => Ok(Teacher::CovarGmm),
+            "riac" => Ok(Teacher::Riac(RiacConfig::default())),
+            "alp_gmm" => Ok(Teacher::AlpGmm(AlpGmmConfig::default())),
+            "covar_gmm" => Ok(Teacher::CovarGmm(CovarGmmConfig::default())),
             _ => Err(invalid("Run", "teacher", "one of 'own', 'riac', 'alp_gmm', 'covar_gmm'", format!("'{s}'"))),
         }
     }
     pub fn name(&self) -> &'static str {
-        Self::NAMES[*self as usize]
+        match self {
+            Teacher::Own => "own",
+            Teacher::Riac(_) => "riac",
+            Teacher::AlpGmm(_) => "alp_gmm",
+            Teacher::CovarGmm(_) => "covar_gmm",
+        }
+    }
+    /// The Python class of the teacher on its own (ask/tell), whose parameters are the same.
+    pub fn class(&self) -> &'static str {
+        match self {
+            Teacher::Own => "SaggRiacSelector",
+            Teacher::Riac(_) => "RiacSelector",
+            Teacher::AlpGmm(_) => "AlpGmmSelector",
+            Teacher::CovarGmm(_) => "CovarGmmSelector",
+        }
+    }
+    pub fn validate(&self) -> Result<()> {
+        match self {
+            Teacher::Own => Ok(()),
+            Teacher::Riac(c) => c.validate(),
+            Teacher::AlpGmm(c) => c.validate("AlpGmmSelector"),
+            Teacher::CovarGmm(c) => c.validate(),
+        }
     }
 }
 

@@ -7,6 +7,7 @@ pub mod evaluation;
 pub mod high_level;
 pub mod low_level;
 pub mod model;
+pub mod teachers;
 
 pub use body::{ArmConfig, ArmKind, BodyChange};
 pub use evaluation::EvalConfig;
@@ -174,9 +175,10 @@ impl RunConfig {
                 format!("'{}'", self.teacher.name()),
             ));
         }
+        self.teacher.validate()?;
         if self.teacher != Teacher::Own {
-            // Another teacher replaces SAGG-RIAC's high level, with its paper's parameters: a
-            // SAGG-RIAC parameter set here would be ignored without a word.
+            // Another teacher replaces SAGG-RIAC's high level: a SAGG-RIAC parameter set here
+            // would be ignored without a word.
             let (t, d) = (self.tree, high_level::RegionTreeConfig::default());
             let (m, dm) = (self.modes, high_level::ModeProbabilities::default());
             let changed = [
@@ -192,7 +194,7 @@ impl RunConfig {
                 return Err(invalid(
                     "Run",
                     name,
-                    format!("left at its default with teacher '{}' (it sets SAGG-RIAC's own high level, which that teacher replaces with its paper's parameters; tune that teacher through saggriac.{}Selector and goal_selector=)", self.teacher.name(), teacher_class(self.teacher)),
+                    format!("left at its default with teacher '{}' (it sets SAGG-RIAC's own high level, which that teacher replaces; set that teacher's parameters with teacher_params, those of saggriac.{})", self.teacher.name(), self.teacher.class()),
                     value,
                 ));
             }
@@ -214,15 +216,5 @@ impl RunConfig {
             }
         }
         Ok(())
-    }
-}
-
-/// The Python class of a teacher, for messages.
-fn teacher_class(t: Teacher) -> &'static str {
-    match t {
-        Teacher::Own => "SaggRiac",
-        Teacher::Riac => "Riac",
-        Teacher::AlpGmm => "AlpGmm",
-        Teacher::CovarGmm => "CovarGmm",
     }
 }

@@ -11,27 +11,13 @@
 //! the goal is the task part of a draw from it, clipped to the box.
 
 use nalgebra::DVector;
-use serde::{Deserialize, Serialize};
 
 use crate::error::Result;
 use crate::high_level::goal_selection::{GoalChoice, GoalSelector, SelectorState};
-use crate::high_level::teachers::alp_gmm::AlpGmmConfig;
 use crate::high_level::teachers::gmm::Gmm;
 use crate::high_level::teachers::mixture::MixtureCore;
 
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct CovarGmmConfig {
-    /// Window, refit period, number of components, random share and bootstrap, as ALP-GMM's.
-    pub mixture: AlpGmmConfig,
-    /// Draw components by |progress| (true) or by positive progress only.
-    pub absolute_lp: bool,
-}
-
-impl Default for CovarGmmConfig {
-    fn default() -> Self {
-        CovarGmmConfig { mixture: AlpGmmConfig::default(), absolute_lp: true }
-    }
-}
+pub use crate::config::teachers::CovarGmmConfig;
 
 pub struct CovarGmm {
     core: MixtureCore,
@@ -110,6 +96,7 @@ impl GoalSelector for CovarGmm {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::config::teachers::AlpGmmConfig;
 
     #[test]
     fn goals_go_where_competence_changes_with_time() {

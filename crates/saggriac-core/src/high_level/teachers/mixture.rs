@@ -6,47 +6,14 @@ use std::collections::VecDeque;
 use std::ops::Range;
 
 use nalgebra::DVector;
-use serde::{Deserialize, Serialize};
 
 use crate::config::high_level::check_bounds;
-use crate::error::{invalid, Check, Result, MAX_COUNT};
+use crate::error::Result;
 use crate::high_level::goal_selection::{GoalChoice, Mode, SelectorState};
 use crate::high_level::teachers::gmm::{best_by_aic, EmConfig, Gmm};
 use crate::rng::{child_seed, index, rng_from_seed, uniform, unit, CoreRng};
 
-/// The parameters both mixture teachers share (ALP-GMM's names and defaults).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct AlpGmmConfig {
-    /// Tasks between refits, and the window they are fitted on (250).
-    pub fit_rate: usize,
-    /// Mixtures of 2 to this many components are tried (10).
-    pub max_components: usize,
-    /// Share of uniform goals after the bootstrap (0.2).
-    pub random_task_ratio: f64,
-    /// Uniform goals first (250, as fit_rate).
-    pub bootstrap: usize,
-}
-
-impl Default for AlpGmmConfig {
-    fn default() -> Self {
-        AlpGmmConfig { fit_rate: 250, max_components: 10, random_task_ratio: 0.2, bootstrap: 250 }
-    }
-}
-
-impl AlpGmmConfig {
-    pub fn validate(&self, owner: &'static str) -> Result<()> {
-        let c = Check { owner };
-        c.within("fit_rate", self.fit_rate, 2, MAX_COUNT)?;
-        // EM tries every number of components up to this one at each refit.
-        c.within("max_components", self.max_components, 2, 100)?;
-        c.within("bootstrap", self.bootstrap, 0, MAX_COUNT)?;
-        c.probability("random_task_ratio", self.random_task_ratio)?;
-        if self.max_components > self.fit_rate {
-            return Err(invalid(owner, "max_components", format!("an int <= fit_rate (fit_rate = {})", self.fit_rate), self.max_components));
-        }
-        Ok(())
-    }
-}
+pub use crate::config::teachers::AlpGmmConfig;
 
 /// The box and its scaling to [0, 1].
 #[derive(Debug, Clone)]

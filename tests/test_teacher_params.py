@@ -1,0 +1,77 @@
+"""A teacher chosen by Config(teacher=...) takes any of its parameters through teacher_params:
+the run's goals are those of the same teacher, built with those parameters, given as
+goal_selector=."""
+
+import numpy as np
+import pytest
+
+import saggriac as sg
+from saggriac.seeding import selector_seed
+
+PARAMS = {
+    "riac": (sg.RiacSelector, {"max_region_size": 10, "split_attempts": 10, "p_alp": 0.5, "p_random": 0.4}),
+    "alp_gmm": (sg.AlpGmmSelector, {"fit_rate": 20, "bootstrap": 20, "max_components": 4, "random_task_ratio": 0.1}),
+    "covar_gmm": (sg.CovarGmmSelector, {"fit_rate": 20, "bootstrap": 20, "absolute_lp": False}),
+}
+
+
+@pytest.mark.parametrize("teacher", sorted(PARAMS))
+def test_teacher_params_reach_the_run_teacher(teacher, tmp_path):
+    cls, params = PARAMS[teacher]
+    cfg = sg.Config.from_preset("exp1", teacher=teacher, teacher_params=params, n_steps=5000, n_evals=1)
+    tuned = sg.run(cfg, seed=5, out_dir=tmp_path / "r")
+    default = sg.run(cfg.replace(teacher_params={}), seed=5)
+    by_hand = sg.run(cfg.replace(teacher="own", teacher_params={}), seed=5, goal_selector=cls(cfg.goal_low, cfg.goal_high, seed=selector_seed(5), **params))
+    goals = ["goal_x", "goal_y"]
+    # Each goal tells the teacher up to 5 competences: 20 goals outlast every bootstrap above.
+    assert len(tuned.goals) > 20
+    assert np.array_equal(tuned.goals[goals].to_numpy(), by_hand.goals[goals].to_numpy())
+    n = min(len(tuned.goals), len(default.goals))
+    assert not np.array_equal(tuned.goals[goals].to_numpy()[:n], default.goals[goals].to_numpy()[:n])
+    # Saved with the run, read back as given.
+    assert dict(sg.RunResult.load(tmp_path / "r").config.teacher_params) == params
+
+
+def test_teacher_params_are_checked_against_the_chosen_teacher(tmp_path):
+    with pytest.raises(sg.ParameterError, match="fit_rate, max_components, random_task_ratio, bootstrap") as e:
+        sg.Config(teacher="alp_gmm", teacher_params={"max_region_size": 50})
+    assert e.value.param == "teacher_params"
+    with pytest.raises(sg.ParameterError, match="empty with teacher 'own'"):
+        sg.Config(teacher_params={"fit_rate": 50})
+    with pytest.raises(sg.ParameterError, match=r"p_alp \+ p_random <= 1") as e:
+        sg.Config(teacher="riac", teacher_params={"p_alp": 0.9})
+    assert e.value.param == "teacher_params.p_alp"
+    for bad in ({"fit_rate": 2.5}, {"fit_rate": True}, {"fit_rate": -1}, {"fit_rate": "100"}):
+        with pytest.raises(sg.ParameterError, match="teacher_params"):
+            sg.Config(teacher="alp_gmm", teacher_params=bad)
+    with pytest.raises(sg.ParameterError, match="must be a bool"):
+        sg.Config(teacher="covar_gmm", teacher_params={"absolute_lp": 1})
+    # A dict in, a hashable Config, the dict back; numpy numbers become Python ones.
+    cfg = sg.Config(teacher="alp_gmm", teacher_params={"fit_rate": np.int64(120), "bootstrap": 50})
+    assert hash(cfg) == hash(sg.Config(teacher="alp_gmm", teacher_params={"bootstrap": 50, "fit_rate": 120}))
+    assert cfg.to_dict()["teacher_params"] == {"bootstrap": 50, "fit_rate": 120}
+    # From a TOML file, as a table.
+    f = tmp_path / "c.toml"
+    f.write_text('teacher = "riac"\n[teacher_params]\nmax_region_size = 80\n')
+    assert dict(sg.Config.from_toml(f).teacher_params) == {"max_region_size": 80}
+
+
+def test_a_users_selector_is_told_points_of_its_box():
+    """Subgoals lie between where the arm is and the goal: from a start outside the goal box
+    (here the rest pose, x = 50, beyond the box's x <= 30) they leave the box. A user's selector
+    is told the nearest point of its box, as the built-in teachers record it, instead of a point
+    its update() may refuse (saggriac's own ask/tell teachers do)."""
+
+    class Strict(sg.RandomSelector):
+        told: list = []
+
+        def update(self, goal, competence):
+            assert np.all(goal >= self.low) and np.all(goal <= self.high), goal
+            Strict.told.append(np.array(goal))
+            return super().update(goal, competence)
+
+    cfg = sg.Config.from_preset("exp1", goal_low=(0.0, -30.0), goal_high=(30.0, 30.0), n_steps=1500, n_evals=1)
+    r = sg.run(cfg, seed=2, goal_selector=Strict(cfg.goal_low, cfg.goal_high, seed=0))
+    # The run's own table keeps the subgoals where they were; some of them left the box.
+    assert (r.attempts["target_x"] > 30.0).any()
+    assert len(Strict.told) == len(r.attempts) and np.max([t[0] for t in Strict.told]) <= 30.0
