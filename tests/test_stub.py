@@ -45,3 +45,30 @@ def test_python_defaults_are_the_cores():
         cfg = saggriac.Config.from_preset(name)
         given = {k: cfg.core_dict()[k] for k in keys} | {"eval_schedule": cfg.schedule()}
         assert _core.config_debug(cfg.core_dict()) == _core.config_debug(given), name
+
+
+def test_each_default_is_declared_once_by_the_core():
+    """Config's defaults and the teachers' are read from the core: a default written again on
+    the Python side (and so able to drift) fails here. The exceptions are Python's own: lengths
+    that follow the body (None; the core's value is the default arm's reach over the divisor),
+    the schedule derived from n_evals, and teacher_params (empty: the teacher's defaults)."""
+    import dataclasses
+    import inspect
+
+    core = _core.config_defaults()
+    assert set(core) == set(_core.CONFIG_KEYS)
+    own = {"v", "eps_max", "eval_tolerance", "eval_schedule", "teacher_params", "n_evals"}
+    for f in dataclasses.fields(saggriac.Config):
+        if f.name in own:
+            continue
+        want = tuple(core[f.name]) if isinstance(core[f.name], list) else core[f.name]
+        assert f.default == want and type(f.default) is type(want), f.name
+    reach = saggriac.Config().reach
+    for name, divisor in saggriac.config.LENGTH_DIVISORS.items():
+        assert reach / divisor == core[name], name
+    teachers = _core.teacher_defaults()
+    for cls, kind in ((saggriac.RiacSelector, "riac"), (saggriac.AlpGmmSelector, "alp_gmm"), (saggriac.CovarGmmSelector, "covar_gmm")):
+        params = {k: p.default for k, p in inspect.signature(cls).parameters.items() if p.kind is p.KEYWORD_ONLY}
+        assert params == teachers[kind], kind
+    sagg = {k: p.default for k, p in inspect.signature(saggriac.SaggRiacSelector).parameters.items() if p.kind is p.KEYWORD_ONLY}
+    assert sagg == {k: core[k] for k in sagg}

@@ -47,101 +47,106 @@ LENGTH_DIVISORS = {"v": 100, "eps_max": 500, "eval_tolerance": 5000}
 _LEGACY_VALUES = {"test_configs": "uniform", "actuator_candidates": 0, "interest_divisor": "window"}
 
 
+#: Every parameter's default as the Rust core declares it (the one declaration; Config reads it).
+_CORE: dict[str, Any] = _core.config_defaults()
+
+
 @dataclass(frozen=True)
 class Config:
-    """All parameters of a run. Defaults are the ``exp1`` preset; see docs/parameters.md."""
+    """All parameters of a run. Defaults are the core's (the ``exp1`` preset); see
+    docs/parameters.md."""
 
-    condition: str = "sagg_riac"
-    n_steps: int = 50_000
+    condition: str = _CORE["condition"]
+    n_steps: int = _CORE["n_steps"]
     # Arm (paper Fig. 2): n joints, equal links summing to arm_length, rest pose straight.
     # body="spatial_arm" moves it in 3-D (joints alternately yaw and pitch; 3-D goal space).
-    body: str = "planar_arm"
-    n_joints: int = 15
-    arm_length: float = 50.0
-    link_lengths: tuple[float, ...] | None = None
-    joint_limit: float = math.pi / 2
-    max_joint_step: float = 0.05
+    body: str = _CORE["body"]
+    n_joints: int = _CORE["n_joints"]
+    arm_length: float = _CORE["arm_length"]
+    link_lengths: tuple[float, ...] | None = _CORE["link_lengths"]
+    joint_limit: float = _CORE["joint_limit"]
+    max_joint_step: float = _CORE["max_joint_step"]
     # Body variants (beyond the paper): noise, and one link changing length at a given step.
-    motor_noise: float = 0.0
-    sensor_noise: float = 0.0
-    body_change_step: int | None = None
-    body_change_link: int | None = None
-    body_change_length: float | None = None
+    motor_noise: float = _CORE["motor_noise"]
+    sensor_noise: float = _CORE["sensor_noise"]
+    body_change_step: int | None = _CORE["body_change_step"]
+    body_change_link: int | None = _CORE["body_change_link"]
+    body_change_length: float | None = _CORE["body_change_length"]
     # body="chain": a serial arm of hinges as fixed transforms, read out of a MuJoCo model by
     # saggriac.mujoco_arm.MujocoArm.chain() (15 numbers per joint, then the tip; see
     # docs/mujoco.md). Its joints are in [-1, 1] (each one's range), so joint_limit <= 1.
-    chain: tuple[float, ...] | None = None
+    chain: tuple[float, ...] | None = _CORE["chain"]
     # Goal space S' (one bound per task-space dimension: 2 for the planar arm, 3 in space).
-    goal_low: tuple[float, ...] = (0.0, -50.0)
-    goal_high: tuple[float, ...] = (50.0, 50.0)
+    goal_low: tuple[float, ...] = tuple(_CORE["goal_low"])
+    goal_high: tuple[float, ...] = tuple(_CORE["goal_high"])
     # Low level (paper III.D). Lengths left None follow the body's reach (LENGTH_DIVISORS):
     # v = reach / 100, 0.5 for the paper's 50-unit arm.
     v: float | None = None
-    n_subgoals: int = 5
+    n_subgoals: int = _CORE["n_subgoals"]
     # reach / 500, 0.1 for the paper's arm: chosen by the sensitivity study's rerun with eq. 2
     # as printed (docs/sensitivity.md).
     eps_max: float | None = None
-    timeout_factor: float = 2.0
-    timeout_min: int = 10
+    timeout_factor: float = _CORE["timeout_factor"]
+    timeout_min: int = _CORE["timeout_min"]
     # Also end an exploration phase at the timeout (Algorithm 1 checks it between phases only).
-    timeout_in_exploration: bool = False
-    q: int = 20
-    explore_step: float = 0.01
+    timeout_in_exploration: bool = _CORE["timeout_in_exploration"]
+    q: int = _CORE["q"]
+    explore_step: float = _CORE["explore_step"]
     # Local models (paper III.B).
-    k_neighbours: int = 45
-    ridge: float = 1e-3
-    pinv_rcond: float = 1e-2
-    bandwidth: float = 1.0
+    k_neighbours: int = _CORE["k_neighbours"]
+    ridge: float = _CORE["ridge"]
+    pinv_rcond: float = _CORE["pinv_rcond"]
+    bandwidth: float = _CORE["bandwidth"]
     # Competence (eq. 7).
-    min_c: float = -1.0
-    eps_c: float = -0.05
+    min_c: float = _CORE["min_c"]
+    eps_c: float = _CORE["eps_c"]
     # "relative": eq. 7; "absolute": -D(x_g, x_f) / arm length (for the episodic paradigm).
-    competence: str = "relative"
+    competence: str = _CORE["competence"]
     # High level (paper II.D).
-    g_max: int = 50
-    zeta: int = 20
-    min_child: int = 5
+    g_max: int = _CORE["g_max"]
+    zeta: int = _CORE["zeta"]
+    min_child: int = _CORE["min_child"]
     # Eq. 2's denominator for a region holding fewer than zeta measurements: "zeta" as the
     # paper prints it, or "window" (its own count, saggriac <= 0.2). See docs/parameters.md.
-    interest_divisor: str = "zeta"
-    p_interest: float = 0.7
-    p_global: float = 0.2
-    p_lowest: float = 0.1
-    reset_every: int = 2
+    interest_divisor: str = _CORE["interest_divisor"]
+    p_interest: float = _CORE["p_interest"]
+    p_global: float = _CORE["p_global"]
+    p_lowest: float = _CORE["p_lowest"]
+    reset_every: int = _CORE["reset_every"]
     # Beyond the paper: the teacher choosing sagg_riac's goals. "own" is SAGG-RIAC's high level;
     # "riac", "alp_gmm", "covar_gmm" replace it, with their papers' defaults (docs/teachers.md)
     # except those teacher_params sets: a dict of the parameters of saggriac.RiacSelector,
     # AlpGmmSelector or CovarGmmSelector (kept as sorted (name, value) pairs, so that a Config
     # stays hashable; dict(cfg.teacher_params) gives the dict back).
-    teacher: str = "own"
+    teacher: str = _CORE["teacher"]
     teacher_params: tuple[tuple[str, Any], ...] = ()
     # Evaluation (SPEC.md).
-    n_test_goals: int = 100
-    n_test_configs: int = 100
+    n_test_goals: int = _CORE["n_test_goals"]
+    n_test_configs: int = _CORE["n_test_configs"]
     # "ik_min_norm": each test goal's least-norm configuration; "uniform": uniform in the limits.
-    test_configs: str = "ik_min_norm"
+    test_configs: str = _CORE["test_configs"]
     n_evals: int = 20
     eval_schedule: tuple[int, ...] | None = None
     # reach / 5000: 0.01 for the paper's arm.
     eval_tolerance: float | None = None
-    eval_patience: int = 10
-    eval_timeout_factor: float = 2.0
-    eval_timeout_min: int = 20
+    eval_patience: int = _CORE["eval_patience"]
+    eval_timeout_factor: float = _CORE["eval_timeout_factor"]
+    eval_timeout_min: int = _CORE["eval_timeout_min"]
     # ACTUATOR conditions (motor babbling). 0.02 by the sensitivity study (docs/sensitivity.md:
     # 27-34 % lower final reaching error than 0.01 in both experiments, tuning seeds).
-    babble_step: float = 0.02
+    babble_step: float = _CORE["babble_step"]
     # ACTUATOR-RIAC: candidate commands per step chosen among in the current context (0: the
     # earlier variant, commands proposed anywhere in the (theta, dtheta) space).
-    actuator_candidates: int = 16
-    actuator_reset_every: int = 0
+    actuator_candidates: int = _CORE["actuator_candidates"]
+    actuator_reset_every: int = _CORE["actuator_reset_every"]
     # Episodic paradigm (one whole configuration per goal; see docs/episodic.md).
-    paradigm: str = "micro_actions"
-    episodic_noise: float = 0.1
-    episodic_refine: bool = False
-    episodic_k: int = 20
+    paradigm: str = _CORE["paradigm"]
+    episodic_noise: float = _CORE["episodic_noise"]
+    episodic_refine: bool = _CORE["episodic_refine"]
+    episodic_k: int = _CORE["episodic_k"]
     # Implementation.
-    knn_index: str = "blocks"
-    warm_start_recent: int = 8
+    knn_index: str = _CORE["knn_index"]
+    warm_start_recent: int = _CORE["warm_start_recent"]
 
     def __post_init__(self) -> None:
         # None would silently mean "the core's default" there: only optional fields take it.

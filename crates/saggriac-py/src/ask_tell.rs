@@ -37,9 +37,10 @@ fn named(r: saggriac_core::Result<AskTell>, owner: &'static str) -> saggriac_cor
 
 #[pymethods]
 impl PyAskTell {
-    /// AskTell(kind: "sagg_riac" | "random", low, high, seed, g_max, zeta, min_child, interest_divisor, p_interest, p_global, p_lowest)
+    /// AskTell(kind: "sagg_riac" | "random", low, high, seed, g_max, zeta, min_child, interest_divisor, p_interest, p_global, p_lowest);
+    /// a parameter left out takes the core's default (saggriac.SaggRiacSelector passes them all).
     #[new]
-    #[pyo3(signature = (kind, low, high, seed, g_max=50, zeta=20, min_child=5, interest_divisor="zeta", p_interest=0.7, p_global=0.2, p_lowest=0.1))]
+    #[pyo3(signature = (kind, low, high, seed, g_max=None, zeta=None, min_child=None, interest_divisor=None, p_interest=None, p_global=None, p_lowest=None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         py: Python<'_>,
@@ -47,14 +48,18 @@ impl PyAskTell {
         low: Vec<f64>,
         high: Vec<f64>,
         seed: u64,
-        g_max: usize,
-        zeta: usize,
-        min_child: usize,
-        interest_divisor: &str,
-        p_interest: f64,
-        p_global: f64,
-        p_lowest: f64,
+        g_max: Option<usize>,
+        zeta: Option<usize>,
+        min_child: Option<usize>,
+        interest_divisor: Option<&str>,
+        p_interest: Option<f64>,
+        p_global: Option<f64>,
+        p_lowest: Option<f64>,
     ) -> PyResult<Self> {
+        let (t, m) = (RegionTreeConfig::default(), ModeProbabilities::default());
+        let (g_max, zeta, min_child) = (g_max.unwrap_or(t.g_max), zeta.unwrap_or(t.zeta), min_child.unwrap_or(t.min_child));
+        let interest_divisor = interest_divisor.unwrap_or(t.divisor.name());
+        let (p_interest, p_global, p_lowest) = (p_interest.unwrap_or(m.p_interest), p_global.unwrap_or(m.p_global), p_lowest.unwrap_or(m.p_lowest));
         let inner = match kind {
             "sagg_riac" => InterestDivisor::parse("SaggRiacSelector", interest_divisor)
                 .and_then(|divisor| AskTell::sagg_riac(&low, &high, RegionTreeConfig { g_max, zeta, min_child, divisor }, ModeProbabilities { p_interest, p_global, p_lowest }, seed)),
@@ -70,9 +75,10 @@ impl PyAskTell {
         Ok(PyAskTell { inner: wrap(py, inner)? })
     }
 
-    /// riac(low, high, seed, ...) -> AskTell: RIAC (Portelas et al., CoRL 2019 baseline).
+    /// riac(low, high, seed, ...) -> AskTell: RIAC (Portelas et al., CoRL 2019 baseline). Every
+    /// parameter is given: their defaults are saggriac.RiacSelector's, read from the core.
     #[staticmethod]
-    #[pyo3(signature = (low, high, seed, max_region_size=200, split_attempts=50, min_child_share=0.25, min_dims_range_ratio=1.0/6.0, p_alp=0.7, p_random=0.2))]
+    #[pyo3(signature = (low, high, seed, max_region_size, split_attempts, min_child_share, min_dims_range_ratio, p_alp, p_random))]
     #[allow(clippy::too_many_arguments)]
     fn riac(
         py: Python<'_>,
@@ -97,14 +103,14 @@ impl PyAskTell {
     /// discrete_lp(n_tasks, seed, alpha, theta) -> AskTell: learning progress over a task list
     /// (Kanitscheider et al., 2021).
     #[staticmethod]
-    #[pyo3(signature = (n_tasks, seed, alpha=0.1, theta=0.1))]
+    #[pyo3(signature = (n_tasks, seed, alpha, theta))]
     fn discrete_lp(py: Python<'_>, n_tasks: usize, seed: u64, alpha: f64, theta: f64) -> PyResult<Self> {
         Ok(PyAskTell { inner: wrap(py, AskTell::new(TeacherSpec::DiscreteLp { cfg: DiscreteLpConfig { n_tasks, alpha, theta }, seed }))? })
     }
 
     /// alp_gmm(low, high, seed, ...) -> AskTell: ALP-GMM (Portelas et al., CoRL 2019).
     #[staticmethod]
-    #[pyo3(signature = (low, high, seed, fit_rate=250, max_components=10, random_task_ratio=0.2, bootstrap=250))]
+    #[pyo3(signature = (low, high, seed, fit_rate, max_components, random_task_ratio, bootstrap))]
     #[allow(clippy::too_many_arguments)]
     fn alp_gmm(py: Python<'_>, low: Vec<f64>, high: Vec<f64>, seed: u64, fit_rate: usize, max_components: usize, random_task_ratio: f64, bootstrap: usize) -> PyResult<Self> {
         let cfg = AlpGmmConfig { fit_rate, max_components, random_task_ratio, bootstrap };
@@ -113,7 +119,7 @@ impl PyAskTell {
 
     /// covar_gmm(low, high, seed, ...) -> AskTell: Covar-GMM (Moulin-Frier, Nguyen & Oudeyer, 2014).
     #[staticmethod]
-    #[pyo3(signature = (low, high, seed, fit_rate=250, max_components=10, random_task_ratio=0.2, bootstrap=250, absolute_lp=true))]
+    #[pyo3(signature = (low, high, seed, fit_rate, max_components, random_task_ratio, bootstrap, absolute_lp))]
     #[allow(clippy::too_many_arguments)]
     fn covar_gmm(py: Python<'_>, low: Vec<f64>, high: Vec<f64>, seed: u64, fit_rate: usize, max_components: usize, random_task_ratio: f64, bootstrap: usize, absolute_lp: bool) -> PyResult<Self> {
         let cfg = CovarGmmConfig { mixture: AlpGmmConfig { fit_rate, max_components, random_task_ratio, bootstrap }, absolute_lp };

@@ -5,10 +5,10 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use saggriac_core::body::arm::{ArmConfig, ArmKind};
 use saggriac_core::body::chain::{Chain, ChainSpec};
-use saggriac_core::config::body::MAX_JOINTS;
+use saggriac_core::config::body::{DEFAULT_ARM_LENGTH, MAX_JOINTS};
 use saggriac_core::config::evaluation::TestConfigs;
 use saggriac_core::config::high_level::{CompetenceKind, InterestDivisor, Teacher};
-use saggriac_core::config::teachers::CovarGmmConfig;
+use saggriac_core::config::teachers::{AlpGmmConfig, CovarGmmConfig, RiacConfig};
 use saggriac_core::config::Paradigm;
 use saggriac_core::error::invalid;
 use saggriac_core::model::memory::IndexKind;
@@ -63,7 +63,16 @@ fn get<'py, T: FromPyObjectOwned<'py>>(d: &Bound<'py, PyDict>, key: &str, defaul
     }
 }
 
+/// The configuration `d` describes, checked against every rule (`Config()` checks this way).
 pub fn run_config_from_dict(d: &Bound<'_, PyDict>) -> PyResult<RunConfig> {
+    let c = parse_config(d)?;
+    c.validate().map_err(|e| to_py(d.py(), in_config_terms(e)))?;
+    Ok(c)
+}
+
+/// The configuration `d` describes, with the type of every value checked but not the rules: a
+/// learner built from it checks them itself (`Learner::from_parts`), once per run.
+pub fn parse_config(d: &Bound<'_, PyDict>) -> PyResult<RunConfig> {
     let py = d.py();
     for k in d.keys() {
         let k: String = k.extract()?;
@@ -76,7 +85,7 @@ pub fn run_config_from_dict(d: &Bound<'_, PyDict>) -> PyResult<RunConfig> {
     c.condition = Condition::parse(&condition).map_err(|e| to_py(py, in_config_terms(e)))?;
     c.n_steps = get(d, "n_steps", c.n_steps, "an int >= 1")?;
     let n_joints: usize = get(d, "n_joints", c.arm.link_lengths.len(), "an int >= 1")?;
-    let length: f64 = get(d, "arm_length", 50.0, "a float > 0")?;
+    let length: f64 = get(d, "arm_length", DEFAULT_ARM_LENGTH, "a float > 0")?;
     let links: Option<Vec<f64>> = get(d, "link_lengths", None, "a list of floats")?;
     let limit = get(d, "joint_limit", c.arm.joint_limit, "a float")?;
     let max_step = get(d, "max_joint_step", c.arm.max_joint_step, "a float")?;
@@ -164,7 +173,6 @@ pub fn run_config_from_dict(d: &Bound<'_, PyDict>) -> PyResult<RunConfig> {
     c.episodic.noise = get(d, "episodic_noise", c.episodic.noise, "a float")?;
     c.episodic.refine = get(d, "episodic_refine", c.episodic.refine, "a bool")?;
     c.episodic.k_refine = get(d, "episodic_k", c.episodic.k_refine, "an int >= 1")?;
-    c.validate().map_err(|e| to_py(py, in_config_terms(e)))?;
     Ok(c)
 }
 
@@ -213,4 +221,102 @@ fn teacher_with(teacher: Teacher, params: &Bound<'_, PyDict>) -> PyResult<Teache
         }
     }
     Ok(t)
+}
+
+/// The core's default configuration in `Config`'s flat terms: the one declaration of every
+/// default, which Python's `Config` reads (`_core.config_defaults()`). None where the default is
+/// "not given" (lengths that follow the body are given here as the default arm's).
+pub fn defaults(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
+    let c = RunConfig::default();
+    let d = PyDict::new(py);
+    let none = py.None();
+    let set = |k: &str, v: Bound<'_, PyAny>| d.set_item(k, v);
+    set("condition", c.condition.name().into_pyobject(py)?.into_any())?;
+    set("n_steps", c.n_steps.into_pyobject(py)?.into_any())?;
+    set("body", c.arm.kind.name().into_pyobject(py)?.into_any())?;
+    set("n_joints", c.arm.link_lengths.len().into_pyobject(py)?.into_any())?;
+    set("arm_length", DEFAULT_ARM_LENGTH.into_pyobject(py)?.into_any())?;
+    set("joint_limit", c.arm.joint_limit.into_pyobject(py)?.into_any())?;
+    set("max_joint_step", c.arm.max_joint_step.into_pyobject(py)?.into_any())?;
+    set("motor_noise", c.arm.motor_noise.into_pyobject(py)?.into_any())?;
+    set("sensor_noise", c.arm.sensor_noise.into_pyobject(py)?.into_any())?;
+    for k in ["link_lengths", "chain", "body_change_step", "body_change_link", "body_change_length"] {
+        d.set_item(k, &none)?;
+    }
+    set("goal_low", c.goal_low.clone().into_pyobject(py)?.into_any())?;
+    set("goal_high", c.goal_high.clone().into_pyobject(py)?.into_any())?;
+    let r = c.reaching;
+    set("v", r.v.into_pyobject(py)?.into_any())?;
+    set("n_subgoals", r.n_subgoals.into_pyobject(py)?.into_any())?;
+    set("eps_max", r.eps_max.into_pyobject(py)?.into_any())?;
+    set("timeout_factor", r.timeout_factor.into_pyobject(py)?.into_any())?;
+    set("timeout_min", r.timeout_min.into_pyobject(py)?.into_any())?;
+    set("timeout_in_exploration", pyo3::types::PyBool::new(py, r.timeout_in_exploration).to_owned().into_any())?;
+    set("q", c.exploration.q.into_pyobject(py)?.into_any())?;
+    set("explore_step", c.exploration.step.into_pyobject(py)?.into_any())?;
+    set("k_neighbours", c.local.k_neighbours.into_pyobject(py)?.into_any())?;
+    set("ridge", c.local.ridge.into_pyobject(py)?.into_any())?;
+    set("pinv_rcond", c.local.pinv_rcond.into_pyobject(py)?.into_any())?;
+    set("bandwidth", c.local.bandwidth.into_pyobject(py)?.into_any())?;
+    set("min_c", c.competence.min_c.into_pyobject(py)?.into_any())?;
+    set("eps_c", c.competence.eps_c.into_pyobject(py)?.into_any())?;
+    set("competence", c.competence.kind.name().into_pyobject(py)?.into_any())?;
+    set("g_max", c.tree.g_max.into_pyobject(py)?.into_any())?;
+    set("zeta", c.tree.zeta.into_pyobject(py)?.into_any())?;
+    set("min_child", c.tree.min_child.into_pyobject(py)?.into_any())?;
+    set("interest_divisor", c.tree.divisor.name().into_pyobject(py)?.into_any())?;
+    set("p_interest", c.modes.p_interest.into_pyobject(py)?.into_any())?;
+    set("p_global", c.modes.p_global.into_pyobject(py)?.into_any())?;
+    set("p_lowest", c.modes.p_lowest.into_pyobject(py)?.into_any())?;
+    set("reset_every", c.reset_every.into_pyobject(py)?.into_any())?;
+    set("teacher", c.teacher.name().into_pyobject(py)?.into_any())?;
+    set("teacher_params", PyDict::new(py).into_any())?;
+    let e = &c.eval;
+    set("n_test_goals", e.n_test_goals.into_pyobject(py)?.into_any())?;
+    set("n_test_configs", e.n_test_configs.into_pyobject(py)?.into_any())?;
+    set("test_configs", e.test_configs.name().into_pyobject(py)?.into_any())?;
+    set("eval_tolerance", e.tolerance.into_pyobject(py)?.into_any())?;
+    set("eval_patience", e.patience.into_pyobject(py)?.into_any())?;
+    set("eval_timeout_factor", e.timeout_factor.into_pyobject(py)?.into_any())?;
+    set("eval_timeout_min", e.timeout_min.into_pyobject(py)?.into_any())?;
+    set("eval_schedule", e.schedule.clone().into_pyobject(py)?.into_any())?;
+    set("knn_index", c.index.name().into_pyobject(py)?.into_any())?;
+    set("warm_start_recent", c.warm_start_recent.into_pyobject(py)?.into_any())?;
+    set("babble_step", c.babble_step.into_pyobject(py)?.into_any())?;
+    set("actuator_candidates", c.actuator_candidates.into_pyobject(py)?.into_any())?;
+    set("actuator_reset_every", c.actuator_reset_every.into_pyobject(py)?.into_any())?;
+    set("paradigm", c.paradigm.name().into_pyobject(py)?.into_any())?;
+    set("episodic_noise", c.episodic.noise.into_pyobject(py)?.into_any())?;
+    set("episodic_refine", pyo3::types::PyBool::new(py, c.episodic.refine).to_owned().into_any())?;
+    set("episodic_k", c.episodic.k_refine.into_pyobject(py)?.into_any())?;
+    Ok(d)
+}
+
+/// The default parameters of the teachers a run can take (`teacher_params`), by teacher: the
+/// defaults of saggriac.RiacSelector, AlpGmmSelector and CovarGmmSelector.
+pub fn teacher_defaults(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
+    let out = PyDict::new(py);
+    let r = RiacConfig::default();
+    let d = PyDict::new(py);
+    d.set_item("max_region_size", r.max_region_size)?;
+    d.set_item("split_attempts", r.split_attempts)?;
+    d.set_item("min_child_share", r.min_child_share)?;
+    d.set_item("min_dims_range_ratio", r.min_dims_range_ratio)?;
+    d.set_item("p_alp", r.p_alp)?;
+    d.set_item("p_random", r.p_random)?;
+    out.set_item("riac", d)?;
+    let mixture = |m: AlpGmmConfig| -> PyResult<Bound<'_, PyDict>> {
+        let d = PyDict::new(py);
+        d.set_item("fit_rate", m.fit_rate)?;
+        d.set_item("max_components", m.max_components)?;
+        d.set_item("random_task_ratio", m.random_task_ratio)?;
+        d.set_item("bootstrap", m.bootstrap)?;
+        Ok(d)
+    };
+    out.set_item("alp_gmm", mixture(AlpGmmConfig::default())?)?;
+    let c = CovarGmmConfig::default();
+    let d = mixture(c.mixture)?;
+    d.set_item("absolute_lp", c.absolute_lp)?;
+    out.set_item("covar_gmm", d)?;
+    Ok(out)
 }

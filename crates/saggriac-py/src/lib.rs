@@ -32,6 +32,18 @@ fn config_debug(config: &Bound<'_, pyo3::types::PyDict>) -> PyResult<String> {
     config::run_config_from_dict(config).map(|c| format!("{c:?}"))
 }
 
+/// config_defaults() -> dict: every parameter's default, as the core declares it.
+#[pyfunction]
+fn config_defaults(py: Python<'_>) -> PyResult<Bound<'_, pyo3::types::PyDict>> {
+    config::defaults(py)
+}
+
+/// teacher_defaults() -> dict: the default parameters of each teacher a run can take.
+#[pyfunction]
+fn teacher_defaults(py: Python<'_>) -> PyResult<Bound<'_, pyo3::types::PyDict>> {
+    config::teacher_defaults(py)
+}
+
 /// child_seed(parent, stream) -> int: the core's seed of one component (SplitMix64 mixing; stream
 /// 1 is the high level, 2 the low level's generator).
 #[pyfunction]
@@ -50,6 +62,8 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("IK_TOLERANCE", saggriac_core::evaluation::test_set::IK_TOLERANCE)?;
     m.add_function(wrap_pyfunction!(validate_config, m)?)?;
     m.add_function(wrap_pyfunction!(config_debug, m)?)?;
+    m.add_function(wrap_pyfunction!(config_defaults, m)?)?;
+    m.add_function(wrap_pyfunction!(teacher_defaults, m)?)?;
     m.add_function(wrap_pyfunction!(child_seed, m)?)?;
     m.add_function(wrap_pyfunction!(competence::competence, m)?)?;
     m.add_function(wrap_pyfunction!(chain::chain_forward, m)?)?;

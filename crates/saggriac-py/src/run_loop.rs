@@ -13,7 +13,7 @@ use saggriac_core::task_space::point;
 use saggriac_core::Learner;
 
 use crate::body::PyBody;
-use crate::config::{in_config_terms, run_config_from_dict};
+use crate::config::{in_config_terms, parse_config};
 use crate::errors::{take_failure, wrap, Slot};
 use crate::goal_selection::PySelector;
 use crate::{evaluation, goal_selection, recorder};
@@ -50,7 +50,7 @@ impl PyLearner {
         env_seed: u64,
         test_cloud: Option<(Vec<Vec<f64>>, Vec<Vec<f64>>)>,
     ) -> PyResult<Self> {
-        let cfg = run_config_from_dict(config)?;
+        let cfg = parse_config(config)?;
         let slot: Slot = Default::default();
         let (n, m) = (cfg.arm.link_lengths.len(), cfg.goal_low.len());
         let body = match environment {
@@ -122,7 +122,7 @@ impl PyLearner {
     /// Learner.restore(config: dict, state: bytes): the learner a checkpoint was taken from.
     #[staticmethod]
     fn restore(py: Python<'_>, config: &Bound<'_, PyDict>, state: &[u8]) -> PyResult<Self> {
-        let cfg = run_config_from_dict(config)?;
+        let cfg = parse_config(config)?;
         let inner = wrap(py, py.detach(|| Learner::restore(cfg, state)))?;
         Ok(PyLearner { inner, slot: Default::default() })
     }

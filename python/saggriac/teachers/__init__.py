@@ -25,6 +25,11 @@ from ..errors import InputError, ParameterError, StorageError
 from ..files import as_path, check_flag, starts_with, write_file
 from ..values import as_numbers as _numbers
 
+# Every default below is the core's (one declaration): SAGG-RIAC's are the run's, the others'
+# those of the teachers a run can take.
+_RUN = _core.config_defaults()
+_RIAC, _ALP, _COVAR = (_core.teacher_defaults()[k] for k in ("riac", "alp_gmm", "covar_gmm"))
+
 #: The first bytes of a teacher saved by ``save(path)``.
 MAGIC = b"saggriac-teacher\n"
 
@@ -224,7 +229,7 @@ class SaggRiacSelector(_AskTellSelector):
 
     _kind = "sagg_riac"
 
-    def __init__(self, low: Any, high: Any, seed: int = 0, *, g_max: int = 50, zeta: int = 20, min_child: int = 5, interest_divisor: str = "zeta", p_interest: float = 0.7, p_global: float = 0.2, p_lowest: float = 0.1) -> None:
+    def __init__(self, low: Any, high: Any, seed: int = 0, *, g_max: int = _RUN["g_max"], zeta: int = _RUN["zeta"], min_child: int = _RUN["min_child"], interest_divisor: str = _RUN["interest_divisor"], p_interest: float = _RUN["p_interest"], p_global: float = _RUN["p_global"], p_lowest: float = _RUN["p_lowest"]) -> None:
         super().__init__(low, high, seed, g_max=g_max, zeta=zeta, min_child=min_child, interest_divisor=interest_divisor, p_interest=p_interest, p_global=p_global, p_lowest=p_lowest)
 
 
@@ -252,7 +257,7 @@ class RiacSelector(_AskTellSelector):
 
     _kind = "riac"
 
-    def __init__(self, low: Any, high: Any, seed: int = 0, *, max_region_size: int = 200, split_attempts: int = 50, min_child_share: float = 0.25, min_dims_range_ratio: float = 1 / 6, p_alp: float = 0.7, p_random: float = 0.2) -> None:
+    def __init__(self, low: Any, high: Any, seed: int = 0, *, max_region_size: int = _RIAC["max_region_size"], split_attempts: int = _RIAC["split_attempts"], min_child_share: float = _RIAC["min_child_share"], min_dims_range_ratio: float = _RIAC["min_dims_range_ratio"], p_alp: float = _RIAC["p_alp"], p_random: float = _RIAC["p_random"]) -> None:
         owner = type(self).__name__
         lo, hi = _vector("low", low), _vector("high", high)
         ints = {k: _int_param(owner, k, v, 0, 2**63) for k, v in (("max_region_size", max_region_size), ("split_attempts", split_attempts))}
@@ -323,7 +328,7 @@ class AlpGmmSelector(_MixtureSelector):
 
     _kind, _make = "alp_gmm", "alp_gmm"
 
-    def __init__(self, low: Any, high: Any, seed: int = 0, *, fit_rate: int = 250, max_components: int = 10, random_task_ratio: float = 0.2, bootstrap: int = 250) -> None:
+    def __init__(self, low: Any, high: Any, seed: int = 0, *, fit_rate: int = _ALP["fit_rate"], max_components: int = _ALP["max_components"], random_task_ratio: float = _ALP["random_task_ratio"], bootstrap: int = _ALP["bootstrap"]) -> None:
         super().__init__(low, high, seed, fit_rate=fit_rate, max_components=max_components, random_task_ratio=random_task_ratio, bootstrap=bootstrap)
 
 
@@ -339,7 +344,7 @@ class CovarGmmSelector(_MixtureSelector):
 
     _kind, _make = "covar_gmm", "covar_gmm"
 
-    def __init__(self, low: Any, high: Any, seed: int = 0, *, fit_rate: int = 250, max_components: int = 10, random_task_ratio: float = 0.2, bootstrap: int = 250, absolute_lp: bool = True) -> None:
+    def __init__(self, low: Any, high: Any, seed: int = 0, *, fit_rate: int = _COVAR["fit_rate"], max_components: int = _COVAR["max_components"], random_task_ratio: float = _COVAR["random_task_ratio"], bootstrap: int = _COVAR["bootstrap"], absolute_lp: bool = _COVAR["absolute_lp"]) -> None:
         super().__init__(low, high, seed, fit_rate=fit_rate, max_components=max_components, random_task_ratio=random_task_ratio, bootstrap=bootstrap, absolute_lp=absolute_lp)
 
 

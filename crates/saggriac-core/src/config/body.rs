@@ -119,6 +119,9 @@ pub struct BodyChange {
 pub const CHAIN_JOINT_LEN: usize = 15;
 /// The most joints an arm may have: a bound of the configuration, the same on every machine
 /// (whether a run of so many fits in memory is checked where the run starts).
+/// The paper's arm: its length (the sum of its links), the default of a run.
+pub const DEFAULT_ARM_LENGTH: f64 = 50.0;
+
 pub const MAX_JOINTS: usize = 1_000_000;
 
 /// One hinge of a chain (`crate::body::chain` has the kinematics): the fixed transform from the

@@ -123,7 +123,7 @@ impl Default for RunConfig {
             paradigm: Paradigm::MicroActions,
             episodic: EpisodicConfig::default(),
             n_steps: 50_000,
-            arm: ArmConfig::uniform(15, 50.0, std::f64::consts::FRAC_PI_2, 0.05),
+            arm: ArmConfig::uniform(15, body::DEFAULT_ARM_LENGTH, std::f64::consts::FRAC_PI_2, 0.05),
             goal_low: vec![0.0, -50.0],
             goal_high: vec![50.0, 50.0],
             reaching: ReachingConfig::default(),
