@@ -22,7 +22,7 @@ import pandas as pd
 import pyarrow.parquet as pq
 
 from ..errors import ParameterError, StorageError
-from ..storage import MANIFEST, as_path, clear_stale_lock, run_damage
+from ..runs.storage import MANIFEST, as_path, clear_stale_lock, run_damage
 # _COST_HINT: imported by benchmarks/sensitivity.py from here, where it used to live.
 from .backends import _COST_HINT, SCHEDULER_TIMEOUT, _check_scheduler, _default_workers, _import_distributed, _longest_first_by_seed, _run_dask, _run_local, local_cluster  # noqa: F401 (_COST_HINT)
 from .folder import _check_or_write_spec, _check_study_folder, _folder_lock, _is_finished, _remove_leftovers, _set_aside

@@ -17,7 +17,7 @@ from .. import _core
 from ..config import Config
 from ..errors import ParameterError, StorageError
 from ..files import write_file
-from ..storage import MANIFEST, run_damage
+from ..runs.storage import MANIFEST, run_damage
 from .spec import _FORMAT, LOCK_FILE, RUNS_DIR, STUDY_FILE, Study, Task
 
 

@@ -29,8 +29,8 @@ from typing import Any, Callable
 import numpy as np
 import pandas as pd
 
-from .errors import StorageError
-from .files import _fsync, as_path, check_seal, seal  # noqa: F401 (as_path: runner, study and cli take it from here)
+from ..errors import StorageError
+from ..files import _fsync, as_path, check_seal, seal  # noqa: F401 (as_path: runner, study and cli take it from here)
 
 MANIFEST = "run.json"
 TABLES = ("metrics", "goals", "attempts", "regions")

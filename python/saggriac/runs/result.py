@@ -9,7 +9,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from .config import Config
+from ..config import Config
 from .storage import read_run
 
 

@@ -21,12 +21,12 @@ from typing import Any
 
 import numpy as np
 
-from .config import Config
-from .errors import ParameterError
+from ..config import Config
+from ..errors import ParameterError
 from .resources import check_run_fits, check_threads
 from .result import RunResult
 from .runner import _build, _result
-from .seeding import check_seed
+from ..seeding import check_seed
 
 
 class Learner:

@@ -16,8 +16,8 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from .teachers import MODES
-from .reachable import ReachableSet
+from ..teachers import MODES
+from ..reachable import ReachableSet
 
 
 def time_budget(goals: pd.DataFrame, profile: Mapping[str, Any], n_steps: int, reach: float | ReachableSet | None) -> dict[str, Any]:

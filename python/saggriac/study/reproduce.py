@@ -9,14 +9,14 @@ from typing import Any
 
 import pandas as pd
 
-from . import plots, splits, statistics
-from .config import CONDITIONS, PRESETS, Config
-from .errors import ParameterError, StorageError
-from .files import as_path, write_file
-from .reachable import ReachableSet
-from .result import RunResult
-from .storage import signed_integers
-from .study import Study, load_study, run_study
+from ..analysis import plots, splits, statistics
+from ..config import CONDITIONS, PRESETS, Config
+from ..errors import ParameterError, StorageError
+from ..files import as_path, write_file
+from ..reachable import ReachableSet
+from ..runs.result import RunResult
+from ..runs.storage import signed_integers
+from . import Study, load_study, run_study
 
 FIGURES = "figures"
 #: A study of more seeds is a cluster's job: the seed list and per-run bookkeeping are held in memory.

@@ -13,10 +13,10 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .errors import ParameterError
+from ..errors import ParameterError
 
 if TYPE_CHECKING:
-    from .config import Config
+    from ..config import Config
 
 #: Interpreter, numpy, pandas and the compiled core, before any sample.
 BASE_BYTES = 200_000_000

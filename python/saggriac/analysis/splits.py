@@ -13,9 +13,9 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from .config import Config
-from .teachers import SaggRiacSelector
-from .reachable import ReachableSet
+from ..config import Config
+from ..teachers import SaggRiacSelector
+from ..reachable import ReachableSet
 
 
 def _dims(regions: pd.DataFrame) -> list[str]:

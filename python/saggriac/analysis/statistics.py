@@ -14,7 +14,7 @@ import numpy as np
 import pandas as pd
 from scipy import stats as sps
 
-from .config import CONDITIONS
+from ..config import CONDITIONS
 
 METRICS = ("reach_error", "pred_error", "dx_error")
 COLUMNS = ["metric", "step", "test", "a", "b", "mean_a", "mean_b", "mean_diff", "ci_low", "ci_high", "statistic", "df", "p_value", "p_holm", "effect", "effect_name", "n"]

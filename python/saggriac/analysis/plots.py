@@ -14,10 +14,10 @@ from matplotlib.figure import Figure
 from matplotlib.patches import Arc, Patch, Rectangle
 from matplotlib.ticker import FuncFormatter
 
-from . import _core
-from .config import Config
-from .files import write_file
-from .reachable import ReachableSet
+from .. import _core
+from ..config import Config
+from ..files import write_file
+from ..reachable import ReachableSet
 
 PNG = b"\x89PNG\r\n\x1a\n"
 #: Written into every figure's PNG metadata, so that saggriac recognises its own files.
@@ -122,7 +122,7 @@ def goal_histograms_figure(run_dir: str | Path, n_windows: int = 4, bins: int = 
     drawn to scale (equal aspect: the half-disk of exp1 looks like one). A 3-D goal space gets
     two rows of panels: its (x, y) and (x, z) projections; a 1-D one gets plain histograms with
     the region boundaries as vertical lines."""
-    from .result import RunResult
+    from ..runs.result import RunResult
 
     res = RunResult.load(run_dir)
     cfg = res.config
@@ -227,7 +227,7 @@ def arm_points(theta: np.ndarray, lengths: np.ndarray) -> np.ndarray:
 
 def spatial_arm_points(theta: np.ndarray, lengths: np.ndarray) -> np.ndarray:
     """Joint positions of the spatial arm, base first (n + 1 points in 3-D)."""
-    from .environments import SpatialArm
+    from ..environments import SpatialArm
 
     # Joint i sits at the tip of the arm made of the first i links.
     return np.vstack([np.zeros(3)] + [SpatialArm(link_lengths=lengths[:i]).forward(theta[:i]) for i in range(1, len(theta) + 1)])

@@ -17,15 +17,15 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import pandas as pd
 
-from . import _core
-from .config import Config
-from .errors import ParameterError, StorageError
-from .reachable import ReachableSet
+from .. import _core
+from ..config import Config
+from ..errors import ParameterError, StorageError
+from ..reachable import ReachableSet
 from .result import RunResult
-from .scale import body_scale
-from .files import check_seal, seal
-from .seeding import check_seed, derive_seeds, environment_seed
-from .testing import _joint_space
+from ..scale import body_scale
+from ..files import check_seal, seal
+from ..seeding import check_seed, derive_seeds, environment_seed
+from ..testing import _joint_space
 from .resources import check_run_fits, check_threads, checkpoint_bytes
 from .storage import MIN_FREE_BYTES, as_path, check_output_dir, replace_dir, sibling, target_lock, write_run
 from .time_budget import time_budget
@@ -33,8 +33,8 @@ from .time_budget import time_budget
 CHECKPOINT_FILES = frozenset({"state.bin", "checkpoint.json"})
 
 if TYPE_CHECKING:
-    from .environments import Environment
-    from .teachers import GoalSelectorProtocol
+    from ..environments import Environment
+    from ..teachers import GoalSelectorProtocol
 
 
 def _xy_columns(d: dict[str, np.ndarray]) -> pd.DataFrame:
@@ -106,7 +106,7 @@ def _build(config: Config, seed: int, threads: int, environment: Any, goal_selec
     core = config.core_dict()
     if environment is not None:
         # The core calls it from its loop; check the protocol first so mistakes read plainly.
-        from .testing import check_environment_interface
+        from ..testing import check_environment_interface
 
         check_environment_interface(environment, config)
         extra["environment"] = environment
@@ -121,7 +121,7 @@ def _build(config: Config, seed: int, threads: int, environment: Any, goal_selec
     if goal_selector is not None:
         if config.teacher != "own":
             raise ParameterError(f"The 'goal_selector' parameter of {owner} replaces the run's teacher, and Config names teacher={config.teacher!r}: give one of them (Config(teacher='own') with a goal_selector).", "goal_selector", type(goal_selector).__name__)
-        from .testing import check_goal_selector_interface
+        from ..testing import check_goal_selector_interface
 
         check_goal_selector_interface(goal_selector, config)
         extra["goal_selector"] = goal_selector
