@@ -30,7 +30,7 @@ import numpy as np
 import pandas as pd
 
 from ..errors import StorageError
-from ..files import _fsync, as_path, check_seal, seal  # noqa: F401 (as_path: runner, study and cli take it from here)
+from ..files import _fsync, as_path, check_seal, lock, seal  # noqa: F401 (as_path: runner, study and cli take it from here)
 
 MANIFEST = "run.json"
 TABLES = ("metrics", "goals", "attempts", "regions")
@@ -163,64 +163,31 @@ def target_lock(out: Path, what: str = "run") -> Iterator[None]:
     """Hold an exclusive lock on ``out`` (through ``.NAME.lock`` beside it) for the whole run, so a
     second run on the same target is refused at once. The lock file is removed on release; the
     kernel drops the lock if the process dies."""
-    try:
-        import fcntl
-    except ImportError:  # pragma: no cover - Windows: no advisory locks
-        yield
-        return
     out = Path(out)
     try:
         out.parent.mkdir(parents=True, exist_ok=True)
     except OSError as e:
         raise StorageError(f"Cannot create the output folder {out.parent}: {e.strerror}.") from None
     path = sibling(out, ".lock")
-    while True:
+    with contextlib.ExitStack() as held:
         try:
-            fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o644)
+            held.enter_context(lock(path, f"Another saggriac {what} is writing to {out}; wait for it to finish (or stop it) first.", remove=True))
+        except StorageError:
+            raise
         except OSError as e:
             raise StorageError(f"Cannot lock {out} ({path}): {e.strerror}.") from None
-        try:
-            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except BlockingIOError:
-            os.close(fd)
-            raise StorageError(f"Another saggriac {what} is writing to {out}; wait for it to finish (or stop it) first.") from None
-        except OSError:  # pragma: no cover - file systems without flock: go on unlocked
-            break
-        # The holder before us may have removed the file after we opened it: lock the live one.
-        try:
-            same = os.fstat(fd).st_ino == os.stat(path).st_ino
-        except FileNotFoundError:
-            same = False
-        if same:
-            break
-        os.close(fd)
-    try:
         yield
-    finally:
-        with contextlib.suppress(OSError):
-            path.unlink()
-        os.close(fd)
 
 
 def clear_stale_lock(out: Path) -> None:
     """Remove the lock file of ``out`` left by a process killed after its run finished but
     before :func:`target_lock` released it; a lock a live process holds is kept."""
-    try:
-        import fcntl
-    except ImportError:  # pragma: no cover - Windows: no lock files are made
-        return
     path = sibling(Path(out), ".lock")
-    try:
-        fd = os.open(path, os.O_RDWR)
-    except OSError:
+    if not os.path.lexists(path):
         return
-    try:
-        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        path.unlink(missing_ok=True)
-    except OSError:
-        pass  # held by a live process
-    finally:
-        os.close(fd)
+    # Held by a live process (a StorageError), or not ours to open: kept.
+    with contextlib.suppress(OSError), lock(path, "held", remove=True):
+        pass
 
 
 _RENAME_NOREPLACE = 1
