@@ -49,7 +49,7 @@ import pandas as pd
 
 import saggriac as sg
 from saggriac.statistics import holm, paired
-from saggriac.study import _COST_HINT
+from saggriac.study import COST_HINT
 
 TUNING_SEEDS = tuple(range(100, 115))
 SAGG = ("sagg_riac", "sagg_random")
@@ -186,7 +186,7 @@ def rest_cells(cells: list[Cell], params: set[str], conditions: tuple[str, ...],
 
 
 def cost(cell: Cell) -> float:
-    return sum(t.config["n_steps"] * _COST_HINT.get(t.condition, 1.0) for t in cell.study.tasks())
+    return sum(t.config["n_steps"] * COST_HINT.get(t.condition, 1.0) for t in cell.study.tasks())
 
 
 def run_cells(cells: list[Cell], out: Path, workers: int) -> None:

@@ -56,3 +56,26 @@ def test_bad_config_is_refused():
     with pytest.raises(ParameterError, match="'config' parameter of Learner"):
         sg.Learner({"n_steps": 10})
     assert "steps=0 of 3000" in repr(sg.Learner(small(), 1))
+
+
+def test_a_saved_checkpoint_resumes_to_the_run(tmp_path):
+    cfg = small()
+    ref = sg.run(cfg, seed=4)
+    learner = sg.Learner(cfg, seed=4, threads=1)
+    learner.run(until=1200)
+    out = tmp_path / "run"
+    ck = learner.save_checkpoint(out, checkpoint_every=1000)
+    assert ck == sg.runs.checkpoint_dir(out) and sorted(p.name for p in ck.iterdir()) == ["checkpoint.json", "state.bin"]
+    got = sg.resume(out)
+    assert got.manifest["resumed_at_step"] == learner.steps and not ck.exists()
+    for name in ("metrics", "goals", "attempts", "regions"):
+        pd.testing.assert_frame_equal(getattr(got, name), getattr(ref, name), check_exact=True)
+
+
+@pytest.mark.parametrize("every", [0, 1.5, True, None])
+def test_bad_checkpoint_arguments_are_refused(every, tmp_path):
+    with pytest.raises(ParameterError, match="'checkpoint_every' parameter of Learner.save_checkpoint"):
+        sg.Learner(small(), 0).save_checkpoint(tmp_path / "r", every)
+    with pytest.raises(ParameterError, match="not available with a user's environment"):
+        sg.Learner(small(), 0, environment=sg.environments.PlanarArm()).save_checkpoint(tmp_path / "r", 1000)
+    assert not any(tmp_path.iterdir())

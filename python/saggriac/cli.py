@@ -29,7 +29,9 @@ def _parse_value(text: str) -> Any:
         return text
 
 
-def _overrides(pairs: list[str]) -> dict[str, Any]:
+def parse_overrides(pairs: list[str]) -> dict[str, Any]:
+    """``--set`` arguments (``["g_max=40", "condition=sagg_random"]``) as Config keyword
+    arguments, each value read as TOML reads it (bare words stay strings)."""
     out: dict[str, Any] = {}
     for p in pairs:
         if "=" not in p:
@@ -40,6 +42,9 @@ def _overrides(pairs: list[str]) -> dict[str, Any]:
             raise SaggriacError(f"--set {k}=... is given twice; give it once.")
         out[k] = _parse_value(v.strip())
     return out
+
+
+_overrides = parse_overrides  # its former, private name
 
 
 def _cmd_run(args: argparse.Namespace) -> int:
@@ -54,7 +59,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
         print(f"resumed at step {res.manifest['resumed_at_step']}")
         _print_run(res, res.config, res.seed, res.path)
         return 0
-    overrides = _overrides(args.set)
+    overrides = parse_overrides(args.set)
     for flag, key, value in (("--steps", "n_steps", args.steps), ("--condition", "condition", args.condition)):
         if value is None:
             continue

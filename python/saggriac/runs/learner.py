@@ -6,6 +6,9 @@
     learner.run()                      # on to the end of the budget
     result = learner.result()          # a RunResult, as run() returns it (result.save(path))
 
+``learner.save_checkpoint(out_dir, checkpoint_every=N)`` saves it as ``run(..., out_dir=...,
+checkpoint_every=N)`` does on the way; ``saggriac.resume(out_dir)`` then runs it to the end.
+
 ``run(config, seed, ...)`` is this class run to the end with its result written; the two give
 the same bits, however the run is cut into pieces. A learner stops only after an evaluation
 (``Config.schedule()``), at the end of the goal attempt during which it fell: that is where its
@@ -17,16 +20,19 @@ it (the results are the same bits either way); with ``threads=1`` it stops right
 from __future__ import annotations
 
 import time
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from ..config import Config
 from ..errors import ParameterError
+from ..files import as_path, check_flag
+from ..seeding import check_seed
 from .resources import check_run_fits, check_threads
 from .result import RunResult
-from .runner import _build, _result
-from ..seeding import check_seed
+from .runner import _build, _result, _write_checkpoint, checkpoint_dir
+from .storage import check_output_dir, target_lock
 
 
 class Learner:
@@ -97,6 +103,26 @@ class Learner:
     def checkpoint(self) -> bytes:
         """The learner's whole state, as ``run(..., checkpoint_every=N)`` saves it."""
         return bytes(self._inner.checkpoint())
+
+    def save_checkpoint(self, out_dir: str | Path, checkpoint_every: int, overwrite: bool = False) -> Path:
+        """Save the learner's whole state as the checkpoint of the run that is to be written to
+        ``out_dir``, as ``run(config, seed, out_dir, overwrite, checkpoint_every=N)`` saves it on
+        the way: ``saggriac.resume(out_dir)`` then runs it to the end of the budget, checkpointing
+        every ``checkpoint_every`` steps, and writes the result there. Returns the checkpoint's
+        folder (beside ``out_dir``)."""
+        owner = "Learner.save_checkpoint"
+        out = as_path(out_dir, "out_dir", owner)
+        every = checkpoint_every
+        if isinstance(every, bool) or not isinstance(every, (int, np.integer)) or every < 1:
+            raise ParameterError(f"The 'checkpoint_every' parameter of {owner} must be an int >= 1 (time steps). Got {every!r} instead.", "checkpoint_every", repr(every))
+        check_flag(overwrite, "overwrite", owner)
+        if "environment" in self._extras or "goal_selector" in self._extras:
+            raise ParameterError(f"{owner} is not available with a user's environment or goal selector (saggriac cannot save their state).", "checkpoint_every", repr(every))
+        # Refuse now a target that resume() could not write to.
+        check_output_dir(out, overwrite)
+        with target_lock(out):
+            _write_checkpoint(out, self.checkpoint(), {**self._info, "overwrite": overwrite}, self.config, self.steps, int(every))
+        return checkpoint_dir(out)
 
     def result(self) -> RunResult:
         """What was learnt so far, as :func:`saggriac.run` returns it (nothing is written;
