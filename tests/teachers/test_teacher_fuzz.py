@@ -1,5 +1,5 @@
-"""Fuzzing the public API with Hypothesis: any input gives a result or a saggriac error, never a
-crash or another exception, and accepted inputs keep their invariants.
+"""Fuzzing a goal selector with Hypothesis: any sequence of asks and tells gives a result or
+a saggriac error, and its leaves keep tiling the box and holding every measurement.
 
 Examples per property: 60 in CI; `SAGGRIAC_FUZZ_EXAMPLES=N` raises it (see
 benchmarks/fuzz_campaign.py for the long campaign and its counts).
@@ -16,7 +16,8 @@ from hypothesis import HealthCheck, given, settings  # noqa: E402
 from hypothesis import strategies as st  # noqa: E402
 
 import saggriac  # noqa: E402
-from saggriac.errors import InputError, ParameterError, SaggriacError  # noqa: E402
+from saggriac.errors import InputError, ParameterError  # noqa: E402
+
 
 EXAMPLES = int(os.environ.get("SAGGRIAC_FUZZ_EXAMPLES", "60"))
 FUZZ = settings(max_examples=EXAMPLES, deadline=None, derandomize=True, suppress_health_check=list(HealthCheck), database=None)
@@ -31,25 +32,6 @@ floats = st.one_of(
     st.floats(allow_nan=True, allow_infinity=True),
     st.sampled_from([0.0, -0.0, 1e-300, -1e-300, 1e300, 5e-324, 0.5, 1.0, 2.0, math.pi]),
 )
-anything = st.one_of(floats, st.integers(-(2**70), 2**70), st.booleans(), st.none(), st.text(max_size=5), st.lists(floats, max_size=4))
-FIELDS = sorted(f for f in saggriac.Config.__dataclass_fields__ if f not in ("condition", "paradigm"))
-
-
-@FUZZ
-@given(st.dictionaries(st.sampled_from(FIELDS + ["bogus", "condition", "paradigm"]), anything, max_size=4))
-def test_config_accepts_or_names_the_parameter(overrides):
-    count("config")
-    try:
-        cfg = saggriac.Config.from_preset("exp1", **overrides)
-    except ParameterError as e:
-        assert e.param, str(e)
-        return
-    except SaggriacError as e:  # any other saggriac error is a defect here
-        raise AssertionError(f"unexpected {type(e).__name__}: {e}")
-    # Accepted: the core agrees, and the schedule is valid.
-    saggriac._core.validate_config(cfg.core_dict())
-    s = cfg.schedule()
-    assert s == sorted(set(s)) and s[-1] <= cfg.n_steps
 
 
 bounds = st.integers(1, 4).flatmap(
@@ -110,27 +92,6 @@ def test_goal_selector_survives_any_sequence(lohw, seed, ops, g_max):
     assert int(leaves["n_measurements"].sum()) == told
     vol = np.prod(leaves["high"] - leaves["low"], axis=1).sum()
     assert vol == pytest.approx(np.prod(high - low), rel=1e-9)
-
-
-@FUZZ
-@given(
-    st.sampled_from(["sagg_riac", "sagg_random", "actuator_random", "actuator_riac"]),
-    st.sampled_from(["micro_actions", "episodic"]),
-    st.integers(1, 300),
-    st.integers(1, 6),
-    st.floats(0.05, math.pi),
-    st.integers(0, 2**63 - 1),
-    st.sampled_from(["exp1", "arm3d"]),
-)
-def test_tiny_runs_finish_with_finite_curves(condition, paradigm, n_steps, n_joints, limit, seed, preset):
-    count("run")
-    try:
-        cfg = saggriac.Config.from_preset(preset, condition=condition, paradigm=paradigm, n_steps=n_steps, n_joints=n_joints, joint_limit=limit, n_evals=2, n_test_goals=5, n_test_configs=5, k_neighbours=3, g_max=6, zeta=2, min_child=1, episodic_k=2)
-    except ParameterError:
-        return
-    res = saggriac.run(cfg, seed=seed)
-    assert res.steps[-1] == n_steps
-    assert np.all(np.isfinite(res.reach_error)) and np.all(np.isfinite(res.pred_error))
 
 
 def teardown_module(module):

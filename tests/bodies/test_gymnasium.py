@@ -238,7 +238,7 @@ def test_the_curriculum_example_runs():
     import sys
     from pathlib import Path
 
-    script = Path(__file__).resolve().parents[1] / "examples" / "gymnasium_curriculum.py"
+    script = Path(__file__).resolve().parents[2] / "examples" / "gymnasium_curriculum.py"
     out = subprocess.run([sys.executable, str(script), "--envs", "4", "--episodes", "8"], capture_output=True, text=True, check=True).stdout
     lines = [ln for ln in out.splitlines() if "mean test error" in ln]
     assert [ln.split(":")[0].strip() for ln in lines] == ["sagg_riac", "random"]

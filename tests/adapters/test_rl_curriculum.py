@@ -13,7 +13,7 @@ import pytest
 if os.environ.get("SAGGRIAC_REQUIRE_EXTRAS") != "1":
     pytest.importorskip("stable_baselines3", reason='the SB3 extra is not installed (pip install "saggriac[sb3]")')
 
-SCRIPT = Path(__file__).resolve().parents[1] / "benchmarks" / "rl_curriculum.py"
+SCRIPT = Path(__file__).resolve().parents[2] / "benchmarks" / "rl_curriculum.py"
 
 
 def test_the_study_runs_and_reports(tmp_path):

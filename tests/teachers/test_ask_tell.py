@@ -10,7 +10,7 @@ import pytest
 import saggriac
 from saggriac.errors import InputError, ParameterError
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 
 
 def toy_competence(goal, practised, rng):

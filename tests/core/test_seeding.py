@@ -8,7 +8,7 @@ import saggriac as sg
 from saggriac import _core
 from saggriac.seeding import FIXED, derive_seeds, environment_seed, seed_tree, selector_seed
 
-CORE = Path(__file__).resolve().parents[1] / "crates" / "saggriac-core" / "src"
+CORE = Path(__file__).resolve().parents[2] / "crates" / "saggriac-core" / "src"
 
 
 def test_the_tree_holds_the_seeds_the_run_uses():
