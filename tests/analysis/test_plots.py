@@ -44,7 +44,7 @@ def _snapshot(p: Path):
 
 
 def test_figures_replace_only_saggriac_figures(tmp_path):
-    from saggriac import plots
+    from saggriac.analysis import plots
 
     cfg = Config.from_preset("exp1")
     mine = tmp_path / "photo.png"

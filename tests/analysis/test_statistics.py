@@ -5,7 +5,7 @@ import pandas as pd
 import pytest
 from scipy import stats as sps
 
-from saggriac import statistics
+from saggriac.analysis import statistics
 
 
 def tidy(groups, metric="reach_error", step=100):

@@ -8,7 +8,7 @@ import pandas as pd
 import pytest
 
 import saggriac
-from saggriac import plots
+from saggriac.analysis import plots
 from saggriac.environments import Box, PlanarArm, SpatialArm
 from saggriac.errors import InputError, ParameterError
 from saggriac.testing import check_environment
@@ -104,7 +104,7 @@ def test_a_one_dimensional_task_space(tmp_path):
     assert "goal_x" in res.goals.columns and "goal_y" not in res.goals.columns
     assert np.all(np.isfinite(res.reach_error)) and res.reach_error[-1] < 0.5 * res.reach_error[0], res.reach_error
     # Its goal histograms are plain 1-D histograms.
-    from saggriac import plots
+    from saggriac.analysis import plots
 
     out = plots.plot_goal_histograms(tmp_path / "run", tmp_path / "goals.png")
     assert out.stat().st_size > 10_000

@@ -57,7 +57,7 @@ def test_an_unknown_kind_is_refused_with_the_rule():
 
 
 def test_split_null_model_replays_trees_exactly():
-    from saggriac.splits import replay_regions, split_shares
+    from saggriac.analysis.splits import replay_regions, split_shares
 
     cfg = Config.from_preset("exp2", n_steps=30000, n_evals=1)
     riac = saggriac.run(cfg, seed=103)
@@ -69,6 +69,6 @@ def test_split_null_model_replays_trees_exactly():
     shares = split_shares(riac.regions, cfg.reach)
     assert len(shares) == 4 and all(0.0 <= s <= 1.0 for s in shares if not np.isnan(s))
     # The whole goal box of exp2 is 8.7 % reachable (a half-disk of radius 50 in 150 x 300).
-    from saggriac.splits import reachable_share
+    from saggriac.analysis.splits import reachable_share
 
     assert reachable_share(np.array([0.0, -150.0]), np.array([150.0, 150.0]), 50.0, grid=300) == pytest.approx(np.pi * 50**2 / 2 / (150 * 300), abs=2e-3)

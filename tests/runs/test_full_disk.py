@@ -12,7 +12,7 @@ from saggriac.errors import StorageError
 
 
 def test_the_free_space_check_counts_the_checkpoints(tmp_path, monkeypatch):
-    from saggriac import resources, storage
+    from saggriac.runs import resources, storage
 
     cfg = Config.from_preset("exp2", n_evals=1)
     need = 2 * resources.checkpoint_bytes(cfg)
@@ -22,11 +22,11 @@ def test_the_free_space_check_counts_the_checkpoints(tmp_path, monkeypatch):
     with pytest.raises(StorageError, match="MB free"):
         saggriac.run(cfg, 0, out_dir=tmp_path / "r", checkpoint_every=50_000)
     # Without checkpoints the same disk is enough to start.
-    storage.check_output_dir(tmp_path / "r", False, saggriac.runner._min_free(cfg, None))
+    storage.check_output_dir(tmp_path / "r", False, saggriac.runs.runner._min_free(cfg, None))
 
 
 def test_a_failed_checkpoint_write_warns_and_the_run_finishes(tmp_path, monkeypatch):
-    from saggriac import runner
+    from saggriac.runs import runner
 
     real = runner._write_checkpoint
     calls = []

@@ -23,10 +23,10 @@ from hypothesis import HealthCheck, given, settings  # noqa: E402
 from hypothesis import strategies as st  # noqa: E402
 
 import saggriac  # noqa: E402
-from saggriac import storage  # noqa: E402
 from saggriac.cli import main  # noqa: E402
 from saggriac.errors import SaggriacError  # noqa: E402
-from saggriac.runner import checkpoint_dir  # noqa: E402
+from saggriac.runs import storage  # noqa: E402
+from saggriac.runs.runner import checkpoint_dir  # noqa: E402
 
 EXAMPLES = max(1, int(os.environ.get("SAGGRIAC_FUZZ_EXAMPLES", "60")) * 2 // 3)
 FUZZ = settings(max_examples=EXAMPLES, deadline=None, derandomize=True, suppress_health_check=list(HealthCheck), database=None)

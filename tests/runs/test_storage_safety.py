@@ -12,10 +12,10 @@ import pandas as pd
 import pytest
 
 import saggriac
-from saggriac import runner, storage
 from saggriac.cli import main
 from saggriac.errors import InputError, ParameterError, StorageError
-from saggriac.runner import checkpoint_dir
+from saggriac.runs import runner, storage
+from saggriac.runs.runner import checkpoint_dir
 
 
 def tiny(**kw):
@@ -423,7 +423,7 @@ def test_a_refused_command_leaves_no_empty_runs_folder(tmp_path, monkeypatch):
 def test_a_config_is_valid_or_not_whatever_the_machine(monkeypatch):
     """Config() reads nothing of the machine (a configuration valid here is valid on a Dask
     worker); the memory check happens where a run starts."""
-    from saggriac import resources
+    from saggriac.runs import resources
 
     def no_machine():
         raise AssertionError("Config() read the machine's memory")

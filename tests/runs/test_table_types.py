@@ -9,7 +9,7 @@ import pyarrow.parquet as pq
 import pytest
 
 import saggriac as sg
-from saggriac.storage import signed_integers
+from saggriac.runs.storage import signed_integers
 
 TABLES = ("metrics", "goals", "attempts", "regions")
 

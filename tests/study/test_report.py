@@ -15,8 +15,9 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from PIL import Image
 
 import saggriac
-from saggriac import plots, reproduce as rep
+from saggriac.analysis import plots
 from saggriac.cli import main
+from saggriac.study import reproduce as rep
 from saggriac.errors import StorageError
 
 STEPS = 400

@@ -4,7 +4,7 @@ import pandas as pd
 import pytest
 
 from saggriac.cli import main
-from saggriac.reproduce import reproduce
+from saggriac.study.reproduce import reproduce
 
 PNG = b"\x89PNG\r\n\x1a\n"
 
