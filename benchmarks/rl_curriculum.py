@@ -129,7 +129,7 @@ def one_run(job: tuple[str, int, int, int, str]) -> str:
 
 
 def compare(runs: pd.DataFrame, metric: str, pairs: list[tuple[str, str]]) -> pd.DataFrame:
-    from saggriac.statistics import holm, paired
+    from saggriac.analysis.statistics import holm, paired
 
     wide = runs.pivot(index="seed", columns="teacher", values=metric)
     rows = []

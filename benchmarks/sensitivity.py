@@ -14,7 +14,7 @@ and metric against its reference), ``OUT/decisions.csv``, ``OUT/results.md`` and
 
 Runs are evaluated only at step 0 and at their last step (``n_evals=1``): every metric of the
 study is read at the last step, and the evaluation does not change what a run learns (the last
-row is the same bits with any schedule; tests/test_eval_schedule.py).
+row is the same bits with any schedule; tests/core/test_eval_schedule.py).
 
 Reruns (docs/sensitivity.md, "Deviations"):
 
@@ -48,7 +48,7 @@ import numpy as np
 import pandas as pd
 
 import saggriac as sg
-from saggriac.statistics import holm, paired
+from saggriac.analysis.statistics import holm, paired
 from saggriac.study import COST_HINT
 
 TUNING_SEEDS = tuple(range(100, 115))
