@@ -14,7 +14,7 @@ import platform
 import time
 
 import saggriac
-from saggriac.cli import _overrides
+from saggriac.cli import parse_overrides
 
 
 def main() -> None:
@@ -25,7 +25,7 @@ def main() -> None:
     p.add_argument("--knn-index", default="blocks", choices=["blocks", "brute_force"])
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
     args = p.parse_args()
-    overrides = _overrides(args.set)
+    overrides = parse_overrides(args.set)
     overrides["knn_index"] = args.knn_index
     if args.steps is not None:
         overrides["n_steps"] = args.steps

@@ -46,7 +46,7 @@ import numpy as np
 import pandas as pd
 
 import saggriac as sg
-from saggriac.statistics import holm, paired
+from saggriac.analysis.statistics import holm, paired
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from goal_placement import zones  # noqa: E402  (the reachable area, as goal_placement.py defines it)

@@ -1,6 +1,8 @@
-"""The long fuzzing campaign: the Hypothesis properties of tests/test_fuzz.py (parameter values,
-ask/tell sequences, tiny runs) and tests/test_fuzz_storage.py (targets, permissions, concurrent
-runs, corrupted files) with many more examples, and the Rust proptest properties with more cases.
+"""The long fuzzing campaign: the Hypothesis properties of tests/config/test_config_fuzz.py
+(parameter values), tests/teachers/test_teacher_fuzz.py (ask/tell sequences),
+tests/runs/test_run_fuzz.py (tiny runs) and tests/runs/test_storage_fuzz.py (targets,
+permissions, concurrent runs, corrupted files) with many more examples, and the Rust proptest
+properties with more cases.
 
     python benchmarks/fuzz_campaign.py [--examples 4000] [--rust-cases 2048]
 
@@ -11,6 +13,7 @@ same properties with 60 examples each (and the Rust ones with their default case
 from __future__ import annotations
 
 import argparse
+import ast
 import os
 import re
 import subprocess
@@ -25,10 +28,12 @@ def main() -> None:
     a = p.parse_args()
     t0 = time.perf_counter()
     env = {**os.environ, "SAGGRIAC_FUZZ_EXAMPLES": str(a.examples)}
-    py = subprocess.run([sys.executable, "-m", "pytest", "-q", "-s", "-p", "no:cacheprovider", "tests/test_fuzz.py", "tests/test_fuzz_storage.py"], env=env, capture_output=True, text=True)
-    counts = re.search(r"fuzz examples: (\{.*\})", py.stdout)
+    files = ["tests/config/test_config_fuzz.py", "tests/teachers/test_teacher_fuzz.py", "tests/runs/test_run_fuzz.py", "tests/runs/test_storage_fuzz.py"]
+    py = subprocess.run([sys.executable, "-m", "pytest", "-q", "-s", "-p", "no:cacheprovider", *files], env=env, capture_output=True, text=True)
+    # Each fuzz file prints the counts of its own properties.
+    counts = {k: v for found in re.findall(r"fuzz examples: (\{.*\})", py.stdout) for k, v in ast.literal_eval(found).items()}
     storage = re.search(r"storage fuzz cases: (.*)", py.stdout)
-    print(f"Python (Hypothesis), {a.examples} examples per property: {counts.group(1) if counts else '?'}")
+    print(f"Python (Hypothesis), {a.examples} examples per property: {counts or '?'}")
     print(f"Python (Hypothesis), storage scenarios: {storage.group(1) if storage else '?'}; {py.stdout.strip().splitlines()[-1]}")
     env = {**os.environ, "PROPTEST_CASES": str(a.rust_cases)}
     rs = subprocess.run(["cargo", "test", "--release", "-q", "-p", "saggriac-core", "--test", "properties"], env=env, capture_output=True, text=True)

@@ -26,9 +26,9 @@ import numpy as np
 import pandas as pd
 
 import saggriac as sg
+from saggriac.analysis.splits import reachable_shares
+from saggriac.analysis.statistics import paired
 from saggriac.reachable import ReachableSet
-from saggriac.splits import reachable_shares
-from saggriac.statistics import paired
 
 
 def _against_zero(d: np.ndarray) -> str:

@@ -23,7 +23,6 @@ import argparse
 import itertools
 import math
 import multiprocessing as mp
-import os
 import time
 from pathlib import Path
 
@@ -98,6 +97,7 @@ def one_run(job: tuple[str, int, int, int, str]) -> str:
     from stable_baselines3.common.callbacks import BaseCallback, CallbackList
     from stable_baselines3.common.vec_env import DummyVecEnv
 
+    from saggriac.files import write_file
     from saggriac.sb3 import TeacherCallback
 
     torch.set_num_threads(1)
@@ -124,14 +124,12 @@ def one_run(job: tuple[str, int, int, int, str]) -> str:
     success, distance = evaluate(model, goals)
     rows.append(dict(teacher=name, seed=seed, step=0, success=success, distance=distance, episodes=0, reachable_share=float("nan"), seconds=0.0))
     model.learn(steps, callback=CallbackList([teacher, Score()]))
-    tmp = path.with_suffix(f".{os.getpid()}.tmp")
-    pd.DataFrame(rows).to_csv(tmp, index=False)
-    os.replace(tmp, path)
+    write_file(path, lambda tmp: pd.DataFrame(rows).to_csv(tmp, index=False), what="a job's table", overwrite=True)
     return str(path)
 
 
 def compare(runs: pd.DataFrame, metric: str, pairs: list[tuple[str, str]]) -> pd.DataFrame:
-    from saggriac.statistics import holm, paired
+    from saggriac.analysis.statistics import holm, paired
 
     wide = runs.pivot(index="seed", columns="teacher", values=metric)
     rows = []

@@ -31,8 +31,6 @@ import saggriac
 from saggriac import _core
 from saggriac.config import CONDITIONS
 from saggriac.environments import PlanarArm
-from saggriac.runner import _write_checkpoint
-from saggriac.seeding import derive_seeds
 
 TABLES = ("metrics", "goals", "attempts", "regions")
 # Keys of run.json that measure the machine, not the run ("checksum" hashes run.json itself, wall
@@ -189,11 +187,10 @@ def resumed(preset: str, seed: int = 6, **kw: Any) -> Callable[[Path], None]:
 
     def go(out: Path) -> None:
         cfg = saggriac.Config.from_preset(preset, **{"n_steps": STEPS[preset], **SMALL, "n_evals": 15, **kw})
-        learner_seed, eval_seed = derive_seeds(seed)
-        learner = _core.Learner(cfg.core_dict(), learner_seed, eval_seed)
-        learner.run(lambda row: row["step"] < 4000)
-        info = {"seed": seed, "learner_seed": learner_seed, "eval_seed": eval_seed, "overwrite": False}
-        _write_checkpoint(out, learner.checkpoint(), info, cfg, learner.steps, 1000)
+        # One thread: it stops right after the evaluation at step 4000, as the reference did.
+        learner = saggriac.Learner(cfg, seed=seed, threads=1)
+        learner.run(until=4000)
+        learner.save_checkpoint(out, checkpoint_every=1000)
         del learner
         saggriac.resume(out)
 

@@ -14,7 +14,7 @@ and metric against its reference), ``OUT/decisions.csv``, ``OUT/results.md`` and
 
 Runs are evaluated only at step 0 and at their last step (``n_evals=1``): every metric of the
 study is read at the last step, and the evaluation does not change what a run learns (the last
-row is the same bits with any schedule; tests/test_eval_schedule.py).
+row is the same bits with any schedule; tests/core/test_eval_schedule.py).
 
 Reruns (docs/sensitivity.md, "Deviations"):
 
@@ -48,8 +48,8 @@ import numpy as np
 import pandas as pd
 
 import saggriac as sg
-from saggriac.statistics import holm, paired
-from saggriac.study import _COST_HINT
+from saggriac.analysis.statistics import holm, paired
+from saggriac.study import COST_HINT
 
 TUNING_SEEDS = tuple(range(100, 115))
 SAGG = ("sagg_riac", "sagg_random")
@@ -186,7 +186,7 @@ def rest_cells(cells: list[Cell], params: set[str], conditions: tuple[str, ...],
 
 
 def cost(cell: Cell) -> float:
-    return sum(t.config["n_steps"] * _COST_HINT.get(t.condition, 1.0) for t in cell.study.tasks())
+    return sum(t.config["n_steps"] * COST_HINT.get(t.condition, 1.0) for t in cell.study.tasks())
 
 
 def run_cells(cells: list[Cell], out: Path, workers: int) -> None:

@@ -32,8 +32,8 @@ import pandas as pd
 from tqdm import tqdm
 
 import saggriac as sg
+from saggriac.analysis.statistics import holm, paired
 from saggriac.progress_niches import KINDS, ProgressNiches
-from saggriac.statistics import holm, paired
 
 TEACHERS = ("sagg_riac", "riac", "alp_gmm", "covar_gmm", "discrete_lp", "random")
 EXTRA = ("sagg_riac_w",)  # rows for comparison, outside the protocol's family of 15 pairs

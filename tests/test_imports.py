@@ -1,6 +1,7 @@
 """The package's import weight and its names (issue 26): a teacher costs numpy and the core, not
 pandas; the former module name ``saggriac.goal_selection`` is the same module as
-``saggriac.teachers``; run, results and studies load on first use."""
+``saggriac.teachers``, as each module that moved into a subpackage is the module at its new
+path; run, results and studies load on first use."""
 
 import pickle
 import subprocess
@@ -42,3 +43,22 @@ def test_the_former_module_name_is_the_same_module():
     assert b"saggriac.goal_selection" in old_pickle
     back = pickle.loads(old_pickle)
     assert type(back) is saggriac.SaggRiacSelector and back.sample().tolist() == t.sample().tolist()
+
+
+def test_moved_modules_keep_their_former_names():
+    import saggriac.analysis.statistics
+    import saggriac.statistics
+    from saggriac import plots, reproduce, runner, storage
+
+    assert saggriac.statistics.paired is saggriac.analysis.statistics.paired
+    assert runner.run is saggriac.run and storage.write_run is saggriac.runs.storage.write_run
+    assert plots.plot_curves is saggriac.analysis.plots.plot_curves and reproduce.reproduce is saggriac.study.reproduce.reproduce
+    assert saggriac.result is saggriac.runs.result and saggriac.runner is saggriac.runs.runner
+
+
+def test_a_result_pickled_under_the_former_module_name_still_loads(small_config):
+    res = saggriac.run(small_config.replace(n_steps=500, n_evals=2), seed=1)
+    old_pickle = pickle.dumps(res, protocol=0).replace(b"saggriac.runs.result", b"saggriac.result")
+    assert b"saggriac.result\n" in old_pickle
+    back = pickle.loads(old_pickle)
+    assert type(back) is saggriac.RunResult and back.reach_error.tolist() == res.reach_error.tolist()

@@ -1,13 +1,30 @@
 """The shape of the Python package, checked (the Rust crates have tests/layout.rs): no import
-circle among saggriac's modules, and no module over 500 lines."""
+circle among saggriac's modules, no module over 500 lines, and the modules left at a former
+path only point to the new one (nothing in the package imports through them)."""
 
 import ast
+import importlib
 from pathlib import Path
 
 import saggriac
 
 PACKAGE = Path(saggriac.__file__).parent
 MAX_LINES = 500
+#: Former module paths, kept as aliases of the module that moved (issue 26).
+ALIASES = {
+    "saggriac.goal_selection": "saggriac.teachers",
+    "saggriac.learner": "saggriac.runs.learner",
+    "saggriac.plots": "saggriac.analysis.plots",
+    "saggriac.reproduce": "saggriac.study.reproduce",
+    "saggriac.resources": "saggriac.runs.resources",
+    "saggriac.result": "saggriac.runs.result",
+    "saggriac.runner": "saggriac.runs.runner",
+    "saggriac.splits": "saggriac.analysis.splits",
+    "saggriac.statistics": "saggriac.analysis.statistics",
+    "saggriac.storage": "saggriac.runs.storage",
+    "saggriac.time_budget": "saggriac.runs.time_budget",
+}
+MAX_ALIAS_LINES = 10
 
 
 def _modules() -> dict[str, Path]:
@@ -79,9 +96,34 @@ def test_no_import_circle_in_the_package():
     for m in sorted(graph):
         visit(m, [])
     # The check sees the imports (a test that cannot fail is a defect).
-    assert "saggriac.config" in graph["saggriac.runner"] and "saggriac.teachers" in graph["saggriac.syllabus"]
+    assert "saggriac.config" in graph["saggriac.runs.runner"] and "saggriac.teachers" in graph["saggriac.syllabus"]
 
 
 def test_no_module_over_500_lines():
     long = {str(f.relative_to(PACKAGE)): n for f in _modules().values() if (n := len(f.read_text().splitlines())) > MAX_LINES}
     assert not long, f"over {MAX_LINES} lines: {long}"
+
+
+def _points_elsewhere(tree: ast.Module) -> bool:
+    """The module replaces itself in sys.modules (``sys.modules[__name__] = ...``)."""
+    return any(isinstance(n, ast.Assign) and any(isinstance(t, ast.Subscript) and ast.unparse(t) == "sys.modules[__name__]" for t in n.targets) for n in ast.walk(tree))
+
+
+def test_modules_at_former_paths_only_point_to_the_new_ones():
+    modules = _modules()
+    found = {m for m, f in modules.items() if _points_elsewhere(ast.parse(f.read_text()))}
+    assert found == set(ALIASES), "an alias module was added or removed without updating ALIASES"
+    for old, new in ALIASES.items():
+        text = modules[old].read_text()
+        assert len(text.splitlines()) <= MAX_ALIAS_LINES, f"{old} does more than point to {new}"
+        body = [n for n in ast.parse(text).body if not (isinstance(n, ast.Expr) and isinstance(n.value, ast.Constant))]
+        # import sys; from <package> import <module>; sys.modules[__name__] = <module>
+        assert len(body) == 3 and isinstance(body[0], ast.Import) and isinstance(body[1], ast.ImportFrom) and _points_elsewhere(ast.Module(body=[body[2]], type_ignores=[])), f"{old} does more than point to {new}"
+        assert _imports(old, modules) - {new.rpartition(".")[0]} == {new}, f"{old} must import {new} and nothing else of saggriac"
+        assert importlib.import_module(old) is importlib.import_module(new)
+
+
+def test_nothing_in_the_package_imports_through_a_former_path():
+    modules = _modules()
+    users = {m: sorted(_imports(m, modules) & set(ALIASES)) for m in modules if m not in ALIASES}
+    assert not {m: a for m, a in users.items() if a}, "import the new path instead"

@@ -23,10 +23,10 @@ __version__ = _core.__version__
 
 # Names whose modules need pandas and pyarrow: imported when first asked for.
 _LAZY = {
-    "Learner": "learner",
-    "run": "runner",
-    "resume": "runner",
-    "RunResult": "result",
+    "Learner": "runs.learner",
+    "run": "runs.runner",
+    "resume": "runs.runner",
+    "RunResult": "runs.result",
     "Study": "study",
     "run_study": "study",
     "load_study": "study",
@@ -34,15 +34,28 @@ _LAZY = {
 
 
 # Modules that ``import saggriac`` used to load with everything (so ``saggriac.runner`` worked
-# without its own import): loaded when first asked for.
-_SUBMODULES = ("goal_selection", "learner", "reachable", "resources", "result", "runner", "seeding", "storage", "study", "time_budget")
+# without its own import), by the path they now have: loaded when first asked for.
+_SUBMODULES = {
+    "goal_selection": "teachers",
+    "learner": "runs.learner",
+    "reachable": "reachable",
+    "resources": "runs.resources",
+    "result": "runs.result",
+    "runner": "runs.runner",
+    "seeding": "seeding",
+    "storage": "runs.storage",
+    "study": "study",
+    "time_budget": "runs.time_budget",
+    "runs": "runs",
+    "analysis": "analysis",
+}
 
 
 def __getattr__(name: str) -> Any:
     if name in _LAZY:
         value = getattr(import_module(f".{_LAZY[name]}", __name__), name)
     elif name in _SUBMODULES:
-        value = import_module(f".{name}", __name__)
+        value = import_module(f".{_SUBMODULES[name]}", __name__)
     else:
         raise AttributeError(f"module 'saggriac' has no attribute {name!r}")
     globals()[name] = value

@@ -7,7 +7,7 @@ lengths scaled by ``PUSHER_SCALE`` so that it reaches 50, the length of the pape
 task-space parameter keeps the meaning it has for that arm (one unit is 0.821 / 50 m = 1.642 cm).
 One row per joint, from the shoulder to the wrist: the body's position and orientation
 (quaternion w, x, y, z) in the previous joint's frame, the hinge's anchor and axis, its range
-(radians); then the end effector (``tips_arm``). ``tests/test_mujoco_arm.py`` checks these numbers
+(radians); then the end effector (``tips_arm``). ``tests/bodies/test_mujoco_arm.py`` checks these numbers
 against the model and the kinematics against ``mj_kinematics``.
 """
 

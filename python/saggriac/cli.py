@@ -13,7 +13,7 @@ from typing import Any
 from . import _core
 from .config import CONDITIONS, PRESETS, Config, read_toml
 from .errors import SaggriacError, StorageError
-from .storage import RunExistsError, as_path
+from .runs.storage import RunExistsError, as_path
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -29,7 +29,9 @@ def _parse_value(text: str) -> Any:
         return text
 
 
-def _overrides(pairs: list[str]) -> dict[str, Any]:
+def parse_overrides(pairs: list[str]) -> dict[str, Any]:
+    """``--set`` arguments (``["g_max=40", "condition=sagg_random"]``) as Config keyword
+    arguments, each value read as TOML reads it (bare words stay strings)."""
     out: dict[str, Any] = {}
     for p in pairs:
         if "=" not in p:
@@ -42,8 +44,11 @@ def _overrides(pairs: list[str]) -> dict[str, Any]:
     return out
 
 
+_overrides = parse_overrides  # its former, private name
+
+
 def _cmd_run(args: argparse.Namespace) -> int:
-    from .runner import resume, run
+    from .runs.runner import resume, run
 
     if args.resume is not None:
         flags = (("--config", args.config), ("--preset", args.preset), ("--seed", args.seed), ("--steps", args.steps), ("--condition", args.condition), ("--set", args.set), ("--out", args.out), ("--checkpoint-every", args.checkpoint_every), ("--overwrite", args.overwrite))
@@ -54,7 +59,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
         print(f"resumed at step {res.manifest['resumed_at_step']}")
         _print_run(res, res.config, res.seed, res.path)
         return 0
-    overrides = _overrides(args.set)
+    overrides = parse_overrides(args.set)
     for flag, key, value in (("--steps", "n_steps", args.steps), ("--condition", "condition", args.condition)):
         if value is None:
             continue
@@ -114,7 +119,7 @@ def _saved_or_recovered(work: Callable[[], Any], out: Path) -> Any:
         result = getattr(e, "result", None)
         if result is None:
             raise
-        from .runner import recover
+        from .runs.runner import recover
 
         raise SaggriacError(recover(result, out, str(e))) from None
 
@@ -128,7 +133,7 @@ def _print_run(res: Any, cfg: Config, seed: int, out: Path) -> None:
 
 
 def _cmd_reproduce(args: argparse.Namespace) -> int:
-    from .reproduce import final_summary, reproduce, time_budget_summary
+    from .study.reproduce import final_summary, reproduce, time_budget_summary
 
     if args.conditions is None:
         conditions = CONDITIONS
@@ -161,7 +166,7 @@ def _cmd_reproduce(args: argparse.Namespace) -> int:
 
 
 def _cmd_plot(args: argparse.Namespace) -> int:
-    from .reproduce import make_report
+    from .study.reproduce import make_report
 
     for name, path in make_report(args.study).items():
         print(f"{name}: {path}")
@@ -169,7 +174,7 @@ def _cmd_plot(args: argparse.Namespace) -> int:
 
 
 def _cmd_stats(args: argparse.Namespace) -> int:
-    from .reproduce import write_stats
+    from .study.reproduce import write_stats
 
     written = write_stats(args.study)
     print(written["stats_md"].read_text(), end="")

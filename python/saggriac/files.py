@@ -1,5 +1,6 @@
 """Writing one file so that nothing a user has is lost: the one atomic single-file writer of
-saggriac (teachers, figures, study files), and the checks it makes first. Light: no pandas."""
+saggriac (teachers, figures, study files), and the checks it makes first; and the one lock
+(a run's target, a study folder). Light: no pandas."""
 
 from __future__ import annotations
 
@@ -9,10 +10,16 @@ import json
 import os
 import stat
 import tempfile
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any, Callable
 
 from .errors import ParameterError, StorageError
+
+try:
+    import fcntl
+except ImportError:  # pragma: no cover - Windows: no advisory locks
+    fcntl = None  # type: ignore[assignment]
 
 
 def as_path(value: Any, param: str, owner: str) -> Path:
@@ -111,6 +118,45 @@ def _fsync(path: Path) -> None:
         os.close(fd)
 
 
+@contextlib.contextmanager
+def lock(path: Path, busy: str, *, remove: bool = False) -> Iterator[OSError | None]:
+    """Hold an exclusive lock on the file ``path`` (made if missing) until the block ends. If
+    another process holds it, raise ``StorageError(busy)`` at once; the kernel drops the lock
+    when its process dies. An OSError opening the file is left to the caller to word.
+
+    Yields None, or the error of a file system that cannot lock (the block then runs unlocked;
+    where the system has no advisory locks at all, it runs unlocked and None is yielded). With
+    ``remove`` the file is removed on release."""
+    if fcntl is None:  # pragma: no cover - Windows
+        yield None
+        return
+    path = Path(path)
+    while True:
+        fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o644)
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            os.close(fd)
+            raise StorageError(busy) from None
+        except OSError as e:  # pragma: no cover - file systems without flock
+            unlocked: OSError | None = e
+            break
+        unlocked = None
+        # The holder before us may have removed the file after we opened it: lock the live one.
+        try:
+            same = os.fstat(fd).st_ino == os.stat(path).st_ino
+        except FileNotFoundError:
+            same = False
+        if same:
+            break
+        os.close(fd)
+    try:
+        yield unlocked
+    finally:
+        if remove:
+            with contextlib.suppress(OSError):
+                path.unlink()
+        os.close(fd)
 
 
 # -- provenance: a checksum over a JSON record (run.json, checkpoint.json) -----------------------

@@ -164,7 +164,7 @@ class MujocoArm:
         effector, each chosen hinge's anchor, axis and range. Lengths are multiplied by ``scale``
         (100 gives centimetres for a model in metres). ``at_origin`` moves the arm so that the
         first joint's body sits at the origin (its orientation kept). The run then moves the arm
-        with no call into Python or MuJoCo per micro-action; ``tests/test_mujoco_arm.py`` checks
+        with no call into Python or MuJoCo per micro-action; ``tests/bodies/test_mujoco_arm.py`` checks
         it against ``mj_kinematics``."""
         if isinstance(scale, bool) or not isinstance(scale, (int, float)) or not (math.isfinite(scale) and scale > 0):
             raise ParameterError(f"The 'scale' parameter of MujocoArm.chain must be a float > 0. Got {scale!r} instead.", "scale", repr(scale))

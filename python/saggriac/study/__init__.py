@@ -22,9 +22,8 @@ import pandas as pd
 import pyarrow.parquet as pq
 
 from ..errors import ParameterError, StorageError
-from ..storage import MANIFEST, as_path, clear_stale_lock, run_damage
-# _COST_HINT: imported by benchmarks/sensitivity.py from here, where it used to live.
-from .backends import _COST_HINT, SCHEDULER_TIMEOUT, _check_scheduler, _default_workers, _import_distributed, _longest_first_by_seed, _run_dask, _run_local, local_cluster  # noqa: F401 (_COST_HINT)
+from ..runs.storage import MANIFEST, as_path, clear_stale_lock, run_damage
+from .backends import COST_HINT, SCHEDULER_TIMEOUT, _check_scheduler, _default_workers, _import_distributed, _longest_first_by_seed, _run_dask, _run_local, local_cluster
 from .folder import _check_or_write_spec, _check_study_folder, _folder_lock, _is_finished, _remove_leftovers, _set_aside
 from .spec import LOCK_FILE, METRICS, RUNS_DIR, STUDY_FILE, Study, StudyError, Task, run_task
 
@@ -167,4 +166,6 @@ def load_study(out_dir: str | Path) -> pd.DataFrame:
     return pd.concat(parts, ignore_index=True)
 
 
-__all__ = ["Study", "Task", "StudyResult", "StudyError", "run_study", "load_study", "run_task", "local_cluster", "METRICS", "STUDY_FILE", "LOCK_FILE", "RUNS_DIR", "SCHEDULER_TIMEOUT"]
+_COST_HINT = COST_HINT  # its former, private name (older scripts import it from here)
+
+__all__ = ["Study", "Task", "StudyResult", "StudyError", "run_study", "load_study", "run_task", "local_cluster", "METRICS", "STUDY_FILE", "LOCK_FILE", "RUNS_DIR", "SCHEDULER_TIMEOUT", "COST_HINT"]

@@ -38,9 +38,10 @@ def _die_with_parent(parent_pid: int) -> None:
             os._exit(1)
 
 
-# Relative cost of a run per micro-action, by condition (exp2 at full scale, docs/reproduction.md:
-# ACTUATOR-RIAC 28 s, ACTUATOR-Random 11 s, the SAGG conditions 6.4 s). Used only to order work.
-_COST_HINT = {"actuator_riac": 4.0, "actuator_random": 1.7}
+#: Relative cost of a run per micro-action, by condition; 1.0 for the others (exp2 at full scale,
+#: docs/reproduction.md: ACTUATOR-RIAC 28 s, ACTUATOR-Random 11 s, the SAGG conditions 6.4 s).
+#: Used only to order work, and by benchmarks to size theirs.
+COST_HINT = {"actuator_riac": 4.0, "actuator_random": 1.7}
 
 
 def _longest_first_by_seed(tasks: list[Task]) -> list[Task]:
@@ -50,7 +51,7 @@ def _longest_first_by_seed(tasks: list[Task]) -> list[Task]:
     seed_rank = {seed: i for i, seed in enumerate(dict.fromkeys(t.seed for t in tasks))}
 
     def cost(t: Task) -> float:
-        return float(t.config.get("n_steps", 1)) * _COST_HINT.get(t.condition, 1.0)
+        return float(t.config.get("n_steps", 1)) * COST_HINT.get(t.condition, 1.0)
 
     return sorted(tasks, key=lambda t: (seed_rank[t.seed], -cost(t)))
 

@@ -16,8 +16,8 @@ from typing import Any
 from .. import _core
 from ..config import Config
 from ..errors import ParameterError, StorageError
-from ..files import write_file
-from ..storage import MANIFEST, run_damage
+from ..files import lock, write_file
+from ..runs.storage import MANIFEST, run_damage
 from .spec import _FORMAT, LOCK_FILE, RUNS_DIR, STUDY_FILE, Study, Task
 
 
@@ -40,22 +40,10 @@ def _write_json_atomic(path: Path, data: dict[str, Any]) -> None:
 def _folder_lock(out: Path) -> Iterator[None]:
     """Hold an exclusive lock on the study folder: a second run_study on it would delete the
     first one's temporary directories. The kernel drops the lock when the process dies."""
-    try:
-        import fcntl
-    except ImportError:  # pragma: no cover - Windows: no advisory locks here
+    with lock(out / LOCK_FILE, f"Another run_study is writing to {out}; wait for it to finish (or stop it) first.") as unlocked:
+        if unlocked is not None:  # pragma: no cover - file systems without flock
+            warnings.warn(f"Cannot lock {out} ({unlocked.strerror}); do not run two run_study on this folder at once.", RuntimeWarning, stacklevel=4)
         yield
-        return
-    fd = os.open(out / LOCK_FILE, os.O_RDWR | os.O_CREAT, 0o644)
-    try:
-        try:
-            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except BlockingIOError:
-            raise StorageError(f"Another run_study is writing to {out}; wait for it to finish (or stop it) first.") from None
-        except OSError as e:  # pragma: no cover - file systems without flock
-            warnings.warn(f"Cannot lock {out} ({e.strerror}); do not run two run_study on this folder at once.", RuntimeWarning, stacklevel=4)
-        yield
-    finally:
-        os.close(fd)
 
 
 def _describe_difference(old: dict[str, Any], new: dict[str, Any]) -> str:

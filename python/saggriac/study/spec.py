@@ -17,9 +17,9 @@ import numpy as np
 
 from ..config import Config, check_keys
 from ..errors import ParameterError, SaggriacError, StorageError
-from ..runner import recover, run
+from ..runs.runner import recover, run
 from ..seeding import check_seed
-from ..storage import MANIFEST
+from ..runs.storage import MANIFEST
 
 STUDY_FILE = "study.json"
 LOCK_FILE = ".lock"

@@ -1,0 +1,179 @@
+"""The paper's experiments as one-command studies: the four conditions x seeds, then the
+figures (Fig. 2-5 style) and the statistics table, all written into one folder."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any
+
+import pandas as pd
+
+from ..analysis import plots, splits, statistics
+from ..config import CONDITIONS, PRESETS, Config
+from ..errors import ParameterError, StorageError
+from ..files import as_path, write_file
+from ..reachable import ReachableSet
+from ..runs.result import RunResult
+from ..runs.storage import signed_integers
+from . import Study, load_study, run_study
+
+FIGURES = "figures"
+#: A study of more seeds is a cluster's job: the seed list and per-run bookkeeping are held in memory.
+MAX_SEEDS = 100_000
+
+
+def _atomic(path: Path, write: Any) -> Path:
+    """Write a file of the study folder through a temporary sibling (``files.write_file``): it
+    replaces only a regular file of that name, never a link, folder or device put there."""
+    return write_file(path, write, what=path.name, overwrite=True)
+
+
+def matching_preset(config: Config) -> str | None:
+    """The preset ``config`` is, up to its number of steps and its condition (the two things a
+    study of a preset changes), or None."""
+    mine = config.to_dict()
+    for name in PRESETS:
+        if Config.from_preset(name, n_steps=config.n_steps, condition=config.condition).to_dict() == mine:
+            return name
+    return None
+
+
+def study_title(study: Study) -> str:
+    """Title of a study's figures, from what its folder records: "exp1: 2 seed(s), 5000 time
+    steps" for a study of a preset, the same without the name otherwise."""
+    preset = matching_preset(study.base)
+    return f"{preset + ': ' if preset else ''}{len(study.seeds)} seed(s), {study.base.n_steps} time steps"
+
+
+def reproduce(
+    experiment: str,
+    out_dir: str | Path | None = None,
+    seeds: int = 15,
+    steps: int | None = None,
+    conditions: tuple[str, ...] = CONDITIONS,
+    backend: str = "local",
+    n_workers: int | None = None,
+    scheduler: Any = None,
+    progress: bool = True,
+) -> dict[str, Path]:
+    """Run experiment 'exp1' or 'exp2' (every condition, seeds 0..seeds-1), then write the
+    figures and statistics. Finished runs in ``out_dir`` are reused (the study resumes)."""
+    if experiment not in PRESETS:
+        raise ParameterError(f"The 'experiment' parameter must be one of {', '.join(map(repr, PRESETS))}. Got {experiment!r} instead.", "experiment", repr(experiment))
+    if isinstance(seeds, bool) or not isinstance(seeds, int) or not 1 <= seeds <= MAX_SEEDS:
+        raise ParameterError(f"The 'seeds' parameter must be an int in [1, {MAX_SEEDS}]. Got {seeds!r} instead.", "seeds", repr(seeds))
+    base = Config.from_preset(experiment, **({} if steps is None else {"n_steps": steps}))
+    out = as_path(out_dir, "out_dir", "reproduce") if out_dir is not None else Path(f"reproduce-{experiment}")
+    study = Study(base=base, conditions=tuple(conditions), seeds=tuple(range(seeds)))
+    run_study(study, out, backend=backend, n_workers=n_workers, scheduler=scheduler, progress=progress)
+    return make_report(out)
+
+
+def make_report(out_dir: str | Path, title: str | None = None) -> dict[str, Path]:
+    """Figures and statistics of a study folder, from its saved results only: the same figures
+    ``reproduce`` wrote (titles come from :func:`study_title` unless ``title`` is given)."""
+    out = Path(out_dir)
+    study = Study.load(out)
+    frame = load_study(out)
+    if frame.empty:
+        raise StorageError(f"{out} holds no finished run yet.")
+    figs = out / FIGURES
+    try:
+        figs.mkdir(exist_ok=True)
+    except OSError as e:
+        raise StorageError(f"Cannot create {figs}: {e.strerror or e}.") from e
+    title = title or study_title(study)
+    written: dict[str, Path] = {}
+    written["curves"] = plots.plot_curves(frame, figs / "curves.png", title, "movements" if study.base.paradigm == "episodic" else "micro-actions")
+    written["arm"] = plots.plot_arm(study.base, figs / "arm.png")
+    for cond in ("sagg_riac", "sagg_random"):
+        for task in study.tasks():
+            run_dir = out / task.path
+            if task.condition == cond and (run_dir / "run.json").exists():
+                name = f"goals_{cond}_seed{task.seed}.png"
+                written[f"goals_{cond}"] = plots.plot_goal_histograms(run_dir, figs / name)
+                break
+    written.update(write_stats(out, frame))
+    budget = time_budget_summary(out)
+    if not budget.empty:
+        written["time_budget_csv"] = _atomic(out / "time_budget.csv", lambda p: budget.to_csv(p, index=False))
+    null = split_null_model(out)
+    if not null.empty:
+        written["splits_csv"] = _atomic(out / "splits.csv", lambda p: null.to_csv(p, index=False))
+    return written
+
+
+def write_stats(out_dir: str | Path, frame: pd.DataFrame | None = None) -> dict[str, Path]:
+    """stats.csv and stats.md: the ANOVA and paired tests by seed at the end and at checkpoints."""
+    out = Path(out_dir)
+    frame = load_study(out) if frame is None else frame
+    table = statistics.compare(frame)
+    csv = _atomic(out / "stats.csv", lambda p: table.to_csv(p, index=False))
+    md = _atomic(out / "stats.md", lambda p: p.write_text(statistics.to_markdown(table)))
+    return {"stats_csv": csv, "stats_md": md}
+
+
+# The time budget's columns, in the order shown (shares are of all micro-actions of a run).
+BUDGET_COLUMNS = ("goals", "share_exploration", "steps_per_goal", "goals_reachable", "steps_per_reachable_goal", "steps_per_unreachable_goal", "share_on_reachable_goals")
+
+
+def time_budget_summary(out_dir: str | Path) -> pd.DataFrame:
+    """Per condition, the mean over finished runs of each entry of run.json's ``time_budget``
+    (goals attempted, share of exploration, steps per goal inside and outside the reachable
+    area, share of time on reachable goals, and the share of time of each selection mode)."""
+    out = Path(out_dir)
+    rows = []
+    for task in Study.load(out).tasks():
+        manifest = out / task.path / "run.json"
+        if not manifest.exists():
+            continue
+        tb = json.loads(manifest.read_text()).get("time_budget")
+        if tb is None:  # a run from before saggriac 0.2
+            continue
+        row: dict[str, Any] = {"condition": task.condition, **{k: tb.get(k) for k in BUDGET_COLUMNS}}
+        row.update({f"share_mode_{k}": v for k, v in tb.get("share_by_mode", {}).items()})
+        rows.append(row)
+    if not rows:
+        return pd.DataFrame()
+    frame = pd.DataFrame(rows)
+    numeric = frame.drop(columns="condition").apply(pd.to_numeric, errors="coerce")
+    summary = numeric.groupby(frame["condition"], sort=False).mean()
+    summary.insert(0, "runs", frame.groupby("condition", sort=False).size())
+    return summary.reset_index()
+
+
+def split_null_model(out_dir: str | Path, n_parts: int = 4) -> pd.DataFrame:
+    """Fig. 3's split statistic with its null model: for each seed, the mean share of reachable
+    area of the regions SAGG-RIAC split, per quarter of its splits, beside the same for the tree
+    SAGG-Random's measurements build when replayed (``splits.replay_regions``). Empty unless the
+    study has both SAGG conditions."""
+    out = Path(out_dir)
+    study = Study.load(out)
+    rows = []
+    for task in study.tasks():
+        run_dir = out / task.path
+        if task.condition not in ("sagg_riac", "sagg_random") or not (run_dir / "run.json").exists():
+            continue
+        cfg = Config.from_saved(json.loads((run_dir / "run.json").read_text())["config"])
+        if task.condition == "sagg_riac":
+            regions, label = signed_integers(pd.read_parquet(run_dir / "regions.parquet")), "sagg_riac"
+        else:
+            regions, label = splits.replay_regions(signed_integers(pd.read_parquet(run_dir / "attempts.parquet")), cfg), "sagg_random_replayed"
+        reach = ReachableSet(cfg) if cfg.chain is not None else cfg.reach
+        for part, share in enumerate(splits.split_shares(regions, reach, n_parts)):
+            rows.append({"tree": label, "seed": task.seed, **task.params, "part": part + 1, "reachable_share": share})
+    frame = pd.DataFrame(rows)
+    if frame.empty or set(frame["tree"]) != {"sagg_riac", "sagg_random_replayed"}:
+        return pd.DataFrame()
+    return frame
+
+
+def final_summary(out_dir: str | Path) -> pd.DataFrame:
+    """Mean and standard deviation of each metric at the last step, per condition."""
+    frame = load_study(out_dir)
+    last = frame[frame["step"] == frame["step"].max()]
+    return last.groupby(["metric", "condition"])["value"].agg(["mean", "std", "count"]).reset_index()
+
+
+__all__ = ["reproduce", "make_report", "write_stats", "final_summary", "time_budget_summary", "split_null_model", "study_title", "matching_preset", "RunResult"]

@@ -1,0 +1,57 @@
+"""Fuzzing Config with Hypothesis: any keys and values give a configuration the core accepts,
+or a ParameterError naming the parameter; never a crash or another exception.
+
+Examples per property: 60 in CI; `SAGGRIAC_FUZZ_EXAMPLES=N` raises it (see
+benchmarks/fuzz_campaign.py for the long campaign and its counts).
+"""
+
+import math
+import os
+
+import pytest
+
+hypothesis = pytest.importorskip("hypothesis")
+from hypothesis import HealthCheck, given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+import saggriac  # noqa: E402
+from saggriac.errors import ParameterError, SaggriacError  # noqa: E402
+
+
+EXAMPLES = int(os.environ.get("SAGGRIAC_FUZZ_EXAMPLES", "60"))
+FUZZ = settings(max_examples=EXAMPLES, deadline=None, derandomize=True, suppress_health_check=list(HealthCheck), database=None)
+COUNTS: dict[str, int] = {}
+
+
+def count(name):
+    COUNTS[name] = COUNTS.get(name, 0) + 1
+
+
+floats = st.one_of(
+    st.floats(allow_nan=True, allow_infinity=True),
+    st.sampled_from([0.0, -0.0, 1e-300, -1e-300, 1e300, 5e-324, 0.5, 1.0, 2.0, math.pi]),
+)
+anything = st.one_of(floats, st.integers(-(2**70), 2**70), st.booleans(), st.none(), st.text(max_size=5), st.lists(floats, max_size=4))
+FIELDS = sorted(f for f in saggriac.Config.__dataclass_fields__ if f not in ("condition", "paradigm"))
+
+
+@FUZZ
+@given(st.dictionaries(st.sampled_from(FIELDS + ["bogus", "condition", "paradigm"]), anything, max_size=4))
+def test_config_accepts_or_names_the_parameter(overrides):
+    count("config")
+    try:
+        cfg = saggriac.Config.from_preset("exp1", **overrides)
+    except ParameterError as e:
+        assert e.param, str(e)
+        return
+    except SaggriacError as e:  # any other saggriac error is a defect here
+        raise AssertionError(f"unexpected {type(e).__name__}: {e}")
+    # Accepted: the core agrees, and the schedule is valid.
+    saggriac._core.validate_config(cfg.core_dict())
+    s = cfg.schedule()
+    assert s == sorted(set(s)) and s[-1] <= cfg.n_steps
+
+
+def teardown_module(module):
+    # The campaign script reads this line.
+    print(f"\nfuzz examples: {COUNTS}")
