@@ -216,7 +216,9 @@ class Config:
         is, else ``reach`` (default: the built-in arm's, :attr:`reach`) divided by its
         :data:`LENGTH_DIVISORS` entry."""
         r = self.reach if reach is None else float(reach)
-        return {k: float(getattr(self, k)) if getattr(self, k) is not None else r / d for k, d in LENGTH_DIVISORS.items()}
+        # A value of another type goes to the core as given, which names it with its rule.
+        given = {k: getattr(self, k) for k in LENGTH_DIVISORS}
+        return {k: r / d if v is None else float(v) if _number(v, float) else v for (k, v), d in zip(given.items(), LENGTH_DIVISORS.values())}
 
     def core_dict(self, reach: float | None = None) -> dict[str, Any]:
         """The flat dict the Rust core takes. ``reach``: a user's body's reach, which replaces

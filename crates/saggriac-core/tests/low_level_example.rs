@@ -8,7 +8,6 @@ use saggriac_core::high_level::competence::competence;
 use saggriac_core::high_level::goal_selection::GoalChoice;
 use saggriac_core::low_level::LowLevel;
 use saggriac_core::parts::{ActionKind, Parts};
-use saggriac_core::recorder::{AttemptRow, GoalRow};
 use saggriac_core::rng::uniform;
 use saggriac_core::task_space::{desired_step, distance, point};
 use saggriac_core::{Learner, RunConfig};
@@ -42,9 +41,8 @@ impl LowLevel for StraightLine {
         let end = parts.body().position();
         let c = competence(&goal, &end, &start, &self.cfg.competence);
         let region = parts.tell(&goal[..m], c);
-        let r = parts.recorder_mut();
-        r.attempts.push(AttemptRow { goal_index: r.goals_done(), subgoal: 1, step_end: r.steps(), target: goal, end, competence: c, reached: c == 0.0, region });
-        r.goal_done(GoalRow { goal_index: r.goals_done(), step_start, step_end: r.steps(), goal, start, end, mode: choice.mode, region: choice.region, competence: c });
+        parts.record_attempt(1, goal, end, c, region);
+        parts.finish_goal(&choice, goal, step_start, start, end, c);
     }
 }
 
