@@ -6,9 +6,9 @@ use crate::body::Body;
 use crate::config::evaluation::EvalConfig;
 use crate::config::LocalModelConfig;
 use crate::evaluation::test_set::{relative_error, EvalResult, TestSet};
-use crate::model::local_model::LocalModel;
+use crate::model::local_query::LocalQuery;
 use crate::model::memory::SensorimotorMemory;
-use crate::model::neighbours::{Neighbour, WarmStart};
+use crate::model::neighbours::Neighbour;
 use crate::task_space::{desired_step, distance, Point, MAX_TASK_DIM};
 
 /// What a micro-action evaluation needs besides the memory, the body and the tests: the same
@@ -25,9 +25,9 @@ pub(crate) struct MicroParams {
 /// evaluation to the next (the warm start and the rest answer are cleared at its start, and a
 /// local model is read only after a fit that overwrote it), so a fresh one gives the same results.
 pub(crate) struct MicroScratch {
-    model: LocalModel,
-    warm: WarmStart,
-    neighbours: Vec<Neighbour>,
+    /// The inverse model's query along the test reaches: the learner's (`LocalQuery`), on the
+    /// evaluator's own scratch; its local model also makes the forward predictions.
+    query: LocalQuery,
     /// The configuration the last reach from rest started at and its neighbours: half the test
     /// reaches start at rest, and the memory does not change during an evaluation.
     rest: Option<(Vec<f64>, Vec<Neighbour>)>,
@@ -40,15 +40,7 @@ pub(crate) struct MicroScratch {
 
 impl MicroScratch {
     pub fn new(p: &MicroParams, n_joints: usize, task_dim: usize) -> Self {
-        MicroScratch {
-            model: LocalModel::new(n_joints, task_dim, p.local.clone()),
-            warm: WarmStart::new(p.warm_start_recent),
-            neighbours: Vec::new(),
-            rest: None,
-            keep_rest: true,
-            time_knn: 0.0,
-            time_fit: 0.0,
-        }
+        MicroScratch { query: LocalQuery::new(n_joints, task_dim, p.local.clone(), p.warm_start_recent), rest: None, keep_rest: true, time_knn: 0.0, time_fit: 0.0 }
     }
 }
 
@@ -59,7 +51,7 @@ pub(crate) fn evaluate_micro(p: &MicroParams, tests: &TestSet, memory: &Sensorim
     let mut reach_errors = Vec::with_capacity(tests.goals.len());
     let mut test_steps = 0;
     s.rest = None;
-    s.warm.clear();
+    s.query.forget_trajectory();
     arm.reset();
     for (i, &g) in tests.goals.iter().enumerate() {
         // Even tests start from rest, odd ones from where the previous test ended (where the
@@ -67,7 +59,7 @@ pub(crate) fn evaluate_micro(p: &MicroParams, tests: &TestSet, memory: &Sensorim
         let from_rest = i % 2 == 0;
         if from_rest {
             arm.reset();
-            s.warm.clear();
+            s.query.forget_trajectory();
         }
         let (err, steps) = test_reach(p, memory, arm, g, from_rest, s);
         reach_errors.push(err);
@@ -78,9 +70,9 @@ pub(crate) fn evaluate_micro(p: &MicroParams, tests: &TestSet, memory: &Sensorim
     let mut dx_errors = Vec::with_capacity(tests.configs.len());
     let mut xp = [0.0; MAX_TASK_DIM];
     for (i, (c, nb)) in tests.configs.iter().zip(predict_neighbours).enumerate() {
-        let ok = memory.len() >= p.local.k_neighbours && s.model.fit(memory, nb).is_ok();
+        let ok = memory.len() >= p.local.k_neighbours && s.query.local_mut().fit(memory, nb).is_ok();
         if ok {
-            s.model.predict_x(memory, nb, c, &mut xp[..m]);
+            s.query.local().predict_x(memory, nb, c, &mut xp[..m]);
         } else if let Some(first) = nb.first() {
             // No fit possible: the nearest sample's position is the prediction.
             xp[..m].copy_from_slice(memory.x(first.id as usize));
@@ -91,7 +83,7 @@ pub(crate) fn evaluate_micro(p: &MicroParams, tests: &TestSet, memory: &Sensorim
         // The differential model J dtheta, or no motion without a fit.
         let mut dxp = [0.0; MAX_TASK_DIM];
         if ok {
-            let j = s.model.jacobian();
+            let j = s.query.local().jacobian();
             for (r, v) in dxp.iter_mut().take(m).enumerate() {
                 *v = tests.motions[i].iter().enumerate().map(|(a, d)| j[(r, a)] * d).sum();
             }
@@ -124,23 +116,16 @@ fn test_reach(p: &MicroParams, memory: &SensorimotorMemory, arm: &mut dyn Body, 
         let t0 = std::time::Instant::now();
         let at_rest = from_rest && steps == 0;
         match &s.rest {
-            Some((t, nb)) if at_rest && *t == theta => {
-                s.neighbours.clone_from(nb);
-                s.warm.remember(nb);
-            }
+            Some((t, nb)) if at_rest && *t == theta => s.query.reuse(nb),
             _ => {
-                if p.warm_start_recent > 0 {
-                    memory.knn_warm(&mut s.warm, &theta, k, &mut s.neighbours);
-                } else {
-                    memory.knn(&theta, k, &mut s.neighbours);
-                }
+                s.query.find(memory, &theta);
                 if at_rest && s.keep_rest {
-                    s.rest = Some((theta.clone(), s.neighbours.clone()));
+                    s.rest = Some((theta.clone(), s.query.neighbours().to_vec()));
                 }
             }
         }
         let t1 = std::time::Instant::now();
-        let fitted = s.model.fit(memory, &s.neighbours).and_then(|_| s.model.inverse(&dx[..memory.task_dim()], &mut dtheta));
+        let fitted = s.query.fit(memory).and_then(|_| s.query.inverse(&dx[..memory.task_dim()], &mut dtheta));
         let t2 = std::time::Instant::now();
         s.time_knn += (t1 - t0).as_secs_f64();
         s.time_fit += (t2 - t1).as_secs_f64();

@@ -1,7 +1,8 @@
 //! The sensorimotor model (paper III.B): the memory of what was done and what happened
 //! (`memory`, stored in chunks, `chunked`), its exact nearest-neighbour index (`neighbours`,
 //! `block_index`; `kd_tree` kept as the measured alternative), the local linear models fitted to
-//! the neighbours (`local_model`), the episodic paradigm's memory of whole movements
+//! the neighbours (`local_model`), one query of the inverse model through them (`local_query`,
+//! shared by the learner and the evaluator), the episodic paradigm's memory of whole movements
 //! (`episodic_memory`), and the model the learner and the evaluator use through them
 //! (`sensorimotor_model`).
 
@@ -10,6 +11,7 @@ pub mod chunked;
 pub mod episodic_memory;
 pub mod kd_tree;
 pub mod local_model;
+pub mod local_query;
 pub mod memory;
 pub mod neighbours;
 pub mod sensorimotor_model;

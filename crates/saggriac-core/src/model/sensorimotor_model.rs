@@ -12,20 +12,16 @@ use serde::{Deserialize, Serialize};
 
 use crate::config::RunConfig;
 use crate::model::episodic_memory::EpisodicMemory;
-use crate::model::local_model::{FitFailure, LocalModel};
+use crate::model::local_model::FitFailure;
+use crate::model::local_query::LocalQuery;
 use crate::model::memory::SensorimotorMemory;
-use crate::model::neighbours::{Neighbour, WarmStart};
 use crate::recorder::Timers;
 use crate::task_space::{Point, MAX_TASK_DIM};
 
 pub struct SensorimotorModel {
     samples: SensorimotorMemory,
-    /// The local model fitted last (its J is the forward model until the next fit).
-    local: LocalModel,
-    /// Warm start of the neighbour search along the current trajectory.
-    warm: WarmStart,
-    warm_start: bool,
-    neighbours: Vec<Neighbour>,
+    /// The inverse model's query along the learner's trajectory (the evaluator has its own).
+    query: LocalQuery,
     /// The episodic paradigm's movements (None for micro-actions).
     episodes: Option<EpisodicMemory>,
 }
@@ -58,10 +54,7 @@ impl SensorimotorModel {
     pub fn new(cfg: &RunConfig, n: usize, m: usize, episodic: bool, index_theta: bool) -> Self {
         SensorimotorModel {
             samples: SensorimotorMemory::new(n, m, cfg.index),
-            local: LocalModel::new(n, m, cfg.local.clone()),
-            warm: WarmStart::new(cfg.warm_start_recent),
-            warm_start: cfg.warm_start_recent > 0,
-            neighbours: Vec::new(),
+            query: LocalQuery::new(n, m, cfg.local.clone(), cfg.warm_start_recent),
             episodes: episodic.then(|| EpisodicMemory::new(n, m, index_theta)),
         }
     }
@@ -97,23 +90,18 @@ impl SensorimotorModel {
 
     /// The arm jumped (back to rest): the trajectory's warm start no longer applies.
     pub fn forget_trajectory(&mut self) {
-        self.warm.clear();
+        self.query.forget_trajectory();
     }
 
     /// Fit the local model on the nearest stored configurations of `theta`.
     pub fn fit_at(&mut self, theta: &[f64], timers: &mut Timers) -> Result<(), FitFailure> {
-        let k = self.local.cfg.k_neighbours;
-        if self.samples.len() < k {
+        if self.samples.len() < self.query.k() {
             return Err(FitFailure::NotEnoughData);
         }
         let t0 = Instant::now();
-        if self.warm_start {
-            self.samples.knn_warm(&mut self.warm, theta, k, &mut self.neighbours);
-        } else {
-            self.samples.knn(theta, k, &mut self.neighbours);
-        }
+        self.query.find(&self.samples, theta);
         let t1 = Instant::now();
-        let r = self.local.fit(&self.samples, &self.neighbours);
+        let r = self.query.fit(&self.samples);
         timers.knn += (t1 - t0).as_secs_f64();
         timers.fit += t1.elapsed().as_secs_f64();
         r
@@ -123,14 +111,14 @@ impl SensorimotorModel {
     pub fn inverse(&mut self, theta: &[f64], dx: &Point, dtheta: &mut [f64], timers: &mut Timers) -> Result<(), FitFailure> {
         self.fit_at(theta, timers)?;
         let t0 = Instant::now();
-        let r = self.local.inverse(&dx[..self.task_dim()], dtheta);
+        let r = self.query.inverse(&dx[..self.task_dim()], dtheta);
         timers.fit += t0.elapsed().as_secs_f64();
         r
     }
 
     /// Forward model: J dtheta with the last fitted J.
     pub fn expected_dx(&self, dtheta: &[f64]) -> Point {
-        let j = self.local.jacobian();
+        let j = self.query.local().jacobian();
         let mut e = [0.0; MAX_TASK_DIM];
         for (r, v) in e.iter_mut().take(j.nrows()).enumerate() {
             *v = (0..dtheta.len()).map(|a| j[(r, a)] * dtheta[a]).sum();
