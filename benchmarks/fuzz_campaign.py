@@ -36,9 +36,11 @@ def main() -> None:
     print(f"Python (Hypothesis), {a.examples} examples per property: {counts or '?'}")
     print(f"Python (Hypothesis), storage scenarios: {storage.group(1) if storage else '?'}; {py.stdout.strip().splitlines()[-1]}")
     env = {**os.environ, "PROPTEST_CASES": str(a.rust_cases)}
-    rs = subprocess.run(["cargo", "test", "--release", "-q", "-p", "saggriac-core", "--test", "properties"], env=env, capture_output=True, text=True)
+    # One test target per component (tests/properties_*.rs).
+    rs = subprocess.run(["cargo", "test", "--release", "-q", "-p", "saggriac-core", "--test", "properties_*"], env=env, capture_output=True, text=True)
     summary = [line for line in rs.stdout.splitlines() if line.startswith("test result")]
-    print(f"Rust (proptest), {a.rust_cases} cases per property: {summary[-1] if summary else rs.stderr[-500:]}")
+    passed = sum(int(m) for line in summary for m in re.findall(r"(\d+) passed", line))
+    print(f"Rust (proptest), {a.rust_cases} cases per property: {len(summary)} targets, {passed} properties passed" if summary else f"Rust (proptest): {rs.stderr[-500:]}")
     print(f"wall time {time.perf_counter() - t0:.0f} s")
     if py.returncode or rs.returncode:
         print(py.stdout[-3000:], rs.stdout[-3000:], rs.stderr[-3000:])

@@ -1,7 +1,6 @@
 """Checkpoint and resume of a single run: an interrupted run continues to the same result."""
 
 import json
-import os
 import signal
 import subprocess
 import sys

@@ -19,7 +19,9 @@ from pathlib import Path
 import pytest
 
 hypothesis = pytest.importorskip("hypothesis")
-from hypothesis import HealthCheck, given, settings  # noqa: E402
+from hypothesis import given  # noqa: E402
+
+from tests import fuzzing  # noqa: E402
 from hypothesis import strategies as st  # noqa: E402
 
 import saggriac  # noqa: E402
@@ -28,8 +30,8 @@ from saggriac.errors import SaggriacError  # noqa: E402
 from saggriac.runs import storage  # noqa: E402
 from saggriac.runs.runner import checkpoint_dir  # noqa: E402
 
-EXAMPLES = max(1, int(os.environ.get("SAGGRIAC_FUZZ_EXAMPLES", "60")) * 2 // 3)
-FUZZ = settings(max_examples=EXAMPLES, deadline=None, derandomize=True, suppress_health_check=list(HealthCheck), database=None)
+EXAMPLES = max(1, fuzzing.EXAMPLES * 2 // 3)
+FUZZ = fuzzing.fuzz_settings(EXAMPLES)
 COUNTS: dict[str, int] = {}
 TINY = dict(n_steps=60, n_evals=1, n_test_goals=4, n_test_configs=4)
 TINY_CLI = ["--steps", "60", "--set", "n_evals=1", "--set", "n_test_goals=4", "--set", "n_test_configs=4", "--no-progress"]

@@ -6,26 +6,21 @@ benchmarks/fuzz_campaign.py for the long campaign and its counts).
 """
 
 import math
-import os
 
 import numpy as np
 import pytest
 
 hypothesis = pytest.importorskip("hypothesis")
-from hypothesis import HealthCheck, given, settings  # noqa: E402
+from hypothesis import given  # noqa: E402
 from hypothesis import strategies as st  # noqa: E402
 
 import saggriac  # noqa: E402
+from tests.fuzzing import FUZZ, Counts  # noqa: E402
 from saggriac.errors import InputError, ParameterError  # noqa: E402
 
 
-EXAMPLES = int(os.environ.get("SAGGRIAC_FUZZ_EXAMPLES", "60"))
-FUZZ = settings(max_examples=EXAMPLES, deadline=None, derandomize=True, suppress_health_check=list(HealthCheck), database=None)
-COUNTS: dict[str, int] = {}
-
-
-def count(name):
-    COUNTS[name] = COUNTS.get(name, 0) + 1
+COUNTS = Counts()
+count = COUNTS.count
 
 
 floats = st.one_of(

@@ -4,8 +4,6 @@ file, sizes have stated bounds, strings, bools and extreme values are refused or
 from __future__ import annotations
 
 import os
-import socket
-import stat
 from pathlib import Path
 
 import numpy as np
@@ -14,6 +12,7 @@ import pytest
 import saggriac
 from saggriac import Config
 from saggriac.errors import InputError, ParameterError, SaggriacError, StorageError
+from tests.special_files import snapshot, special_files
 
 
 TEACHERS = {
@@ -28,47 +27,17 @@ TEACHERS = {
 
 
 
-def _special_files(tmp_path: Path) -> dict[str, Path]:
-    out = {}
-    fifo = tmp_path / "fifo"
-    os.mkfifo(fifo)
-    out["fifo"] = fifo
-    sock = tmp_path / "sock"
-    s = socket.socket(socket.AF_UNIX)
-    s.bind(str(sock))
-    s.close()  # the socket file stays
-    out["socket"] = sock
-    foreign = tmp_path / "notes.txt"
-    foreign.write_text("a user's notes")
-    out["foreign"] = foreign
-    target = tmp_path / "elsewhere.bin"
-    target.write_text("a user's file the link points to")
-    link = tmp_path / "link.bin"
-    link.symlink_to(target)
-    out["link"] = link
-    out["dangling"] = tmp_path / "dangling.bin"
-    out["dangling"].symlink_to(tmp_path / "nowhere" / "x")
-    return out
-
-
-def _snapshot(p: Path):
-    st = os.lstat(p)
-    data = p.read_bytes() if stat.S_ISREG(st.st_mode) else None
-    link = os.readlink(p) if stat.S_ISLNK(st.st_mode) else None
-    return (stat.S_IFMT(st.st_mode), st.st_ino, data, link)
-
-
 @pytest.mark.parametrize("kind", sorted(TEACHERS))
 def test_teacher_save_replaces_only_its_own_files(tmp_path, kind):
     t = TEACHERS[kind]()
-    specials = _special_files(tmp_path)
+    specials = special_files(tmp_path)
     if os.path.exists(os.devnull):
         specials["devnull"] = Path(os.devnull)
     for name, path in specials.items():
-        before = _snapshot(path)
+        before = snapshot(path)
         with pytest.raises(StorageError):
             t.save(path, overwrite=True)
-        assert _snapshot(path) == before, name
+        assert snapshot(path) == before, name
     # Its own file is replaced, and only with overwrite=True (a real bool).
     own = t.save(tmp_path / "t.bin")
     with pytest.raises(StorageError, match="exists"):
