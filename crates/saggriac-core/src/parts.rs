@@ -15,7 +15,7 @@ use crate::body::Body;
 use crate::config::BodyChange;
 use crate::error::Error;
 use crate::evaluation::{Evaluator, EvaluatorState};
-use crate::high_level::goal_selection::{GoalChoice, GoalSelector, SelectorState};
+use crate::high_level::goal_selection::{GoalChoice, GoalSelector};
 use crate::model::local_model::FitFailure;
 use crate::model::sensorimotor_model::{ModelState, SensorimotorModel};
 use crate::recorder::{AttemptRow, GoalRow, MetricRow, Recorder};
@@ -291,7 +291,8 @@ impl Parts {
 pub(crate) struct PartsState {
     rng: CoreRng,
     model: ModelState,
-    selector: SelectorState,
+    /// The selector's own encoding of its state.
+    selector: Vec<u8>,
     body: ArmState,
     evaluator: EvaluatorState,
     recorder: Recorder,

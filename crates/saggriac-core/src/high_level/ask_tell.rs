@@ -5,13 +5,14 @@
 use serde::{Deserialize, Serialize};
 
 use crate::error::{invalid, Error, Result};
-use crate::high_level::goal_selection::{GoalChoice, GoalSelector, ModeProbabilities, SelectorState};
+use crate::high_level::goal_selection::{GoalChoice, GoalSelector, ModeProbabilities};
 use crate::high_level::region_tree::RegionTreeConfig;
 use crate::high_level::teachers::TeacherSpec;
 
-/// Bumped whenever the saved layout changes. Format 1 (saggriac <= 0.2, before SAGG-RIAC's tree
-/// had an eq.-2 divisor) is still read, as the `Window` reading it ran; older ones are refused.
-const FORMAT: u32 = 2;
+/// Bumped whenever the saved layout changes. Format 3: each teacher's state in its own encoding.
+/// Formats 2 (saggriac 0.3-0.4, one enum of every teacher's state) and 1 (saggriac <= 0.2, before
+/// SAGG-RIAC's tree had an eq.-2 divisor, read as the `Window` reading it ran) are still read.
+const FORMAT: u32 = 3;
 /// Told competences are bounded so that every teacher's sums, squares and mixtures of them stay
 /// finite (a mixture teacher squares differences of competences).
 pub const MAX_COMPETENCE: f64 = 1e100;
@@ -22,14 +23,15 @@ pub const MAX_BATCH_VALUES: usize = 100_000_000;
 /// CRC-32C of the encoding, as checkpoints have: a damaged save is refused, never half-read.
 const CHECKSUM: crc::Crc<u32> = crc::Crc::<u32>::new(&crc::CRC_32_ISCSI);
 
-/// What `AskTell::save` writes: the teacher's parameters, its state and the history. Generic in
-/// the parameters' layout, so that an older format is read with the same struct.
+/// What `AskTell::save` writes: the teacher's parameters, its state (in the teacher's own
+/// encoding) and the history. Generic in the parameters' and the state's layout, so that older
+/// formats are read with the same struct.
 #[derive(Serialize, Deserialize)]
-struct SavedAs<Spec> {
+struct SavedAs<Spec, State> {
     format: u32,
     version: String,
     spec: Spec,
-    state: SelectorState,
+    state: State,
     asked: Vec<f64>,
     asked_mode: Vec<u8>,
     asked_region: Vec<i64>,
@@ -38,7 +40,7 @@ struct SavedAs<Spec> {
     told_region: Vec<i64>,
 }
 
-type Saved = SavedAs<TeacherSpec>;
+type Saved = SavedAs<TeacherSpec, Vec<u8>>;
 
 enum DecodeError {
     Trailing,
@@ -53,7 +55,8 @@ fn decode<T: serde::de::DeserializeOwned>(bytes: &[u8]) -> std::result::Result<T
     }
 }
 
-/// The layout of format 1 (saggriac <= 0.2): the same but for SAGG-RIAC's tree parameters.
+/// The layouts of formats 1 (saggriac <= 0.2: SAGG-RIAC's tree parameters without the divisor)
+/// and 2 (saggriac 0.3-0.4), whose teachers' states were variants of one enum.
 mod legacy {
     use super::*;
     use crate::config::high_level::InterestDivisor;
@@ -61,6 +64,7 @@ mod legacy {
     use crate::high_level::teachers::covar_gmm::CovarGmmConfig;
     use crate::high_level::teachers::discrete_lp::DiscreteLpConfig;
     use crate::high_level::teachers::riac::RiacConfig;
+    use crate::rng::CoreRng;
 
     #[derive(Deserialize)]
     pub struct TreeV1 {
@@ -80,7 +84,35 @@ mod legacy {
         CovarGmm { low: Vec<f64>, high: Vec<f64>, cfg: CovarGmmConfig, seed: u64 },
     }
 
-    pub type SavedV1 = SavedAs<SpecV1>;
+    /// A mixture's weights, means and covariances, flattened.
+    type GmmV2 = (Vec<f64>, (Vec<f64>, Vec<f64>));
+
+    /// Every teacher's state as formats 1 and 2 wrote it: one enum, variants in this order.
+    #[derive(Deserialize)]
+    pub enum StateV2 {
+        SaggRiac { rng: CoreRng, points: Vec<f64>, values: Vec<f64> },
+        Random { rng: CoreRng },
+        Riac { rng: CoreRng, points: Vec<f64>, values: Vec<f64> },
+        DiscreteLp { rng: CoreRng, fast: Vec<f64>, slow: Vec<f64> },
+        Mixture { rng: CoreRng, fit_rng: CoreRng, points: Vec<f64>, values: Vec<f64>, window: Vec<f64>, gmm: Option<GmmV2> },
+    }
+
+    impl StateV2 {
+        /// The same state in its teacher's own encoding: a variant's fields in order, which is
+        /// how each teacher encodes its state struct.
+        fn encoded(self) -> Vec<u8> {
+            let r = match self {
+                StateV2::SaggRiac { rng, points, values } | StateV2::Riac { rng, points, values } => postcard::to_stdvec(&(rng, points, values)),
+                StateV2::Random { rng } => postcard::to_stdvec(&(rng,)),
+                StateV2::DiscreteLp { rng, fast, slow } => postcard::to_stdvec(&(rng, fast, slow)),
+                StateV2::Mixture { rng, fit_rng, points, values, window, gmm } => postcard::to_stdvec(&(rng, fit_rng, points, values, window, gmm)),
+            };
+            r.unwrap_or_default()
+        }
+    }
+
+    pub type SavedV1 = SavedAs<SpecV1, StateV2>;
+    pub type SavedV2 = SavedAs<TeacherSpec, StateV2>;
 
     impl From<SpecV1> for TeacherSpec {
         fn from(s: SpecV1) -> Self {
@@ -99,11 +131,10 @@ mod legacy {
         }
     }
 
-    impl From<SavedV1> for Saved {
-        fn from(s: SavedV1) -> Self {
-            let SavedAs { version, spec, state, asked, asked_mode, asked_region, told, told_competence, told_region, .. } = s;
-            SavedAs { format: FORMAT, version, spec: spec.into(), state, asked, asked_mode, asked_region, told, told_competence, told_region }
-        }
+    /// A saved teacher of an older format in this format's terms.
+    pub fn upgrade<Spec: Into<TeacherSpec>>(s: SavedAs<Spec, StateV2>) -> Saved {
+        let SavedAs { version, spec, state, asked, asked_mode, asked_region, told, told_competence, told_region, .. } = s;
+        SavedAs { format: FORMAT, version, spec: spec.into(), state: state.encoded(), asked, asked_mode, asked_region, told, told_competence, told_region }
     }
 }
 
@@ -165,7 +196,11 @@ impl AskTell {
         let refuse = |why: String| Error::InvalidInput(format!("{why} It cannot be restored; save the teacher again."));
         // The format comes first in every layout: read it alone, then the layout it names.
         let format = postcard::take_from_bytes::<u32>(bytes).map(|(f, _)| f).unwrap_or(FORMAT);
-        let decoded = if format == 1 { decode::<legacy::SavedV1>(bytes).map(Saved::from) } else { decode::<Saved>(bytes) };
+        let decoded = match format {
+            1 => decode::<legacy::SavedV1>(bytes).map(legacy::upgrade),
+            2 => decode::<legacy::SavedV2>(bytes).map(legacy::upgrade),
+            _ => decode::<Saved>(bytes),
+        };
         let s = match decoded {
             Ok(s) => s,
             Err(DecodeError::Trailing) => return Err(refuse("The saved teacher is damaged: bytes follow its end.".into())),
@@ -293,9 +328,40 @@ mod tests {
             assert_eq!((g[0].to_bits(), g[1].to_bits()), (bits[0], bits[1]));
             a.update(&g, -uniform(&mut r, 0.0, 1.0) * (g[0] / 2.0)).unwrap();
         }
-        // Saved again, it is a format-2 teacher that restores as itself.
+        // Saved again, it is a teacher of this format that restores as itself.
         let again = AskTell::restore(&a.save().unwrap()).unwrap();
         assert_eq!(again.spec(), a.spec());
+    }
+
+    /// A teacher of every kind saved by saggriac 0.4 (format 2, one enum of all states; 4316e31)
+    /// restores into its own state type and asks the 20 goals 0.4 asked next, to the bit.
+    #[test]
+    fn teachers_saved_by_saggriac_0_4_continue_exactly() {
+        let files: [(&str, &[u8], &str); 6] = [
+            ("sagg_riac", include_bytes!("../../tests/data/teacher_v2_sagg_riac.bin"), include_str!("../../tests/data/teacher_v2_sagg_riac.next")),
+            ("random", include_bytes!("../../tests/data/teacher_v2_random.bin"), include_str!("../../tests/data/teacher_v2_random.next")),
+            ("riac", include_bytes!("../../tests/data/teacher_v2_riac.bin"), include_str!("../../tests/data/teacher_v2_riac.next")),
+            ("alp_gmm", include_bytes!("../../tests/data/teacher_v2_alp_gmm.bin"), include_str!("../../tests/data/teacher_v2_alp_gmm.next")),
+            ("covar_gmm", include_bytes!("../../tests/data/teacher_v2_covar_gmm.bin"), include_str!("../../tests/data/teacher_v2_covar_gmm.next")),
+            ("discrete_lp", include_bytes!("../../tests/data/teacher_v2_discrete_lp.bin"), include_str!("../../tests/data/teacher_v2_discrete_lp.next")),
+        ];
+        // The competences the files were made with (tests/data was written by a script doing this).
+        let told = |kind: &str, g: &[f64]| if kind == "discrete_lp" { (g[0] + 1.0) / 6.0 } else { -0.5 * g[0] - 0.25 * g[g.len() - 1] * g[g.len() - 1] };
+        for (kind, bytes, next) in files {
+            let mut a = AskTell::restore(bytes).unwrap();
+            assert_eq!(a.spec().kind(), kind);
+            let mut again = AskTell::restore(&a.save().unwrap()).unwrap();
+            for line in next.lines() {
+                let bits: Vec<u64> = line.split(' ').map(|b| b.parse().unwrap()).collect();
+                let g = a.sample().goal;
+                assert_eq!(g.iter().map(|v| v.to_bits()).collect::<Vec<_>>(), bits, "{kind}");
+                a.update(&g, told(kind, &g)).unwrap();
+                // Saved again in this format, it continues the same.
+                let h = again.sample().goal;
+                assert_eq!(h, g, "{kind}");
+                again.update(&h, told(kind, &h)).unwrap();
+            }
+        }
     }
 
     #[test]

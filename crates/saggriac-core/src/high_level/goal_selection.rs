@@ -68,12 +68,14 @@ pub trait GoalSelector: Send + Sync {
     fn leaf_table(&self) -> Vec<LeafRow> {
         Vec::new()
     }
-    /// The selector's state for a checkpoint (None: this selector cannot be checkpointed).
-    fn save(&self) -> Option<SelectorState> {
+    /// The selector's state for a checkpoint or a saved teacher, in the selector's own encoding
+    /// of its own state type (None: this selector cannot be saved). `save_state` encodes one.
+    fn save(&self) -> Option<Vec<u8>> {
         None
     }
-    /// Restore a state saved by `save` on a selector built with the same parameters.
-    fn load(&mut self, _state: &SelectorState) -> bool {
+    /// Restore a state saved by `save` on a selector built with the same parameters; false if
+    /// it is not such a state.
+    fn load(&mut self, _state: &[u8]) -> bool {
         false
     }
     /// Checks of a told goal and competence beyond the box and finiteness (a task index, a
@@ -91,43 +93,32 @@ fn uniform_in(rng: &mut CoreRng, low: &[f64], high: &[f64]) -> Vec<f64> {
     low.iter().zip(high).map(|(l, h)| uniform(rng, *l, *h)).collect()
 }
 
-/// A mixture as saved: weights, then means and covariances flattened (`Gmm::to_flat`).
-pub type SavedGmm = (Vec<f64>, (Vec<f64>, Vec<f64>));
+/// A selector's state in its own encoding (postcard: its fields in order).
+pub fn save_state<T: serde::Serialize>(state: &T) -> Option<Vec<u8>> {
+    postcard::to_stdvec(state).ok()
+}
 
-/// What a checkpoint keeps of a built-in selector: its generator, and for SAGG-RIAC every
-/// measurement in order (replaying them rebuilds the same tree, splits and interests included).
+/// The state `save_state` encoded, if `bytes` are exactly one.
+pub fn load_state<T: serde::de::DeserializeOwned>(bytes: &[u8]) -> Option<T> {
+    match postcard::take_from_bytes::<T>(bytes) {
+        Ok((t, [])) => Some(t),
+        _ => None,
+    }
+}
+
+/// SAGG-RIAC's state: its generator and every measurement in order (replaying them rebuilds the
+/// same tree, splits and interests included).
 #[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
-pub enum SelectorState {
-    SaggRiac {
-        rng: CoreRng,
-        points: Vec<f64>,
-        values: Vec<f64>,
-    },
-    Random {
-        rng: CoreRng,
-    },
-    /// RIAC (`crate::high_level::teachers::riac`): its regions replay from the measurements.
-    Riac {
-        rng: CoreRng,
-        points: Vec<f64>,
-        values: Vec<f64>,
-    },
-    /// The discrete learning-progress teacher: both moving averages of every task.
-    DiscreteLp {
-        rng: CoreRng,
-        fast: Vec<f64>,
-        slow: Vec<f64>,
-    },
-    /// ALP-GMM and Covar-GMM: generators, what was told, the fitting window and the mixture
-    /// (weights, then means and covariances flattened).
-    Mixture {
-        rng: CoreRng,
-        fit_rng: CoreRng,
-        points: Vec<f64>,
-        values: Vec<f64>,
-        window: Vec<f64>,
-        gmm: Option<SavedGmm>,
-    },
+struct SaggRiacState {
+    rng: CoreRng,
+    points: Vec<f64>,
+    values: Vec<f64>,
+}
+
+/// Uniform goals' state: the generator.
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+struct RandomState {
+    rng: CoreRng,
 }
 
 /// SAGG-RIAC's high level.
@@ -256,21 +247,21 @@ impl GoalSelector for SaggRiac {
     fn tree(&self) -> Option<&RegionTree> {
         Some(&self.tree)
     }
-    fn save(&self) -> Option<SelectorState> {
+    fn save(&self) -> Option<Vec<u8>> {
         let n = self.tree.n_measurements();
         let points = (0..n).flat_map(|i| self.tree.point(i).to_vec()).collect();
         let values = (0..n).map(|i| self.tree.value(i)).collect();
-        Some(SelectorState::SaggRiac { rng: self.rng.clone(), points, values })
+        save_state(&SaggRiacState { rng: self.rng.clone(), points, values })
     }
-    fn load(&mut self, state: &SelectorState) -> bool {
-        let SelectorState::SaggRiac { rng, points, values } = state else { return false };
+    fn load(&mut self, state: &[u8]) -> bool {
+        let Some(SaggRiacState { rng, points, values }) = load_state(state) else { return false };
         let Ok(mut tree) = RegionTree::new(self.tree.low(), self.tree.high(), *self.tree.config()) else { return false };
         let d = tree.dim();
-        for (p, v) in points.chunks_exact(d).zip(values) {
+        for (p, v) in points.chunks_exact(d).zip(&values) {
             tree.add(p, *v);
         }
         self.tree = tree;
-        self.rng = rng.clone();
+        self.rng = rng;
         true
     }
 }
@@ -303,12 +294,12 @@ impl GoalSelector for RandomGoals {
     fn update(&mut self, _point: &[f64], _competence: f64) -> Option<usize> {
         None
     }
-    fn save(&self) -> Option<SelectorState> {
-        Some(SelectorState::Random { rng: self.rng.clone() })
+    fn save(&self) -> Option<Vec<u8>> {
+        save_state(&RandomState { rng: self.rng.clone() })
     }
-    fn load(&mut self, state: &SelectorState) -> bool {
-        let SelectorState::Random { rng } = state else { return false };
-        self.rng = rng.clone();
+    fn load(&mut self, state: &[u8]) -> bool {
+        let Some(RandomState { rng }) = load_state(state) else { return false };
+        self.rng = rng;
         true
     }
 }

@@ -13,7 +13,7 @@
 use nalgebra::DVector;
 
 use crate::error::Result;
-use crate::high_level::goal_selection::{GoalChoice, GoalSelector, SelectorState};
+use crate::high_level::goal_selection::{GoalChoice, GoalSelector};
 use crate::high_level::teachers::gmm::Gmm;
 use crate::high_level::teachers::mixture::MixtureCore;
 
@@ -84,10 +84,10 @@ impl GoalSelector for CovarGmm {
         }
         None
     }
-    fn save(&self) -> Option<SelectorState> {
-        Some(self.core.save())
+    fn save(&self) -> Option<Vec<u8>> {
+        self.core.save()
     }
-    fn load(&mut self, state: &SelectorState) -> bool {
+    fn load(&mut self, state: &[u8]) -> bool {
         let d = self.core.unit_box.low.len();
         self.core.load(state, d + 1, d + 2)
     }

@@ -17,8 +17,16 @@
 use serde::{Deserialize, Serialize};
 
 use crate::error::{invalid, Check, Result, MAX_COUNT};
-use crate::high_level::goal_selection::{GoalChoice, GoalSelector, Mode, SelectorState};
+use crate::high_level::goal_selection::{load_state, save_state, GoalChoice, GoalSelector, Mode};
 use crate::rng::{rng_from_seed, unit, CoreRng};
+
+/// The teacher's state: its generator and both moving averages of every task.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+struct DiscreteLpState {
+    rng: CoreRng,
+    fast: Vec<f64>,
+    slow: Vec<f64>,
+}
 
 /// Parameters of the discrete learning-progress teacher.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -135,13 +143,13 @@ impl GoalSelector for DiscreteLp {
         self.slow[i] += a * (self.fast[i] - self.slow[i]);
         Some(i)
     }
-    fn save(&self) -> Option<SelectorState> {
-        Some(SelectorState::DiscreteLp { rng: self.rng.clone(), fast: self.fast.clone(), slow: self.slow.clone() })
+    fn save(&self) -> Option<Vec<u8>> {
+        save_state(&DiscreteLpState { rng: self.rng.clone(), fast: self.fast.clone(), slow: self.slow.clone() })
     }
-    fn load(&mut self, state: &SelectorState) -> bool {
-        match state {
-            SelectorState::DiscreteLp { rng, fast, slow } if fast.len() == self.cfg.n_tasks && slow.len() == self.cfg.n_tasks => {
-                (self.rng, self.fast, self.slow) = (rng.clone(), fast.clone(), slow.clone());
+    fn load(&mut self, state: &[u8]) -> bool {
+        match load_state(state) {
+            Some(DiscreteLpState { rng, fast, slow }) if fast.len() == self.cfg.n_tasks && slow.len() == self.cfg.n_tasks => {
+                (self.rng, self.fast, self.slow) = (rng, fast, slow);
                 true
             }
             _ => false,

@@ -9,11 +9,26 @@ use nalgebra::DVector;
 
 use crate::config::high_level::check_bounds;
 use crate::error::Result;
-use crate::high_level::goal_selection::{GoalChoice, Mode, SelectorState};
+use crate::high_level::goal_selection::{load_state, save_state, GoalChoice, Mode};
 use crate::high_level::teachers::gmm::{best_by_aic, EmConfig, Gmm};
 use crate::rng::{child_seed, index, rng_from_seed, uniform, unit, CoreRng};
 
 pub use crate::config::teachers::AlpGmmConfig;
+
+/// A mixture as saved: weights, then means and covariances flattened.
+pub type SavedGmm = (Vec<f64>, (Vec<f64>, Vec<f64>));
+
+/// The mixture teachers' state: generators, what was told, the fitting window (rows
+/// flattened) and the mixture (weights, then means and covariances flattened).
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+struct MixtureState {
+    rng: CoreRng,
+    fit_rng: CoreRng,
+    points: Vec<f64>,
+    values: Vec<f64>,
+    window: Vec<f64>,
+    gmm: Option<SavedGmm>,
+}
 
 /// The box and its scaling to [0, 1].
 #[derive(Debug, Clone)]
@@ -112,28 +127,28 @@ impl MixtureCore {
         }
     }
 
-    pub fn save(&self) -> SelectorState {
-        SelectorState::Mixture {
+    pub fn save(&self) -> Option<Vec<u8>> {
+        save_state(&MixtureState {
             rng: self.rng.clone(),
             fit_rng: self.fit_rng.clone(),
             points: self.points.clone(),
             values: self.values.clone(),
             window: self.window.iter().flatten().copied().collect(),
             gmm: self.gmm.as_ref().map(|g| (g.weights.clone(), g.to_flat())),
-        }
+        })
     }
 
     /// Restore what `save` wrote for rows of `row_len` numbers and a mixture in `gmm_dim`
     /// dimensions; false (nothing changed) if the state does not fit.
-    pub fn load(&mut self, state: &SelectorState, row_len: usize, gmm_dim: usize) -> bool {
-        let SelectorState::Mixture { rng, fit_rng, points, values, window, gmm } = state else { return false };
+    pub fn load(&mut self, state: &[u8], row_len: usize, gmm_dim: usize) -> bool {
+        let Some(MixtureState { rng, fit_rng, points, values, window, gmm }) = load_state(state) else { return false };
         if points.len() != values.len() * self.unit_box.low.len() || window.len() % row_len != 0 {
             return false;
         }
-        (self.points, self.values) = (points.clone(), values.clone());
+        (self.points, self.values) = (points, values);
         self.window = window.chunks_exact(row_len).map(|r| r.to_vec()).collect();
         self.gmm = gmm.as_ref().map(|(w, (m, c))| Gmm::from_flat(gmm_dim, w, m, c));
-        (self.rng, self.fit_rng) = (rng.clone(), fit_rng.clone());
+        (self.rng, self.fit_rng) = (rng, fit_rng);
         true
     }
 }

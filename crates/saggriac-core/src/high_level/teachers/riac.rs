@@ -19,10 +19,19 @@
 
 use crate::config::high_level::check_bounds;
 use crate::error::Result;
-use crate::high_level::goal_selection::{GoalChoice, GoalSelector, LeafRow, Mode, SelectorState};
+use crate::high_level::goal_selection::{load_state, save_state, GoalChoice, GoalSelector, LeafRow, Mode};
 use crate::rng::{child_seed, index, normal, rng_from_seed, uniform, unit, CoreRng};
 
 pub use crate::config::teachers::RiacConfig;
+
+/// RIAC's state: its generator and every measurement told, in order (the regions replay from
+/// them; the cuts' generator restarts from the seed and so draws the same cuts).
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+struct RiacState {
+    rng: CoreRng,
+    points: Vec<f64>,
+    values: Vec<f64>,
+}
 
 #[derive(Debug, Clone)]
 struct Leaf {
@@ -214,19 +223,19 @@ impl GoalSelector for Riac {
     fn leaf_table(&self) -> Vec<LeafRow> {
         self.leaves.iter().map(|l| LeafRow { low: l.low.clone(), high: l.high.clone(), interest: l.alp, n_measurements: l.values.len() }).collect()
     }
-    fn save(&self) -> Option<SelectorState> {
-        Some(SelectorState::Riac { rng: self.rng.clone(), points: self.told_points.clone(), values: self.told_values.clone() })
+    fn save(&self) -> Option<Vec<u8>> {
+        save_state(&RiacState { rng: self.rng.clone(), points: self.told_points.clone(), values: self.told_values.clone() })
     }
-    fn load(&mut self, state: &SelectorState) -> bool {
-        let SelectorState::Riac { rng, points, values } = state else { return false };
+    fn load(&mut self, state: &[u8]) -> bool {
+        let Some(RiacState { rng, points, values }) = load_state(state) else { return false };
         if points.len() != values.len() * self.low.len() {
             return false;
         }
         let Ok(mut fresh) = Riac::new(&self.low, &self.high, self.cfg, self.seed) else { return false };
-        for (p, v) in points.chunks_exact(self.low.len()).zip(values) {
+        for (p, v) in points.chunks_exact(self.low.len()).zip(&values) {
             fresh.update(p, *v);
         }
-        fresh.rng = rng.clone();
+        fresh.rng = rng;
         *self = fresh;
         true
     }
