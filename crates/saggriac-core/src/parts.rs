@@ -18,7 +18,7 @@ use crate::evaluation::{Evaluator, EvaluatorState};
 use crate::high_level::goal_selection::{GoalChoice, GoalSelector};
 use crate::model::local_model::FitFailure;
 use crate::model::sensorimotor_model::{ModelState, SensorimotorModel};
-use crate::recorder::{AttemptRow, GoalRow, MetricRow, Recorder};
+use crate::recorder::{AttemptRow, Counters, GoalRow, MetricRow, Recorder, Timers};
 use crate::rng::CoreRng;
 use crate::task_space::Point;
 
@@ -80,8 +80,16 @@ impl Parts {
     pub fn recorder(&self) -> &Recorder {
         &self.recorder
     }
-    pub fn recorder_mut(&mut self) -> &mut Recorder {
+    pub(crate) fn recorder_mut(&mut self) -> &mut Recorder {
         &mut self.recorder
+    }
+    /// The counters a controller keeps up (explorations, fit failures, steps by kind).
+    pub fn counters_mut(&mut self) -> &mut Counters {
+        &mut self.recorder.counters
+    }
+    /// The wall-time split a controller adds to (time in its own neighbour searches).
+    pub fn timers_mut(&mut self) -> &mut Timers {
+        &mut self.recorder.timers
     }
     pub fn rest_position(&self) -> Point {
         self.rest_x

@@ -73,9 +73,10 @@ pub struct Timers {
 /// evaluations still running (a checkpoint is taken when none is).
 #[derive(Debug, Clone, Default, Serialize, Deserialize)]
 pub struct Recorder {
-    pub metrics: Vec<MetricRow>,
-    pub goals: Vec<GoalRow>,
-    pub attempts: Vec<AttemptRow>,
+    /// Rows are added only through `Parts` (`record_attempt`, `finish_goal`, the evaluation).
+    pub(crate) metrics: Vec<MetricRow>,
+    pub(crate) goals: Vec<GoalRow>,
+    pub(crate) attempts: Vec<AttemptRow>,
     pub counters: Counters,
     pub timers: Timers,
     /// Time steps so far (micro-actions, or movements in the episodic paradigm).
@@ -96,19 +97,28 @@ impl Recorder {
     pub fn goals_done(&self) -> u64 {
         self.goals_done
     }
+    pub fn metrics(&self) -> &[MetricRow] {
+        &self.metrics
+    }
+    pub fn goals(&self) -> &[GoalRow] {
+        &self.goals
+    }
+    pub fn attempts(&self) -> &[AttemptRow] {
+        &self.attempts
+    }
     /// One more time step has passed.
-    pub fn tick(&mut self) {
+    pub(crate) fn tick(&mut self) {
         self.steps += 1;
     }
     /// A goal attempt is over: its row closes it and the next goal gets the next index.
-    pub fn goal_done(&mut self, row: GoalRow) {
+    pub(crate) fn goal_done(&mut self, row: GoalRow) {
         self.goals.push(row);
         self.goals_done += 1;
     }
 
     /// Show `on_eval`, in order, every finished metric row it has not seen yet; false if it
     /// asked to stop.
-    pub fn report(&mut self, on_eval: &mut dyn FnMut(&MetricRow) -> bool) -> bool {
+    pub(crate) fn report(&mut self, on_eval: &mut dyn FnMut(&MetricRow) -> bool) -> bool {
         let mut keep_going = true;
         let finished = self.pending.iter().copied().min().unwrap_or(self.metrics.len());
         while self.reported < finished {

@@ -95,13 +95,13 @@ impl Learner {
         self.parts.recorder()
     }
     pub fn metrics(&self) -> &[MetricRow] {
-        &self.parts.recorder().metrics
+        self.parts.recorder().metrics()
     }
     pub fn goals(&self) -> &[GoalRow] {
-        &self.parts.recorder().goals
+        self.parts.recorder().goals()
     }
     pub fn attempts(&self) -> &[AttemptRow] {
-        &self.parts.recorder().attempts
+        self.parts.recorder().attempts()
     }
     pub fn counters(&self) -> &Counters {
         &self.parts.recorder().counters

@@ -35,7 +35,7 @@ pub fn metric_row<'py>(py: Python<'py>, m: &MetricRow) -> PyResult<Bound<'py, Py
 /// Learning curve: dict of 1-D arrays (step, n_samples, reach_error, pred_error, dx_error,
 /// n_goals, n_regions).
 pub fn metrics<'py>(py: Python<'py>, r: &Recorder) -> PyResult<Bound<'py, PyDict>> {
-    let m = &r.metrics;
+    let m = r.metrics();
     let d = PyDict::new(py);
     d.set_item("step", col(py, m.iter().map(|r| r.step as i64).collect()))?;
     d.set_item("n_samples", col(py, m.iter().map(|r| r.n_samples as i64).collect()))?;
@@ -49,7 +49,7 @@ pub fn metrics<'py>(py: Python<'py>, r: &Recorder) -> PyResult<Bound<'py, PyDict
 
 /// Self-generated goals: one row per goal, points in an `m`-D task space.
 pub fn goals<'py>(py: Python<'py>, r: &Recorder, m: usize) -> PyResult<Bound<'py, PyDict>> {
-    let g = &r.goals;
+    let g = r.goals();
     let d = PyDict::new(py);
     d.set_item("goal_index", col(py, g.iter().map(|r| r.goal_index as i64).collect()))?;
     d.set_item("step_start", col(py, g.iter().map(|r| r.step_start as i64).collect()))?;
@@ -65,7 +65,7 @@ pub fn goals<'py>(py: Python<'py>, r: &Recorder, m: usize) -> PyResult<Bound<'py
 
 /// Every (sub)goal attempt and the competence the high level received for it.
 pub fn attempts<'py>(py: Python<'py>, r: &Recorder, m: usize) -> PyResult<Bound<'py, PyDict>> {
-    let a = &r.attempts;
+    let a = r.attempts();
     let d = PyDict::new(py);
     d.set_item("goal_index", col(py, a.iter().map(|r| r.goal_index as i64).collect()))?;
     d.set_item("subgoal", col(py, a.iter().map(|r| r.subgoal as i64).collect()))?;

@@ -18,6 +18,9 @@ use crate::errors::{take_failure, wrap, Slot};
 use crate::goal_selection::PySelector;
 use crate::{evaluation, goal_selection, recorder};
 
+/// Test configurations and the positions they reach, row by row (a user's body's cloud).
+type CloudRows = (Vec<Vec<f64>>, Vec<Vec<f64>>);
+
 #[pyclass(name = "Learner", module = "saggriac._core")]
 pub struct PyLearner {
     inner: Learner,
@@ -48,7 +51,7 @@ impl PyLearner {
         environment: Option<Py<PyAny>>,
         goal_selector: Option<Py<PyAny>>,
         env_seed: u64,
-        test_cloud: Option<(Vec<Vec<f64>>, Vec<Vec<f64>>)>,
+        test_cloud: Option<CloudRows>,
     ) -> PyResult<Self> {
         let cfg = parse_config(config)?;
         let slot: Slot = Default::default();

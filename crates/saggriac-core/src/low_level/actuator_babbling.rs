@@ -216,9 +216,7 @@ mod tests {
         // Goal box [-50, 50]^3 around a ball of radius 50: the farthest pair is a diameter, and
         // from rest (50, 0, 0) the nearer end of a diameter is at most 50 sqrt(2) away: the
         // path is between 100 + 0 (the diameter through rest) and 170.7 units.
-        let mut cfg = RunConfig::default();
-        cfg.goal_low = vec![-50.0; 3];
-        cfg.goal_high = vec![50.0; 3];
+        let mut cfg = RunConfig { goal_low: vec![-50.0; 3], goal_high: vec![50.0; 3], ..RunConfig::default() };
         let p = actuator_reset_period(&cfg, [50.0, 0.0, 0.0]);
         assert!((200..=342).contains(&p), "{p}");
         // A thin slab z in [-1, 1]: nearly the 2-D disk of radius 50.

@@ -74,7 +74,7 @@ impl LowLevel for Episodic {
                 let t1 = std::time::Instant::now();
                 // Before any movement the inverse model knows nothing: start from rest.
                 episodes(parts).inverse(&g, &self.cfg, self.rcond, &mut self.nb, &mut theta);
-                parts.recorder_mut().timers.knn += t1.elapsed().as_secs_f64();
+                parts.timers_mut().knn += t1.elapsed().as_secs_f64();
                 let s = self.cfg.noise;
                 if s > 0.0 {
                     theta.iter_mut().for_each(|t| *t += s * normal(parts.rng()));
@@ -86,9 +86,9 @@ impl LowLevel for Episodic {
         let predicted = if self.condition == Condition::ActuatorRiac { episodes(parts).predict(&theta, &self.cfg, &mut self.nb) } else { None };
         let step_start = parts.recorder().steps();
         let x = parts.movement(&theta);
-        let r = &mut parts.recorder_mut();
-        r.counters.babbling_steps += u64::from(goal.is_none());
-        r.counters.reaching_steps += u64::from(goal.is_some());
+        let c = parts.counters_mut();
+        c.babbling_steps += u64::from(goal.is_none());
+        c.reaching_steps += u64::from(goal.is_some());
         match (goal, &choice) {
             (Some(g), Some(c)) => {
                 let comp = competence_of(&self.competence, self.reach, &g, &x, &rest);

@@ -86,14 +86,14 @@ impl SsaReacher {
                         // cut the command, which is no fault of the model.
                         let expected = parts.model().expected_dx(&self.dtheta);
                         if distance(&dx, &expected) > rc.eps_max {
-                            parts.recorder_mut().counters.explorations += 1;
+                            parts.counters_mut().explorations += 1;
                             explore(parts, &self.exploration, &mut self.dtheta, deadline);
                         }
                     }
                 },
                 Err(_) => {
                     // No usable local model here yet: explore to build one.
-                    let counters = &mut parts.recorder_mut().counters;
+                    let counters = parts.counters_mut();
                     counters.fit_failures += 1;
                     counters.explorations += 1;
                     explore(parts, &self.exploration, &mut self.dtheta, deadline);
