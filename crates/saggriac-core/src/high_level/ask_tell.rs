@@ -333,7 +333,8 @@ mod tests {
         assert_eq!(again.spec(), a.spec());
     }
 
-    /// A teacher of every kind saved by saggriac 0.4 (format 2, one enum of all states; 4316e31)
+    /// A teacher of every kind saved by saggriac 0.4 (format 2, one enum of all states; written at
+    /// 4316e31)
     /// restores into its own state type and asks the 20 goals 0.4 asked next, to the bit.
     #[test]
     fn teachers_saved_by_saggriac_0_4_continue_exactly() {
