@@ -5,7 +5,6 @@ Examples per property: 60 in CI; `SAGGRIAC_FUZZ_EXAMPLES=N` raises it (see
 benchmarks/fuzz_campaign.py for the long campaign and its counts).
 """
 
-import math
 
 import pytest
 
@@ -14,7 +13,7 @@ from hypothesis import given  # noqa: E402
 from hypothesis import strategies as st  # noqa: E402
 
 import saggriac  # noqa: E402
-from tests.fuzzing import FUZZ, Counts  # noqa: E402
+from tests.fuzzing import FUZZ, Counts, floats  # noqa: E402
 from saggriac.errors import ParameterError, SaggriacError  # noqa: E402
 
 
@@ -22,10 +21,6 @@ COUNTS = Counts()
 count = COUNTS.count
 
 
-floats = st.one_of(
-    st.floats(allow_nan=True, allow_infinity=True),
-    st.sampled_from([0.0, -0.0, 1e-300, -1e-300, 1e300, 5e-324, 0.5, 1.0, 2.0, math.pi]),
-)
 anything = st.one_of(floats, st.integers(-(2**70), 2**70), st.booleans(), st.none(), st.text(max_size=5), st.lists(floats, max_size=4))
 FIELDS = sorted(f for f in saggriac.Config.__dataclass_fields__ if f not in ("condition", "paradigm"))
 

@@ -15,7 +15,7 @@ from hypothesis import given  # noqa: E402
 from hypothesis import strategies as st  # noqa: E402
 
 import saggriac  # noqa: E402
-from tests.fuzzing import FUZZ, Counts  # noqa: E402
+from tests.fuzzing import FUZZ, Counts, floats  # noqa: E402
 from saggriac.errors import InputError, ParameterError  # noqa: E402
 
 
@@ -23,10 +23,6 @@ COUNTS = Counts()
 count = COUNTS.count
 
 
-floats = st.one_of(
-    st.floats(allow_nan=True, allow_infinity=True),
-    st.sampled_from([0.0, -0.0, 1e-300, -1e-300, 1e300, 5e-324, 0.5, 1.0, 2.0, math.pi]),
-)
 
 
 bounds = st.integers(1, 4).flatmap(
