@@ -74,10 +74,15 @@ impl Learner {
 
     /// Rebuild a learner from a checkpoint of a run with configuration `cfg`.
     pub fn restore(cfg: RunConfig, bytes: &[u8]) -> Result<Learner> {
-        let s: State = match postcard::take_from_bytes_crc32::<State>(bytes, CHECKSUM.digest()) {
-            Ok((s, [])) => s,
+        let decoded = postcard::take_from_bytes_crc32::<State>(bytes, CHECKSUM.digest());
+        if !matches!(decoded, Ok((_, []))) {
             // Another format's parts do not decode as this one's: its head says which it is.
-            _ if other_format(bytes).is_some() => return Err(wrong_format(other_format(bytes).expect("checked"))),
+            if let Some(h) = other_format(bytes) {
+                return Err(wrong_format(h));
+            }
+        }
+        let s: State = match decoded {
+            Ok((s, [])) => s,
             Ok(_) => return Err(refuse(format!("The checkpoint is damaged: bytes follow its end. {START_OVER}"))),
             Err(postcard::Error::DeserializeBadCrc) => return Err(refuse(format!("The checkpoint is damaged: its checksum does not match its content. {START_OVER}"))),
             Err(e) => return Err(refuse(format!("The checkpoint is damaged or not a saggriac checkpoint ({e}). {START_OVER}"))),

@@ -44,6 +44,8 @@ pub struct Parts {
     body_change: Option<BodyChange>,
     /// The configuration before the current micro-action.
     theta_before: Vec<f64>,
+    /// The point the high level is told (`tell`).
+    told: Vec<f64>,
 }
 
 impl Parts {
@@ -59,7 +61,7 @@ impl Parts {
         body_change: Option<BodyChange>,
     ) -> Self {
         let n = body.n_joints();
-        Parts { body, model, selector, rng, evaluator, recorder: Recorder::default(), rest_x, budget, body_change, theta_before: vec![0.0; n] }
+        Parts { body, model, selector, rng, evaluator, recorder: Recorder::default(), rest_x, budget, body_change, theta_before: vec![0.0; n], told: Vec::new() }
     }
 
     pub fn body(&self) -> &dyn Body {
@@ -174,9 +176,15 @@ impl Parts {
     }
 
     /// Give the high level the competence measured at `point`; returns the region that took it.
+    /// A subgoal on the way from a start outside the selector's box lies outside it too: the
+    /// selector is told the nearest point of its box (every selector, a user's included, is told
+    /// points of its own space).
     pub fn tell(&mut self, point: &[f64], competence: f64) -> Option<usize> {
         let t0 = Instant::now();
-        let region = self.selector.update(point, competence);
+        let (low, high) = (self.selector.low(), self.selector.high());
+        self.told.clear();
+        self.told.extend(point.iter().zip(low.iter().zip(high)).map(|(v, (l, h))| v.clamp(*l, *h)));
+        let region = self.selector.update(&self.told, competence);
         self.recorder.timers.goal_selection += t0.elapsed().as_secs_f64();
         region
     }

@@ -74,10 +74,8 @@ impl GoalSelector for PySelector {
         if self.failed {
             return None;
         }
-        // A subgoal on the way from a start outside the goal box lies outside it too: the selector
-        // is told the nearest point of its box, as the built-in teachers record it.
-        let point: Vec<f64> = point.iter().zip(self.low.iter().zip(&self.high)).map(|(v, (l, h))| v.clamp(*l, *h)).collect();
-        let r = Python::attach(|py| self.obj.bind(py).call_method1("update", (point.into_pyarray(py), competence)).map(|_| ()));
+        // The run loop tells points of the selector's box (`Parts::tell`).
+        let r = Python::attach(|py| self.obj.bind(py).call_method1("update", (point.to_vec().into_pyarray(py), competence)).map(|_| ()));
         if let Err(e) = r {
             self.fail(Failure::Raised(e));
         }

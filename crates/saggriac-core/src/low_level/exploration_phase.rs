@@ -17,8 +17,12 @@ pub fn explore(parts: &mut Parts, cfg: &ExplorationConfig, d: &mut [f64], deadli
         if deadline.is_some_and(|t| parts.recorder().steps() >= t) {
             return;
         }
-        for (i, (v, c)) in d.iter_mut().zip(&centre).enumerate() {
-            *v = c + uniform(parts.rng(), -step, step) - parts.body().theta()[i];
+        // (centre + u) - theta, in the order the sum was always taken.
+        for (v, c) in d.iter_mut().zip(&centre) {
+            *v = c + uniform(parts.rng(), -step, step);
+        }
+        for (v, t) in d.iter_mut().zip(parts.body().theta()) {
+            *v -= t;
         }
         if parts.micro_action(d, ActionKind::Exploration).is_none() {
             return;
