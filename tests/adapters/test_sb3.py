@@ -69,24 +69,74 @@ def test_a_goal_env_that_ignores_next_goal_is_refused():
         model.learn(total_timesteps=32, callback=TeacherCallback(teacher))
 
 
-def test_a_teacher_inside_the_workers_is_refused_with_the_callbacks_name(tmp_path):
-    """The worker refuses its copy of the teacher; SB3 then loses the worker, and the worker's
-    message (on stderr) names the way to do it."""
-    import subprocess
-    import sys
+def test_vecnormalize_and_the_loggers_csv_carry_the_teachers_columns(tmp_path):
+    """PPO on VecNormalize (SB3's advice for continuous control) with TeacherCallback: the goal
+    check reads the observations VecNormalize received, not the normalised ones (before: a false
+    ConformanceError naming set_attr), and SB3's CSV log gets the teacher's figures."""
+    import pandas as pd
+    from stable_baselines3.common.logger import configure
+    from stable_baselines3.common.vec_env import VecNormalize
 
-    script = tmp_path / "copied.py"
-    script.write_text(
-        f"""
-import gymnasium, saggriac as sg, saggriac.gym as sgym
-from stable_baselines3.common.vec_env import SubprocVecEnv
-teacher = sg.SaggRiacSelector([0.0, -50.0], [50.0, 50.0], seed=0)
-def make():
-    return sgym.SelectorGoals(gymnasium.make({ENV!r}, max_episode_steps=5), teacher)
-if __name__ == "__main__":
-    SubprocVecEnv([make, make], start_method="spawn").reset()
-"""
-    )
-    r = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=300)
-    assert r.returncode != 0
-    assert "ConformanceError" in r.stderr and "saggriac.sb3.TeacherCallback" in r.stderr, r.stderr[-2000:]
+    teacher = sg.SaggRiacSelector([0.0, -50.0], [50.0, 50.0], seed=0, g_max=10)
+    venv = VecNormalize(make_vec_env(lambda: gymnasium.make(ENV, max_episode_steps=20), n_envs=2, seed=0))
+    model = PPO("MultiInputPolicy", venv, n_steps=64, batch_size=64, n_epochs=1, seed=0, device="cpu")
+    model.set_logger(configure(str(tmp_path), ["csv"]))
+    cb = TeacherCallback(teacher, competence="distance")
+    model.learn(total_timesteps=640, callback=cb)
+    model.logger.close()
+    log = pd.read_csv(tmp_path / "progress.csv")
+    for col in ("teacher/asked", "teacher/told", "teacher/competence", "teacher/regions", "teacher/uniform_share"):
+        assert col in log.columns, sorted(log.columns)
+    assert log["teacher/told"].iloc[-1] == len(cb.history) == 30
+    assert log["teacher/asked"].iloc[-1] == 30 + 2 * 2  # each worker holds one goal queued and one pursued
+    assert log["teacher/competence"].dropna().between(-1e9, 0).all() and log["teacher/regions"].iloc[-1] >= 1
+    assert log["teacher/uniform_share"].dropna().between(0, 1).all()
+
+
+def test_a_mistaken_goal_under_vecnormalize_names_the_route_used():
+    from stable_baselines3.common.vec_env import VecNormalize
+
+    class Deaf(gymnasium.Wrapper):
+        def set_next_goal(self, goal):
+            pass
+
+    venv = VecNormalize(make_vec_env(lambda: Deaf(gymnasium.make(ENV, max_episode_steps=5)), n_envs=1, seed=0))
+    model = PPO("MultiInputPolicy", venv, n_steps=16, batch_size=16, n_epochs=1, seed=0, device="cpu")
+    with pytest.raises(sg.errors.ConformanceError, match=r"env_method\('set_next_goal', \.\.\.\) \(read before VecNormalize"):
+        model.learn(total_timesteps=32, callback=TeacherCallback(sg.RandomSelector([0.0, -50.0], [50.0, 50.0], seed=0)))
+
+
+def test_checkpoints_save_the_teacher_and_a_resumed_training_continues_it(tmp_path):
+    from stable_baselines3.common.callbacks import CheckpointCallback
+
+    from saggriac.sb3 import teacher_path
+
+    def make():
+        return make_vec_env(lambda: gymnasium.make(ENV, max_episode_steps=20), n_envs=2, seed=0)
+
+    teacher = sg.SaggRiacSelector([0.0, -50.0], [50.0, 50.0], seed=0, g_max=10)
+    ckpt = CheckpointCallback(save_freq=160, save_path=str(tmp_path), name_prefix="rl_model")
+    model = PPO("MultiInputPolicy", make(), n_steps=64, batch_size=64, n_epochs=1, seed=0, device="cpu")
+    model.learn(total_timesteps=640, callback=[ckpt, TeacherCallback(teacher, competence="distance", save_with=ckpt)])
+    saved = sorted(tmp_path.glob("rl_model_teacher_*_steps.saggriac"))
+    assert [p.name for p in saved] == [f"rl_model_teacher_{n}_steps.saggriac" for n in (320, 640)]
+    assert teacher_path(tmp_path / "rl_model_320_steps.zip") == saved[0]
+    # The last save is the teacher as the training left it: it asks exactly what the teacher asks next.
+    last = sg.load_selector(saved[1])
+    np.testing.assert_array_equal(last.history()["told_goal"], teacher.history()["told_goal"])
+    np.testing.assert_array_equal(last.sample_batch(5), teacher.sample_batch(5))
+    # Resume from the first checkpoint: the model and the teacher it had, the teacher's history goes on.
+    mid = sg.load_selector(saved[0])
+    told_before = len(mid.history()["told_goal"])
+    assert 0 < told_before < len(teacher.history()["told_goal"])
+    model = PPO.load(tmp_path / "rl_model_320_steps.zip", env=make(), device="cpu")
+    cb = TeacherCallback(mid, competence="distance")
+    model.learn(total_timesteps=320, callback=cb, reset_num_timesteps=False)
+    assert len(mid.history()["told_goal"]) == told_before + len(cb.history) > told_before
+
+
+def test_save_with_must_be_a_checkpoint_callback():
+    with pytest.raises(sg.errors.ParameterError, match="'save_with' parameter of TeacherCallback"):
+        TeacherCallback(sg.RandomSelector([0.0], [1.0]), save_with="ckpt/")
+    with pytest.raises(sg.errors.ParameterError, match="'allow_copy' parameter of TeacherCallback"):
+        TeacherCallback(sg.RandomSelector([0.0], [1.0]), allow_copy="yes")

@@ -307,24 +307,45 @@ def test_goal_via_observation_recomputes_the_end_test_for_the_teachers_goal():
     assert env.step(np.zeros(15))[2] is True
 
 
-def test_a_teacher_copied_into_a_worker_process_is_refused(tmp_path):
+def test_a_pickled_teacher_is_refused_only_while_another_process_uses_it(tmp_path):
+    """A copy of a teacher (pickle keeps its identity) used through a wrapper in a second process
+    is refused while the first process uses it; once that process has let it go (or never
+    wrapped it), the copy is the only one in use and runs."""
+    import copy
     import pickle
     import subprocess
     import sys
 
     teacher = sg.SaggRiacSelector([0.0, -50.0], [50.0, 50.0], seed=0)
-    assert not teacher.is_worker_copy and not pickle.loads(pickle.dumps(teacher)).is_worker_copy  # a copy in this process is fine
     f = tmp_path / "teacher.pkl"
     f.write_bytes(pickle.dumps(teacher))
-    child = f"""
+    child = tmp_path / "child.py"
+    child.write_text(f"""
 import pickle, gymnasium, saggriac.gym as sgym
 t = pickle.load(open({str(f)!r}, "rb"))
-assert t.is_worker_copy
 try:
-    sgym.SelectorGoals(gymnasium.make("saggriac/PlanarArm-v0"), t)
+    sgym.SelectorGoals(gymnasium.make("saggriac/PlanarArm-v0"), t).reset(seed=0)
+    print("ran")
 except Exception as e:
     print(type(e).__name__, e)
-"""
-    out = subprocess.run([sys.executable, "-c", child], capture_output=True, text=True)
-    assert out.returncode == 0, out.stderr
-    assert out.stdout.startswith("ConformanceError") and "saggriac.sb3.TeacherCallback" in out.stdout
+""")
+
+    def in_child() -> str:
+        out = subprocess.run([sys.executable, str(child)], capture_output=True, text=True, timeout=120)
+        assert out.returncode == 0, out.stderr
+        return out.stdout
+
+    assert in_child().startswith("ran")  # nobody else uses it: a restored teacher
+    env = sgym.SelectorGoals(gymnasium.make("saggriac/PlanarArm-v0"), teacher)
+    said = in_child()
+    assert said.startswith("ConformanceError") and "saggriac.sb3.TeacherCallback" in said and f"pid {os.getpid()}" in said
+    # In this process, a pickled copy is the same teacher; copy.deepcopy makes another one.
+    sgym.SelectorGoals(gymnasium.make("saggriac/PlanarArm-v0"), pickle.loads(pickle.dumps(teacher))).reset(seed=0)
+    other = copy.deepcopy(teacher)
+    assert other._identity != teacher._identity and pickle.loads(pickle.dumps(teacher))._identity == teacher._identity
+    np.testing.assert_array_equal(other.sample(), copy.deepcopy(teacher).sample())  # the same state
+    del env, teacher
+    import gc
+
+    gc.collect()
+    assert in_child().startswith("ran")  # this process let it go

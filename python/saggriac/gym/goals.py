@@ -19,7 +19,6 @@ An episode cut short by a reset is not told. The environment must have a dict ob
 
 from __future__ import annotations
 
-import os
 from typing import Any
 
 import gymnasium
@@ -27,6 +26,8 @@ import numpy as np
 
 from ..competence import competence
 from ..errors import ConformanceError, ParameterError
+from ..files import check_flag
+from ..teachers import ownership
 
 GOAL_VIA = ("options", "observation")
 
@@ -40,16 +41,6 @@ class _Scoring:
 
     def __call__(self, goal: np.ndarray, reached: np.ndarray, start: np.ndarray) -> Any:
         return competence(goal, reached, start, **self.kw)
-
-
-def _refuse_worker_copy(selector: Any, owner: str) -> None:
-    if getattr(selector, "is_worker_copy", False):
-        raise ConformanceError(
-            f"{owner} was given a copy of a teacher made when it was sent to a worker process (pid {os.getpid()}, a child of pid {os.getppid()}): "
-            "every worker would teach itself and the original teacher would be told nothing. With Stable-Baselines3's SubprocVecEnv (or any "
-            "multi-process vector environment) keep the teacher in the main process: saggriac.sb3.TeacherCallback(teacher), or VectorSelectorGoals "
-            "around a Gymnasium vector environment."
-        )
 
 
 def _check_goal_taken(wanted: np.ndarray, obs: dict[str, Any], owner: str, how: str) -> None:
@@ -97,16 +88,47 @@ def _check_goal_shape(goal: np.ndarray, goal_space: Any, owner: str) -> np.ndarr
 SUCCESS_KEYS = ("is_success", "success")
 
 
-def _own_goal_success_aside(info: dict[str, Any]) -> dict[str, Any]:
+def _success_rule(success: Any, env: gymnasium.Env, owner: str) -> Any:
+    """goal_via="observation": how the teacher's goal's success is decided. None: the
+    environment's ``distance_threshold`` (Gymnasium-Robotics' Fetch, saggriac's arms) where it
+    has one, else unknown; a number: that distance; a function of (achieved, desired); False: no
+    flag."""
+    if success is False:
+        return False
+    if success is None:
+        t = getattr(env.unwrapped, "distance_threshold", None)
+        if isinstance(t, (int, float, np.integer, np.floating)) and not isinstance(t, bool) and np.isfinite(t) and t > 0:
+            return float(t)
+        return None
+    if callable(success):
+        return success
+    if isinstance(success, (int, float, np.integer, np.floating)) and not isinstance(success, (bool, np.bool_)) and np.isfinite(success) and success > 0:
+        return float(success)
+    raise ParameterError(f"The 'success' parameter of {owner} must be a distance > 0, a function of (achieved_goal, desired_goal), False or None. Got {success!r} instead.", "success", repr(success))
+
+
+def _success_for_teacher(info: dict[str, Any], rule: Any, achieved: np.ndarray, goal: np.ndarray, owner: str) -> dict[str, Any]:
     """goal_via="observation": the environment computed its success flags for its own goal, not
     the teacher's; they are kept under "<key>_env_goal" so that nothing (SB3's success rate, a
-    competence="success") reads them as the teacher's goal's."""
-    if not any(k in info for k in SUCCESS_KEYS):
+    competence="success") reads them as the teacher's goal's, and ``info["is_success"]`` (and
+    the environment's own key) says whether the teacher's goal is reached."""
+    own = [k for k in SUCCESS_KEYS if k in info]
+    if not own and (rule is None or rule is False):
         return info
     info = dict(info)
-    for k in SUCCESS_KEYS:
-        if k in info:
-            info[f"{k}_env_goal"] = info.pop(k)
+    for k in own:
+        info[f"{k}_env_goal"] = info.pop(k)
+    if rule is False:
+        return info
+    if rule is None:
+        raise ConformanceError(
+            f"{owner}(goal_via='observation'): the environment reports {own[0]!r} for its own goal, and saggriac cannot tell the success of the "
+            "teacher's goal (the environment has no distance_threshold). Pass success=the distance that counts as reached (PointMaze: 0.45), "
+            "success=a function of (achieved_goal, desired_goal), or success=False for no success flag."
+        )
+    ok = bool(rule(achieved, goal)) if callable(rule) else bool(np.linalg.norm(np.asarray(achieved, dtype=np.float64) - goal) <= rule)
+    for k in dict.fromkeys(["is_success", *own]):
+        info[k] = ok
     return info
 
 
@@ -128,19 +150,28 @@ class SelectorGoals(gymnasium.Wrapper):
     """Goals of ``env``'s episodes asked of ``selector`` (anything with ``sample()`` and
     ``update(goal, competence)``, such as :class:`saggriac.SaggRiacSelector`). The competence
     parameters mean what they mean in :class:`saggriac.Config`; ``reach`` is needed only for
-    ``competence="absolute"``. ``info["competence"]`` holds the value told at an episode's end."""
+    ``competence="absolute"``. ``info["competence"]`` holds the value told at an episode's end.
 
-    def __init__(self, env: gymnasium.Env, selector: Any, *, goal_via: str = "options", min_c: float = -1.0, eps_c: float = -0.05, competence: str = "relative", reach: float | None = None) -> None:
+    With ``goal_via="observation"``, ``info["is_success"]`` says whether the teacher's goal is
+    reached, by ``success``: a distance, a function of (achieved_goal, desired_goal), or None for
+    the environment's ``distance_threshold``; the environment's flags for its own goal move to
+    ``"<key>_env_goal"``. ``allow_copy=True`` lets a copy of a teacher that another process also
+    uses through a saggriac wrapper run here (see :mod:`saggriac.teachers.ownership`); without it
+    such a copy is refused, since the copies would each learn alone."""
+
+    def __init__(self, env: gymnasium.Env, selector: Any, *, goal_via: str = "options", min_c: float = -1.0, eps_c: float = -0.05, competence: str = "relative", reach: float | None = None, success: Any = None, allow_copy: bool = False) -> None:
         super().__init__(env)
         _check_goal_space(env.observation_space, "SelectorGoals")
         if goal_via not in GOAL_VIA:
             raise ParameterError(f"The 'goal_via' parameter of SelectorGoals must be one of {', '.join(map(repr, GOAL_VIA))}. Got {goal_via!r} instead.", "goal_via", repr(goal_via))
         if not (callable(getattr(selector, "sample", None)) and callable(getattr(selector, "update", None))):
             raise ConformanceError(f"SelectorGoals needs a selector with sample() and update(goal, competence); got {selector!r}.")
-        _refuse_worker_copy(selector, "SelectorGoals")
+        check_flag(allow_copy, "allow_copy", "SelectorGoals")
+        ownership.claim(selector, "SelectorGoals", allow_copy)
         _check_fits(selector, env.observation_space["desired_goal"], "SelectorGoals")
-        self.selector, self.goal_via = selector, goal_via
+        self.selector, self.goal_via, self.allow_copy = selector, goal_via, allow_copy
         self._score = _Scoring(min_c, eps_c, competence, reach)
+        self._success = _success_rule(success, env, "SelectorGoals") if goal_via == "observation" else False
         self._goal: np.ndarray | None = None
         self._start: np.ndarray | None = None
         self._open = False
@@ -152,7 +183,7 @@ class SelectorGoals(gymnasium.Wrapper):
         return obs
 
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None) -> tuple[Any, dict[str, Any]]:
-        _refuse_worker_copy(self.selector, "SelectorGoals")
+        ownership.claim(self.selector, "SelectorGoals", self.allow_copy)
         self._goal = _check_goal_shape(np.asarray(self.selector.sample(), dtype=np.float64), self.observation_space["desired_goal"], "SelectorGoals")
         if self.goal_via == "options":
             options = {**(options or {}), "goal": self._goal}
@@ -162,7 +193,7 @@ class SelectorGoals(gymnasium.Wrapper):
         self._start = np.asarray(obs["achieved_goal"], dtype=np.float64).copy()
         self._open = True
         if self.goal_via == "observation":
-            info = _own_goal_success_aside(info)
+            info = _success_for_teacher(info, self._success, self._start, self._goal, "SelectorGoals")
         return self._with_goal(obs), info
 
     def step(self, action: Any) -> tuple[Any, Any, bool, bool, dict[str, Any]]:
@@ -175,7 +206,7 @@ class SelectorGoals(gymnasium.Wrapper):
             reward = float(base.compute_reward(obs["achieved_goal"], obs["desired_goal"], info))
             if callable(getattr(base, "compute_terminated", None)):
                 terminated = bool(base.compute_terminated(obs["achieved_goal"], obs["desired_goal"], info))
-            info = _own_goal_success_aside(info)
+            info = _success_for_teacher(info, self._success, np.asarray(obs["achieved_goal"], dtype=np.float64), self._goal, "SelectorGoals")
         if (terminated or truncated) and self._open:
             c = self._score(self._goal, np.asarray(obs["achieved_goal"], dtype=np.float64), self._start)
             self.selector.update(self._goal, c)
@@ -208,7 +239,7 @@ class VectorSelectorGoals(gymnasium.vector.VectorWrapper):
     batches (see the module's text). ``info["competence"]`` holds, after a step, the competence told
     for each sub-environment whose episode ended there (NaN elsewhere)."""
 
-    def __init__(self, env: gymnasium.vector.VectorEnv, selector: Any, *, min_c: float = -1.0, eps_c: float = -0.05, competence: str = "relative", reach: float | None = None) -> None:
+    def __init__(self, env: gymnasium.vector.VectorEnv, selector: Any, *, min_c: float = -1.0, eps_c: float = -0.05, competence: str = "relative", reach: float | None = None, allow_copy: bool = False) -> None:
         super().__init__(env)
         _check_goal_space(env.single_observation_space, "VectorSelectorGoals")
         mode = env.metadata.get("autoreset_mode", gymnasium.vector.AutoresetMode.NEXT_STEP)
@@ -216,9 +247,10 @@ class VectorSelectorGoals(gymnasium.vector.VectorWrapper):
             raise ParameterError(f"VectorSelectorGoals needs a vector environment that resets on the next step (autoreset_mode=AutoresetMode.NEXT_STEP, Gymnasium's default); this one has {mode}.", "autoreset_mode", repr(mode))
         if not (callable(getattr(selector, "sample", None)) and callable(getattr(selector, "update", None))):
             raise ConformanceError(f"VectorSelectorGoals needs a selector with sample() and update(goal, competence); got {selector!r}.")
-        _refuse_worker_copy(selector, "VectorSelectorGoals")
+        check_flag(allow_copy, "allow_copy", "VectorSelectorGoals")
+        ownership.claim(selector, "VectorSelectorGoals", allow_copy)
         _check_fits(selector, env.single_observation_space["desired_goal"], "VectorSelectorGoals")
-        self.selector = selector
+        self.selector, self.allow_copy = selector, allow_copy
         self._score = _Scoring(min_c, eps_c, competence, reach)
         n = env.num_envs
         self._goals = np.zeros((n,) + env.single_observation_space["desired_goal"].shape)
@@ -227,6 +259,7 @@ class VectorSelectorGoals(gymnasium.vector.VectorWrapper):
 
     def _hand_out(self, which: np.ndarray) -> None:
         """New goals for the sub-environments ``which``, read on their next reset."""
+        ownership.claim(self.selector, "VectorSelectorGoals", self.allow_copy)
         new = _sample_batch(self.selector, int(which.sum()))
         space = self.env.single_observation_space["desired_goal"]
         for g in new:

@@ -24,6 +24,7 @@ from .. import _core
 from ..errors import InputError, ParameterError, StorageError
 from ..files import as_path, check_flag, starts_with, write_file
 from ..values import as_numbers as _numbers
+from . import ownership
 
 # Every default below is the core's (one declaration): SAGG-RIAC's are the run's, the others'
 # those of the teachers a run can take.
@@ -163,10 +164,26 @@ class _AskTellSelector:
     def __repr__(self) -> str:
         return f"{type(self).__name__}(dim={self.dim}, seed={self.seed}, regions={self.n_regions})"
 
-    # Saving: pickle (and copy.deepcopy) go through the core's own encoding, so a restored
-    # teacher asks exactly the goals the original would have asked next.
+    def __new__(cls, *args: Any, **kwargs: Any) -> "_AskTellSelector":
+        obj = super().__new__(cls)
+        obj._identity = ownership.new_identity()  # see teachers/ownership.py; pickle keeps it
+        return obj
+
+    # Saving: pickle goes through the core's own encoding, so a restored teacher asks exactly
+    # the goals the original would have asked next. The copy keeps the teacher's identity (a
+    # teacher sent to a worker is the same teacher); copy.copy/deepcopy make a new teacher.
     def __getstate__(self) -> dict[str, Any]:
-        return {"teacher": bytes(self._inner.save()), "last_mode": self.last_mode, "last_region": self.last_region, "pickled_in": os.getpid()}
+        return {"teacher": bytes(self._inner.save()), "last_mode": self.last_mode, "last_region": self.last_region, "identity": self._identity}
+
+    def __deepcopy__(self, memo: dict[int, Any]) -> "_AskTellSelector":
+        state = self.__getstate__()
+        del state["identity"]
+        obj = type(self).__new__(type(self))
+        obj.__setstate__(state)
+        return obj
+
+    def __copy__(self) -> "_AskTellSelector":
+        return self.__deepcopy__({})  # no shallow copy: a teacher's state is one object
 
     def __setstate__(self, state: dict[str, Any]) -> None:
         inner = _core.AskTell.restore(state["teacher"])
@@ -174,17 +191,8 @@ class _AskTellSelector:
             raise InputError(f"The saved teacher is a {inner.kind!r} teacher, not a {type(self).__name__}.")
         self._inner = inner
         self.last_mode, self.last_region = state["last_mode"], state["last_region"]
-        self._pickled_in = state.get("pickled_in")
-
-    @property
-    def is_worker_copy(self) -> bool:
-        """True for a copy of a teacher unpickled in a child of the process that pickled it: what
-        a SubprocVecEnv or a process pool makes of a teacher captured by its workers. Each copy
-        would learn from its own worker only, while the original is told nothing; saggriac's
-        wrappers refuse such copies (saggriac.sb3.TeacherCallback keeps one teacher in the main
-        process instead)."""
-        origin = getattr(self, "_pickled_in", None)
-        return origin is not None and origin != os.getpid() and origin == os.getppid()
+        if "identity" in state:
+            self._identity = state["identity"]
 
     def save(self, path: str | os.PathLike[str], overwrite: bool = False) -> Path:
         """Write the teacher (parameters, state, history) to the file ``path``, atomically;

@@ -1,0 +1,143 @@
+"""A teacher split across processes is refused under every start method, and a teacher that lives
+in one process only is not (saggriac.teachers.ownership). Each case runs as a user runs it: a
+script file in a fresh interpreter, with the framework's own worker processes."""
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import textwrap
+import time
+
+import pytest
+
+ENV = "saggriac.gym:saggriac/PlanarArm-v0"  # the module prefix registers the ids in spawned workers too
+METHODS = ["default", "fork", "forkserver", "spawn"]
+
+PRELUDE = f"""
+import json, multiprocessing as mp, os, sys
+import numpy as np, gymnasium, saggriac as sg, saggriac.gym as sgym
+ENV = {ENV!r}
+method = None if sys.argv[1] == "default" else sys.argv[1]
+def report(**kw):
+    print("RESULT " + json.dumps(kw), flush=True)
+"""
+
+
+def _run(tmp_path, body: str, method: str, timeout: float = 300, until: str | None = None) -> tuple[dict, str]:
+    """Run ``body`` as a script; return its RESULT line and its stderr. With ``until``, stop once
+    stderr shows it: under fork, SB3's SubprocVecEnv waits forever on a worker that failed while
+    building its environment (its siblings hold the failed worker's pipe), whatever the failure."""
+    script = tmp_path / f"case_{method}.py"
+    script.write_text(PRELUDE + textwrap.dedent(body))
+    out_f, err_f = tmp_path / f"out_{method}.txt", tmp_path / f"err_{method}.txt"
+    with open(out_f, "w") as out, open(err_f, "w") as err:
+        p = subprocess.Popen([sys.executable, str(script), method], stdout=out, stderr=err, cwd=tmp_path, start_new_session=True)
+        deadline = time.monotonic() + timeout
+        try:
+            while p.poll() is None and time.monotonic() < deadline:
+                if until is not None and until in err_f.read_text():
+                    time.sleep(1.0)  # let the rest of the traceback reach the file
+                    break
+                time.sleep(0.2)
+        finally:
+            if p.poll() is None:
+                os.killpg(p.pid, signal.SIGKILL)
+                p.wait()
+    stdout, stderr = out_f.read_text(), err_f.read_text()
+    lines = [l for l in stdout.splitlines() if l.startswith("RESULT ")]
+    if not lines and until is not None and until in stderr:
+        return {"refused": True, "error": "a worker's " + until}, stderr
+    assert lines, f"rc {p.returncode}\nstdout {stdout[-2000:]}\nstderr {stderr[-3000:]}"
+    return json.loads(lines[-1][len("RESULT ") :]), stderr
+
+
+SB3_SPLIT = """
+from stable_baselines3.common.vec_env import SubprocVecEnv
+teacher = sg.SaggRiacSelector([0.0, -50.0], [50.0, 50.0], seed=0)
+def make():
+    return sgym.SelectorGoals(gymnasium.make(ENV, max_episode_steps=5), teacher)
+if __name__ == "__main__":
+    try:
+        v = SubprocVecEnv([make, make], start_method=method)
+        o = v.reset()
+        for _ in range(12):
+            v.step(np.stack([v.action_space.sample()] * 2))
+        report(refused=False, goals=o["desired_goal"].tolist(), told=len(teacher.history()["told_goal"]))
+    except Exception as e:
+        report(refused=True, error=type(e).__name__)
+    os._exit(0)  # the surviving worker may still wait on its pipe
+"""
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_sb3_subproc_workers_sharing_one_teacher_are_refused(tmp_path, method):
+    out, err = _run(tmp_path, SB3_SPLIT, method, until="ConformanceError")
+    assert out["refused"], out  # before: both workers asked the same first goal, the teacher was told 0
+    assert "ConformanceError" in err and "saggriac.sb3.TeacherCallback" in err and "allow_copy=True" in err, err[-3000:]
+
+
+ASYNC_SPLIT = """
+teacher = sg.SaggRiacSelector([0.0, -50.0], [50.0, 50.0], seed=0)
+def make():
+    return sgym.SelectorGoals(gymnasium.make(ENV, max_episode_steps=5), teacher)
+if __name__ == "__main__":
+    try:
+        v = gymnasium.vector.AsyncVectorEnv([make, make], context=method)
+        o, _ = v.reset(seed=0)
+        report(refused=False, goals=o["desired_goal"].tolist())
+    except Exception as e:
+        report(refused=True, error=type(e).__name__, message=str(e))
+    os._exit(0)
+"""
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_gymnasium_async_workers_sharing_one_teacher_are_refused(tmp_path, method):
+    out, err = _run(tmp_path, ASYNC_SPLIT, method)
+    assert out["refused"], out
+    assert "ConformanceError" in out["message"] + err and "VectorSelectorGoals" in out["message"] + err
+
+
+POOL = """
+def train(teacher):
+    env = sgym.SelectorGoals(gymnasium.make(ENV, max_episode_steps=5), teacher, allow_copy=ALLOW)
+    env.reset(seed=0)
+    for _ in range(20):
+        _, _, term, trunc, _ = env.step(env.action_space.sample())
+        if term or trunc:
+            env.reset()
+    return os.getpid(), teacher.history()["told_goal"].tolist()
+
+if __name__ == "__main__":
+    shared = sg.SaggRiacSelector([0.0, -50.0], [50.0, 50.0], seed=0)
+    teachers = [shared, shared] if SHARED else [sg.SaggRiacSelector([0.0, -50.0], [50.0, 50.0], seed=s) for s in (1, 2)]
+    ctx = mp.get_context(method)
+    try:
+        # One task per worker, both running at once (a barrier would do; two slow tasks suffice).
+        with ctx.Pool(2, maxtasksperchild=1) as pool:
+            out = pool.map(train, teachers, chunksize=1)
+        report(refused=False, pids=[p for p, _ in out], told=[len(t) for _, t in out])
+    except Exception as e:
+        report(refused=True, error=type(e).__name__, message=str(e))
+"""
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_a_pool_of_independent_trainings_each_with_its_own_teacher_is_allowed(tmp_path, method):
+    out, _ = _run(tmp_path, "SHARED, ALLOW = False, False\n" + POOL, method)
+    assert not out["refused"], out  # before: refused under spawn ("a copy of a teacher made when it was sent to a worker")
+    assert out["told"] == [4, 4]  # 20 steps of 5-step episodes, each told in its own worker
+
+
+@pytest.mark.parametrize("method", ["fork", "spawn"])
+def test_one_teacher_given_to_two_pool_workers_is_refused_unless_allowed(tmp_path, method):
+    body = POOL.replace("def train(teacher):", "import time\ndef train(teacher):\n    time.sleep(0.0)")
+    # The two tasks must overlap for two processes to hold the teacher at once: each keeps it
+    # while it trains, and the pool starts both workers together.
+    body = body.replace("    return os.getpid()", "    time.sleep(3)\n    return os.getpid()")
+    out, _ = _run(tmp_path, "SHARED, ALLOW = True, False\n" + body, method)
+    assert out["refused"] and out["error"] == "ConformanceError" and "allow_copy=True" in out["message"], out
+    out, _ = _run(tmp_path, "SHARED, ALLOW = True, True\n" + body, method)
+    assert not out["refused"] and out["told"] == [4, 4], out
