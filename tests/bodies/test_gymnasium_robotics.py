@@ -40,16 +40,18 @@ def test_pointmaze_through_a_vector_env_and_goalslot_is_refused_too():
         w.reset(seed=0)
 
 
-def test_observation_route_pursues_the_teachers_goal_and_sets_the_envs_success_aside():
-    w = SelectorGoals(gymnasium.make(MAZE), teacher(), goal_via="observation")
+def test_observation_route_pursues_the_teachers_goal_and_flags_its_success():
+    w = SelectorGoals(gymnasium.make(MAZE), teacher(), goal_via="observation", success=0.45)
     obs, info = w.reset(seed=0)
     goal = obs["desired_goal"].copy()
-    assert "success" not in info and "success_env_goal" in info
+    assert "success_env_goal" in info and info["is_success"] == info["success"] == bool(np.linalg.norm(obs["achieved_goal"] - goal) <= 0.45)
     told = 0
     for _ in range(400):
         obs, reward, terminated, truncated, info = w.step(w.action_space.sample())
         np.testing.assert_array_equal(obs["desired_goal"], goal)
-        assert "success" not in info and "success_env_goal" in info
+        assert "success_env_goal" in info
+        # The teacher's goal's flag (SB3's success rate reads is_success), by PointMaze's own rule.
+        assert info["is_success"] == info["success"] == bool(np.linalg.norm(obs["achieved_goal"] - goal) <= 0.45)
         assert reward == w.unwrapped.compute_reward(obs["achieved_goal"], goal, info)
         if terminated or truncated:
             told += 1
@@ -57,6 +59,30 @@ def test_observation_route_pursues_the_teachers_goal_and_sets_the_envs_success_a
             break
     assert told == 1
     assert w.selector.history()["told_goal"].tolist() == [goal.tolist()]
+
+
+def test_observation_route_without_a_success_rule_is_named_not_silent():
+    """PointMaze reports success for its own goal and has no distance_threshold: the wrapper cannot
+    tell the teacher's goal's success, and says which parameter decides it."""
+    w = SelectorGoals(gymnasium.make(MAZE), teacher(), goal_via="observation")
+    with pytest.raises(ConformanceError, match="success=the distance"):
+        w.reset(seed=0)
+    w = SelectorGoals(gymnasium.make(MAZE), teacher(), goal_via="observation", success=False)
+    _, info = w.reset(seed=0)
+    assert "is_success" not in info and "success" not in info and "success_env_goal" in info
+    w = SelectorGoals(gymnasium.make(MAZE), teacher(), goal_via="observation", success=lambda a, d: True)
+    assert w.reset(seed=0)[1]["is_success"] is True
+    for bad in (0, -1.0, float("nan"), "0.45", True):
+        with pytest.raises(ParameterError, match="'success' parameter of SelectorGoals"):
+            SelectorGoals(gymnasium.make(MAZE), teacher(), goal_via="observation", success=bad)
+
+
+def test_observation_route_reads_a_distance_threshold_where_the_env_has_one():
+    env = GoalArmEnv(distance_threshold=2.0)
+    w = SelectorGoals(env, sg.RandomSelector([49.0, -1.0], [50.0, 1.0], seed=0), goal_via="observation")
+    obs, info = w.reset(seed=0)
+    d = float(np.linalg.norm(obs["achieved_goal"] - obs["desired_goal"]))
+    assert info["is_success"] == (d <= 2.0) and "is_success_env_goal" in info
 
 
 def test_a_teacher_of_another_dimension_is_refused_before_training():
