@@ -153,6 +153,7 @@ def _cmd_reproduce(args: argparse.Namespace) -> int:
         n_workers=args.workers,
         scheduler=args.scheduler,
         progress=not args.no_progress,
+        **({} if args.worker_timeout is None else {"worker_timeout": args.worker_timeout}),
     )
     out = Path(args.out) if args.out else Path(f"reproduce-{args.experiment}")
     print(final_summary(out).to_string(index=False))
@@ -209,6 +210,7 @@ def build_parser() -> argparse.ArgumentParser:
     rp.add_argument("--backend", default="local", choices=["local", "dask"], help="process pool on this machine (default) or Dask")
     rp.add_argument("--workers", type=int, help="worker processes (default: all cores)")
     rp.add_argument("--scheduler", help="address of a running Dask scheduler (with --backend dask)")
+    rp.add_argument("--worker-timeout", type=float, help="seconds to wait for the first worker of --scheduler to join (default 120)")
     rp.add_argument("--no-progress", action="store_true", help="no progress bar")
     rp.set_defaults(func=_cmd_reproduce)
 

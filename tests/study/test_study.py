@@ -376,3 +376,44 @@ def test_the_local_dask_cluster_serves_no_http(tmp_path):
             s.settimeout(2)
             assert s.connect_ex(("127.0.0.1", port)) != 0, "the scheduler's HTTP server still listens"
         assert "dashboard" not in cluster.scheduler_info.get("services", {}) or cluster.scheduler_info["services"].get("dashboard") == port
+
+
+def _slurm_cluster():
+    dask_jobqueue = pytest.importorskip("dask_jobqueue", reason='dask-jobqueue is not installed (pip install "saggriac[slurm]")')
+    return dask_jobqueue.SLURMCluster(cores=1, memory="1GB", processes=1, scheduler_options={"dashboard_address": None, "host": "127.0.0.1"})
+
+
+def test_a_slurm_cluster_without_sbatch_is_refused_before_anything_is_written(tiny, tmp_path, monkeypatch):
+    """Before: Dask printed its own asynchronous FileNotFoundError and run_study waited forever."""
+    monkeypatch.setenv("PATH", str(tmp_path / "empty-bin"))
+    st = Study(tiny.replace(n_steps=600, n_evals=2), "sagg_riac", (4,))
+    with _slurm_cluster() as cluster:
+        t0 = time.monotonic()
+        with pytest.raises(ParameterError, match=r"SLURMCluster whose jobs are submitted with 'sbatch', which is not on this machine's PATH"):
+            run_study(st, tmp_path / "out", backend="dask", scheduler=cluster, progress=False)
+        assert time.monotonic() - t0 < 10
+    assert not (tmp_path / "out").exists()
+
+
+def test_a_cluster_whose_workers_never_join_fails_at_the_deadline(tiny, tmp_path, monkeypatch):
+    """A queue that takes the job and never starts it (an sbatch that only prints a job id)."""
+    bin_dir = tmp_path / "bin"
+    bin_dir.mkdir()
+    for name, body in (("sbatch", "echo 'Submitted batch job 4242'"), ("scancel", "exit 0")):
+        (bin_dir / name).write_text(f"#!/bin/sh\n{body}\n")
+        (bin_dir / name).chmod(0o755)
+    monkeypatch.setenv("PATH", f"{bin_dir}{os.pathsep}{os.environ['PATH']}")
+    st = Study(tiny.replace(n_steps=600, n_evals=2), "sagg_riac", (4,))
+    with _slurm_cluster() as cluster:
+        cluster.scale(jobs=1)
+        t0 = time.monotonic()
+        with pytest.raises(ParameterError, match=r"SLURMCluster, where no Dask worker joined within 3 s: check that the cluster was given workers"):
+            run_study(st, tmp_path / "out", backend="dask", scheduler=cluster, progress=False, worker_timeout=3)
+        assert time.monotonic() - t0 < 30
+    assert not list((tmp_path / "out").glob("runs/**/run.json"))  # nothing was run
+
+
+@pytest.mark.parametrize("bad", [0, -1.0, float("inf"), float("nan"), "60", True])
+def test_worker_timeout_is_checked(study, tmp_path, bad):
+    with pytest.raises(ParameterError, match="'worker_timeout' parameter of run_study must be a number of seconds > 0"):
+        run_study(study, tmp_path / "out", worker_timeout=bad, progress=False)

@@ -23,7 +23,7 @@ import pyarrow.parquet as pq
 
 from ..errors import ParameterError, StorageError
 from ..runs.storage import MANIFEST, as_path, clear_stale_lock, run_damage
-from .backends import COST_HINT, SCHEDULER_TIMEOUT, _check_scheduler, _default_workers, _import_distributed, _longest_first_by_seed, _run_dask, _run_local, local_cluster
+from .backends import COST_HINT, SCHEDULER_TIMEOUT, WORKER_TIMEOUT, _check_scheduler, _default_workers, _import_distributed, _longest_first_by_seed, _run_dask, _run_local, check_cluster, check_worker_timeout, local_cluster
 from .folder import _check_or_write_spec, _check_study_folder, _folder_lock, _is_finished, _remove_leftovers, _set_aside
 from .spec import LOCK_FILE, METRICS, RUNS_DIR, STUDY_FILE, Study, StudyError, Task, run_task
 
@@ -49,13 +49,16 @@ def run_study(
     n_workers: int | None = None,
     scheduler: Any = None,
     progress: bool = True,
+    worker_timeout: float = WORKER_TIMEOUT,
 ) -> StudyResult:
     """Run every unfinished run of ``study`` into ``out_dir`` and return a :class:`StudyResult`.
 
     ``backend="local"`` uses a process pool of ``n_workers`` (default: the usable cores).
     ``backend="dask"`` uses Dask distributed: a new LocalCluster of ``n_workers`` processes when
     ``scheduler`` is None, else the scheduler at a given address (str), a given ``Client``, or a
-    cluster object such as ``dask_jobqueue.SLURMCluster``. Finished runs are never recomputed;
+    cluster object such as ``dask_jobqueue.SLURMCluster``; with a given scheduler or cluster, the
+    study fails with a ParameterError if no worker has joined within ``worker_timeout`` seconds
+    (a SLURMCluster whose jobs never start). Finished runs are never recomputed;
     if some runs fail, the others still finish and a :class:`StudyError` names the failures.
     """
     if not isinstance(study, Study):
@@ -72,6 +75,8 @@ def run_study(
         _import_distributed()  # fail before writing anything
         if isinstance(scheduler, str):
             _check_scheduler(scheduler)
+        check_cluster(scheduler)
+    worker_timeout = check_worker_timeout(worker_timeout, "run_study")
     out = as_path(out_dir, "out_dir", "run_study").resolve()  # absolute: workers may run elsewhere (Dask, SLURM)
     _check_study_folder(out)
     try:
@@ -118,7 +123,7 @@ def run_study(
                 if backend == "local":
                     _run_local(pending, out, workers, on_done)
                 else:
-                    _run_dask(pending, out, workers, scheduler, on_done)
+                    _run_dask(pending, out, workers, scheduler, on_done, worker_timeout)
             finally:
                 bar.close()
     if failures:
@@ -168,4 +173,4 @@ def load_study(out_dir: str | Path) -> pd.DataFrame:
 
 _COST_HINT = COST_HINT  # its former, private name (older scripts import it from here)
 
-__all__ = ["Study", "Task", "StudyResult", "StudyError", "run_study", "load_study", "run_task", "local_cluster", "METRICS", "STUDY_FILE", "LOCK_FILE", "RUNS_DIR", "SCHEDULER_TIMEOUT", "COST_HINT"]
+__all__ = ["Study", "Task", "StudyResult", "StudyError", "run_study", "load_study", "run_task", "local_cluster", "METRICS", "STUDY_FILE", "LOCK_FILE", "RUNS_DIR", "SCHEDULER_TIMEOUT", "WORKER_TIMEOUT", "COST_HINT"]

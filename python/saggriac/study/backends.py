@@ -5,7 +5,9 @@ from __future__ import annotations
 
 import ctypes
 import os
+import math
 import re
+import shutil
 import signal
 import sys
 from collections.abc import Callable, Iterator
@@ -156,9 +158,65 @@ def _check_scheduler(address: str) -> None:
         raise ParameterError(f"The 'scheduler' parameter of run_study names {address!r}, where no Dask scheduler answers within {SCHEDULER_TIMEOUT} s ({e.strerror or e}). Start it (dask scheduler) or check the address.", "scheduler", repr(address)) from None
 
 
-def _run_dask(tasks: list[Task], out: Path, n_workers: int, scheduler: Any, on_done: Callable[[Task, Any], None]) -> None:
+#: Seconds to wait for the first Dask worker to join a given scheduler or cluster before giving up.
+WORKER_TIMEOUT = 120.0
+
+
+def check_worker_timeout(value: Any, owner: str) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not (math.isfinite(value) and value > 0):
+        raise ParameterError(f"The 'worker_timeout' parameter of {owner} must be a number of seconds > 0. Got {value!r} instead.", "worker_timeout", repr(value))
+    return float(value)
+
+
+def check_cluster(scheduler: Any) -> None:
+    """Refuse, before anything is written, a dask-jobqueue cluster whose job submission command
+    is not on this machine (SLURMCluster without sbatch): its jobs can never start, and Dask
+    says so only in an asynchronous traceback while the study would wait."""
+    command = getattr(getattr(scheduler, "job_cls", None), "submit_command", None)
+    if isinstance(command, str) and command.split() and shutil.which(command.split()[0]) is None:
+        raise ParameterError(
+            f"The 'scheduler' parameter of run_study is a {type(scheduler).__name__} whose jobs are submitted with {command.split()[0]!r}, "
+            "which is not on this machine's PATH: no worker could ever start. Run the study on a login node of the cluster (where "
+            f"{command.split()[0]} works), or use backend='local'.",
+            "scheduler",
+            type(scheduler).__name__,
+        )
+
+
+def _failed_jobs(scheduler: Any) -> list[str]:
+    """Jobs of a dask-jobqueue cluster that never got a job id (their submission failed)."""
+    jobs = getattr(scheduler, "workers", None)
+    if not isinstance(jobs, dict):
+        return []
+    return [str(name) for name, job in jobs.items() if hasattr(job, "job_id") and job.job_id is None]
+
+
+def _wait_for_a_worker(client: Any, scheduler: Any, timeout: float) -> None:
+    try:
+        client.wait_for_workers(1, timeout=timeout)
+    except TimeoutError:
+        what = type(scheduler).__name__ if not isinstance(scheduler, str) else f"the scheduler at {scheduler}"
+        failed = _failed_jobs(scheduler)
+        hint = (
+            f"its jobs {', '.join(failed)} have no job id (their submission failed: see Dask's messages above, and check the queue command, "
+            "the account and the partition)"
+            if failed
+            else "check that the cluster was given workers (cluster.scale(jobs=...) or cluster.adapt(...)), that its jobs start (squeue, or "
+            "your queue's own command) and that the workers can reach the scheduler"
+        )
+        raise ParameterError(
+            f"The 'scheduler' parameter of run_study names {what}, where no Dask worker joined within {timeout:g} s: {hint}. "
+            "Nothing was run; worker_timeout= gives the workers more time.",
+            "scheduler",
+            what,
+        ) from None
+
+
+def _run_dask(tasks: list[Task], out: Path, n_workers: int, scheduler: Any, on_done: Callable[[Task, Any], None], worker_timeout: float = WORKER_TIMEOUT) -> None:
     distributed = _import_distributed()
     with _dask_client(distributed, scheduler, n_workers) as client:
+        if scheduler is not None:
+            _wait_for_a_worker(client, scheduler, worker_timeout)
         futures = {client.submit(run_task, t, str(out), pure=False): t for t in tasks}
         try:
             for fut in distributed.as_completed(list(futures), loop=client.loop):
@@ -166,5 +224,3 @@ def _run_dask(tasks: list[Task], out: Path, n_workers: int, scheduler: Any, on_d
         except BaseException:
             client.cancel(list(futures))
             raise
-
-

@@ -17,6 +17,7 @@ from ..reachable import ReachableSet
 from ..runs.result import RunResult
 from ..runs.storage import signed_integers
 from . import Study, load_study, run_study
+from .backends import WORKER_TIMEOUT
 
 FIGURES = "figures"
 #: A study of more seeds is a cluster's job: the seed list and per-run bookkeeping are held in memory.
@@ -56,6 +57,7 @@ def reproduce(
     n_workers: int | None = None,
     scheduler: Any = None,
     progress: bool = True,
+    worker_timeout: float = WORKER_TIMEOUT,
 ) -> dict[str, Path]:
     """Run experiment 'exp1' or 'exp2' (every condition, seeds 0..seeds-1), then write the
     figures and statistics. Finished runs in ``out_dir`` are reused (the study resumes)."""
@@ -66,7 +68,7 @@ def reproduce(
     base = Config.from_preset(experiment, **({} if steps is None else {"n_steps": steps}))
     out = as_path(out_dir, "out_dir", "reproduce") if out_dir is not None else Path(f"reproduce-{experiment}")
     study = Study(base=base, conditions=tuple(conditions), seeds=tuple(range(seeds)))
-    run_study(study, out, backend=backend, n_workers=n_workers, scheduler=scheduler, progress=progress)
+    run_study(study, out, backend=backend, n_workers=n_workers, scheduler=scheduler, progress=progress, worker_timeout=worker_timeout)
     return make_report(out)
 
 
