@@ -100,6 +100,10 @@ class MujocoArm:
         self.theta = np.zeros(n)
         self._check_end_effector_moves()
 
+    def __repr__(self) -> str:
+        where = "site" if self._site >= 0 else "body"
+        return f"MujocoArm(joints={list(self.joint_names)!r}, end_effector={self.end_effector!r} ({where}), max_joint_step={self.max_joint_step:g}, model with {self.model.njnt} joints)"
+
     @staticmethod
     def _check_ranges(ranges: Any, joints: Any) -> dict[str, tuple[float, float]]:
         if ranges is None:

@@ -131,7 +131,7 @@ def test_a_pool_of_independent_trainings_each_with_its_own_teacher_is_allowed(tm
     assert out["told"] == [4, 4]  # 20 steps of 5-step episodes, each told in its own worker
 
 
-@pytest.mark.parametrize("method", ["fork", "spawn"])
+@pytest.mark.parametrize("method", ["fork", "forkserver", "spawn"])
 def test_one_teacher_given_to_two_pool_workers_is_refused_unless_allowed(tmp_path, method):
     body = POOL.replace("def train(teacher):", "import time\ndef train(teacher):\n    time.sleep(0.0)")
     # The two tasks must overlap for two processes to hold the teacher at once: each keeps it

@@ -100,6 +100,10 @@ def _arm_body(env_id="saggriac/PlanarArm-v0"):
     return sgym.GymBody(env, theta=lambda e, o: o["observation"], position=lambda e, o: o["achieved_goal"], joint_limit=math.pi / 2, max_joint_step=0.05, reach=50.0)
 
 
+def test_a_gym_body_says_what_it_wraps():
+    assert repr(_arm_body()) == "GymBody(saggriac/PlanarArm-v0, joints=15, task_dim=2, joint_limit=1.5708, max_joint_step=0.05, moves by env.step, reach=50)"
+
+
 def test_a_gymnasium_arm_as_a_body_learns_exactly_as_the_built_in_arm():
     body = _arm_body()
     check_environment(body)

@@ -23,6 +23,10 @@ def test_the_pusher_arm_is_a_conforming_body():
     assert arm.joint_space.shape == (7,) and arm.joint_names == PUSHER_JOINTS
 
 
+def test_the_repr_says_which_joints_move_which_end_effector():
+    assert repr(pusher_arm()) == f"MujocoArm(joints={list(PUSHER_JOINTS)!r}, end_effector='tips_arm' (body), max_joint_step=0.02, model with 11 joints)"
+
+
 def test_joints_and_limits_come_from_the_model_and_mujoco_computes_the_tip():
     arm = pusher_arm()
     model = mujoco.MjModel.from_xml_path(pusher_model_path())

@@ -82,6 +82,12 @@ class GymBody:
         self.action_space = Box(-self.max_joint_step, self.max_joint_step, (n,))
         self.task_dim = len(x)
 
+    def __repr__(self) -> str:
+        env = getattr(getattr(self.env, "spec", None), "id", None) or type(self.env).__name__
+        moves = "set_joints" if self._set_joints is not None else "env.step"
+        reach = f", reach={self.reach:g}" if hasattr(self, "reach") else ""
+        return f"GymBody({env}, joints={len(self.theta)}, task_dim={self.task_dim}, joint_limit={self.joint_limit:g}, max_joint_step={self.max_joint_step:g}, moves by {moves}{reach})"
+
     def _read_theta(self, obs: Any) -> np.ndarray:
         t = np.asarray(self._theta_of(self.env, obs), dtype=np.float64).reshape(-1)
         if t.size == 0 or not np.all(np.isfinite(t)):
