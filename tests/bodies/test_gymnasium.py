@@ -114,7 +114,7 @@ def test_a_gymnasium_arm_as_a_body_learns_exactly_as_the_built_in_arm():
     assert through_gym.goals.equals(built_in.goals)
 
 
-def _acrobot_body():
+def _acrobot_body(limit=math.pi / 2):
     """Gymnasium's Acrobot (two links of length 1) moved kinematically: the joint angles are the
     first two entries of its state, the tip follows from the link lengths."""
     env = gymnasium.make("Acrobot-v1").unwrapped
@@ -127,7 +127,19 @@ def _acrobot_body():
         e.state = np.array([theta[0], theta[1], 0.0, 0.0])
         return e._get_ob()
 
-    return sgym.GymBody(env, theta=lambda e, obs: e.state[:2], position=tip, set_joints=set_joints, joint_limit=math.pi / 2, max_joint_step=0.05)
+    return sgym.GymBody(env, theta=lambda e, obs: e.state[:2], position=tip, set_joints=set_joints, joint_limit=limit, max_joint_step=0.05)
+
+
+def test_the_run_takes_the_joint_limit_from_the_body(tmp_path):
+    """Given once, to GymBody: before, a Config left at exp1's pi/2 was refused for a body in
+    [-pi, pi] ("must match the environment's joint_space")."""
+    cfg = sg.Config.from_preset("exp1", n_joints=2, goal_low=(-2.0, -2.0), goal_high=(2.0, 2.0), n_steps=300, n_evals=2, n_test_goals=10, n_test_configs=10)
+    res = sg.run(cfg, seed=0, environment=_acrobot_body(limit=math.pi), out_dir=tmp_path / "run")
+    assert res.config.joint_limit == math.pi == sg.RunResult.load(tmp_path / "run").config.joint_limit
+    learner = sg.Learner(cfg, seed=0, environment=_acrobot_body(limit=math.pi))
+    assert learner.config.joint_limit == math.pi
+    learner.run()
+    assert learner.result().metrics.equals(res.metrics)
 
 
 def test_one_of_gymnasiums_own_environments_as_a_body():

@@ -142,8 +142,8 @@ def test_environment_nan_is_rejected_naming_the_step(tmp_path):
 def test_environment_must_match_the_configuration():
     with pytest.raises(ParameterError, match="n_joints"):
         saggriac.run(small(), seed=0, environment=PlanarArm(n_joints=10))
-    with pytest.raises(ParameterError, match="joint_limit"):
-        saggriac.run(small(), seed=0, environment=PlanarArm(joint_limit=1.0))
+    # The joint limit is the body's: said once, by the body (issue 32).
+    assert saggriac.run(small(), seed=0, environment=PlanarArm(joint_limit=1.0)).config.joint_limit == 1.0
     with pytest.raises(ParameterError, match="link_lengths"):
         saggriac.run(small(link_lengths=(10.0,) * 5), seed=0, environment=PlanarArm())
 

@@ -31,7 +31,7 @@ from ..files import as_path, check_flag
 from ..seeding import check_seed
 from .resources import check_run_fits, check_threads
 from .result import RunResult
-from .runner import _build, _result, _write_checkpoint, checkpoint_dir
+from .runner import _build, _result, _write_checkpoint, checkpoint_dir, for_body
 from .storage import check_output_dir, target_lock
 
 
@@ -45,7 +45,7 @@ class Learner:
             config = Config()
         if not isinstance(config, Config):
             raise ParameterError(f"The 'config' parameter of Learner must be a saggriac.Config. Got {type(config).__name__} instead.", "config", repr(config))
-        self.config = config
+        self.config = config = for_body(config, environment)
         self.seed = check_seed(seed)
         check_run_fits(config)
         self._inner, self._info, self._extras = _build(config, self.seed, check_threads(threads, "Learner"), environment, goal_selector, "Learner")

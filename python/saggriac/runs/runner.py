@@ -82,6 +82,7 @@ def run(
         config = Config()
     if not isinstance(config, Config):
         raise ParameterError(f"The 'config' parameter of run must be a saggriac.Config. Got {type(config).__name__} instead.", "config", repr(config))
+    config = for_body(config, environment)
     seed = check_seed(seed)
     threads = check_threads(threads, "run")
     out = as_path(out_dir, "out_dir", "run") if out_dir is not None else None
@@ -94,6 +95,21 @@ def run(
     info["overwrite"] = overwrite
     with _holding(out, overwrite):
         return _drive(learner, config, info, out, progress, checkpoint_every, extras)
+
+
+def for_body(config: Config, environment: Any) -> Config:
+    """The configuration of a run on ``environment``: the joint limit is the body's (its
+    ``joint_space``), so a user's body states it once; ``Config.joint_limit`` is for saggriac's
+    own arms. The resolved value is what run.json records."""
+    if environment is None:
+        return config
+    limit = float(_joint_space(environment)[1][0])
+    if limit == config.joint_limit:
+        return config
+    try:
+        return config.replace(joint_limit=limit)
+    except ParameterError as e:
+        raise ParameterError(f"The environment's joint_space gives the joint limit {limit:g}, which a run cannot take: {e}", "environment.joint_space", f"{limit:g}") from None
 
 
 def _build(config: Config, seed: int, threads: int, environment: Any, goal_selector: Any, owner: str) -> tuple[Any, dict[str, Any], dict[str, Any]]:
