@@ -14,6 +14,8 @@ from collections.abc import Iterator
 from pathlib import Path
 from typing import Any, Callable
 
+import numpy as np
+
 from .errors import ParameterError, StorageError
 
 try:
@@ -36,10 +38,11 @@ def as_path(value: Any, param: str, owner: str) -> Path:
 
 
 def check_flag(value: Any, param: str, owner: str) -> bool:
-    """A yes/no argument: only True or False (``overwrite="no"`` is truthy, so it is refused)."""
-    if not isinstance(value, bool):
-        raise ParameterError(f"The '{param}' parameter of {owner} must be True or False. Got {value!r} instead.", param, repr(value))
-    return value
+    """A yes/no argument: only True or False, numpy's included (``overwrite="no"`` and
+    ``progress=0`` would be read by their truth, so they are refused)."""
+    if not isinstance(value, (bool, np.bool_)):
+        raise ParameterError(f"The '{param}' parameter of {owner} must be a bool (True or False). Got {value!r} instead.", param, repr(value))
+    return bool(value)
 
 
 def _kind_of(mode: int) -> str:

@@ -46,9 +46,11 @@ class RunResult:
 
     def save(self, path: str | Path, overwrite: bool = False) -> Path:
         """Write this result as a run directory (atomically, as ``saggriac.run`` does)."""
+        from ..files import check_flag
         from .storage import as_path, check_output_dir, target_lock, write_run
 
         out = as_path(path, "path", "RunResult.save")
+        overwrite = check_flag(overwrite, "overwrite", "RunResult.save")
         check_output_dir(out, overwrite)
         tables = {"metrics": self.metrics, "goals": self.goals, "attempts": self.attempts, "regions": self.regions}
         with target_lock(out, what="save"):

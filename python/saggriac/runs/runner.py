@@ -23,7 +23,7 @@ from ..errors import ParameterError, StorageError
 from ..reachable import ReachableSet
 from .result import RunResult
 from ..scale import body_scale
-from ..files import check_seal, seal
+from ..files import check_flag, check_seal, seal
 from ..seeding import check_seed, derive_seeds, environment_seed
 from ..testing import _joint_space
 from .resources import check_run_fits, check_threads, checkpoint_bytes
@@ -83,6 +83,8 @@ def run(
     if not isinstance(config, Config):
         raise ParameterError(f"The 'config' parameter of run must be a saggriac.Config. Got {type(config).__name__} instead.", "config", repr(config))
     seed = check_seed(seed)
+    progress = check_flag(progress, "progress", "run")
+    overwrite = check_flag(overwrite, "overwrite", "run")
     threads = check_threads(threads, "run")
     out = as_path(out_dir, "out_dir", "run") if out_dir is not None else None
     if checkpoint_every is not None:
@@ -326,6 +328,7 @@ def resume(out_dir: str | Path, progress: bool = False, threads: int | None = No
     """Continue the interrupted run whose checkpoint sits next to ``out_dir`` (written by
     ``run(..., out_dir=..., checkpoint_every=N)``), to the same result the run would have given
     without the interruption, and write it to ``out_dir``. ``threads`` as for ``run``."""
+    progress = check_flag(progress, "progress", "resume")
     threads = check_threads(threads, "resume")
     out = as_path(out_dir, "out_dir", "resume")
     ck = checkpoint_dir(out)

@@ -22,6 +22,7 @@ import pandas as pd
 import pyarrow.parquet as pq
 
 from ..errors import ParameterError, StorageError
+from ..files import check_flag
 from ..runs.storage import MANIFEST, as_path, clear_stale_lock, run_damage
 from .backends import COST_HINT, SCHEDULER_TIMEOUT, _check_scheduler, _default_workers, _import_distributed, _longest_first_by_seed, _run_dask, _run_local, local_cluster
 from .folder import _check_or_write_spec, _check_study_folder, _folder_lock, _is_finished, _remove_leftovers, _set_aside
@@ -62,6 +63,7 @@ def run_study(
         raise ParameterError(f"The 'study' parameter of run_study must be a saggriac.Study. Got {type(study).__name__} instead.", "study", repr(study))
     if backend not in ("local", "dask"):
         raise ParameterError(f"The 'backend' parameter of run_study must be one of 'local', 'dask'. Got {backend!r} instead.", "backend", repr(backend))
+    progress = check_flag(progress, "progress", "run_study")
     if n_workers is not None and (isinstance(n_workers, bool) or not isinstance(n_workers, int) or n_workers < 1):
         raise ParameterError(f"The 'n_workers' parameter of run_study must be an int >= 1 or None. Got {n_workers!r} instead.", "n_workers", repr(n_workers))
     if scheduler is not None and backend != "dask":

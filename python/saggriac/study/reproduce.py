@@ -12,7 +12,7 @@ import pandas as pd
 from ..analysis import plots, splits, statistics
 from ..config import CONDITIONS, PRESETS, Config
 from ..errors import ParameterError, StorageError
-from ..files import as_path, write_file
+from ..files import as_path, check_flag, write_file
 from ..reachable import ReachableSet
 from ..runs.result import RunResult
 from ..runs.storage import signed_integers
@@ -63,6 +63,7 @@ def reproduce(
         raise ParameterError(f"The 'experiment' parameter must be one of {', '.join(map(repr, PRESETS))}. Got {experiment!r} instead.", "experiment", repr(experiment))
     if isinstance(seeds, bool) or not isinstance(seeds, int) or not 1 <= seeds <= MAX_SEEDS:
         raise ParameterError(f"The 'seeds' parameter must be an int in [1, {MAX_SEEDS}]. Got {seeds!r} instead.", "seeds", repr(seeds))
+    progress = check_flag(progress, "progress", "reproduce")
     base = Config.from_preset(experiment, **({} if steps is None else {"n_steps": steps}))
     out = as_path(out_dir, "out_dir", "reproduce") if out_dir is not None else Path(f"reproduce-{experiment}")
     study = Study(base=base, conditions=tuple(conditions), seeds=tuple(range(seeds)))

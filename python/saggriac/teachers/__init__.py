@@ -192,7 +192,7 @@ class _AskTellSelector:
         ``overwrite=True``, and only if it is a teacher file saggriac saved: a link, a device, a
         FIFO or any other file is refused before anything is written."""
         owner = f"{type(self).__name__}.save"
-        check_flag(overwrite, "overwrite", owner)
+        overwrite = check_flag(overwrite, "overwrite", owner)
         path = as_path(path, "path", owner)
         if path.is_dir() and not path.is_symlink():
             raise StorageError(f"{path} is a folder; give the path of a file to save the teacher to.")
@@ -306,9 +306,7 @@ class _MixtureSelector(_AskTellSelector):
             if k in ("fit_rate", "max_components", "bootstrap"):
                 params[k] = _int_param(owner, k, v, 0, 2**63)
             elif k == "absolute_lp":
-                if not isinstance(v, (bool, np.bool_)):
-                    raise ParameterError(f"The 'absolute_lp' parameter of {owner} must be a bool. Got {v!r} instead.", "absolute_lp", repr(v))
-                params[k] = bool(v)
+                params[k] = check_flag(v, k, owner)
             else:
                 params[k] = _float_param(owner, k, v)
         self._inner = getattr(_core.AskTell, self._make)(lo.tolist(), hi.tolist(), _int_param(owner, "seed", seed, 0, 2**64), **params)
