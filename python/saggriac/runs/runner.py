@@ -88,7 +88,7 @@ def run(
     threads = check_threads(threads, "run")
     out = as_path(out_dir, "out_dir", "run") if out_dir is not None else None
     if checkpoint_every is not None:
-        _check_checkpointing(checkpoint_every, out, environment, goal_selector)
+        checkpoint_every = _check_checkpointing(checkpoint_every, out, environment, goal_selector)
     check_run_fits(config)
     if out is not None:
         check_output_dir(out, overwrite, _min_free(config, checkpoint_every))
@@ -160,13 +160,15 @@ class CheckpointWarning(UserWarning):
     """A checkpoint could not be written; the run goes on and the last good checkpoint stays."""
 
 
-def _check_checkpointing(every: Any, out: Path | None, environment: Any, goal_selector: Any) -> None:
-    if isinstance(every, bool) or not isinstance(every, (int, np.integer)) or every < 1:
+def _check_checkpointing(every: Any, out: Path | None, environment: Any, goal_selector: Any) -> int:
+    """``checkpoint_every`` as a plain int (a numpy one would not go into checkpoint.json)."""
+    if isinstance(every, (bool, np.bool_)) or not isinstance(every, (int, np.integer)) or every < 1:
         raise ParameterError(f"The 'checkpoint_every' parameter of run must be an int >= 1 (time steps). Got {every!r} instead.", "checkpoint_every", repr(every))
     if out is None:
         raise ParameterError("The 'checkpoint_every' parameter of run needs out_dir, where the checkpoint is kept. Got out_dir=None.", "checkpoint_every", repr(every))
     if environment is not None or goal_selector is not None:
         raise ParameterError("The 'checkpoint_every' parameter of run is not available with a user's environment or goal selector (saggriac cannot save their state).", "checkpoint_every", repr(every))
+    return int(every)
 
 
 def _check_provenance(ck: Path, info: dict[str, Any], every: Any) -> None:

@@ -64,8 +64,9 @@ def run_study(
     if backend not in ("local", "dask"):
         raise ParameterError(f"The 'backend' parameter of run_study must be one of 'local', 'dask'. Got {backend!r} instead.", "backend", repr(backend))
     progress = check_flag(progress, "progress", "run_study")
-    if n_workers is not None and (isinstance(n_workers, bool) or not isinstance(n_workers, int) or n_workers < 1):
+    if n_workers is not None and (isinstance(n_workers, (bool, np.bool_)) or not isinstance(n_workers, (int, np.integer)) or n_workers < 1):
         raise ParameterError(f"The 'n_workers' parameter of run_study must be an int >= 1 or None. Got {n_workers!r} instead.", "n_workers", repr(n_workers))
+    n_workers = None if n_workers is None else int(n_workers)
     if scheduler is not None and backend != "dask":
         raise ParameterError("The 'scheduler' parameter of run_study needs backend='dask'.", "scheduler", repr(scheduler))
     if scheduler is not None and n_workers is not None:

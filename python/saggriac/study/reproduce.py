@@ -7,6 +7,7 @@ import json
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 import pandas as pd
 
 from ..analysis import plots, splits, statistics
@@ -61,8 +62,9 @@ def reproduce(
     figures and statistics. Finished runs in ``out_dir`` are reused (the study resumes)."""
     if experiment not in PRESETS:
         raise ParameterError(f"The 'experiment' parameter must be one of {', '.join(map(repr, PRESETS))}. Got {experiment!r} instead.", "experiment", repr(experiment))
-    if isinstance(seeds, bool) or not isinstance(seeds, int) or not 1 <= seeds <= MAX_SEEDS:
-        raise ParameterError(f"The 'seeds' parameter must be an int in [1, {MAX_SEEDS}]. Got {seeds!r} instead.", "seeds", repr(seeds))
+    if isinstance(seeds, (bool, np.bool_)) or not isinstance(seeds, (int, np.integer)) or not 1 <= seeds <= MAX_SEEDS:
+        raise ParameterError(f"The 'seeds' parameter of reproduce must be an int in [1, {MAX_SEEDS}]. Got {seeds!r} instead.", "seeds", repr(seeds))
+    seeds = int(seeds)
     progress = check_flag(progress, "progress", "reproduce")
     base = Config.from_preset(experiment, **({} if steps is None else {"n_steps": steps}))
     out = as_path(out_dir, "out_dir", "reproduce") if out_dir is not None else Path(f"reproduce-{experiment}")
