@@ -68,7 +68,9 @@ def test_cli_reproduce_with_a_subset_of_conditions(tmp_path, capsys):
     rc = main(["reproduce", "exp1", "--seeds", "1", "--steps", "300", "--conditions", "sagg_random", "--workers", "1", "--out", str(out), "--no-progress"])
     assert rc == 0
     assert sorted(p.name for p in (out / "runs").iterdir()) == ["sagg_random"]
-    lines = capsys.readouterr().out.splitlines()
+    captured = capsys.readouterr()
+    assert "saggriac: warning: No statistics can be computed" in captured.err
+    lines = captured.out.splitlines()
     assert any(line.split()[:2] == ["reach_error", "sagg_random"] for line in lines)
 
 
@@ -76,5 +78,8 @@ def test_numpy_integers_count_as_the_ints_they_stand_for(tmp_path):
     """A seed count or a worker count from numpy (np.arange, an array's length) was refused."""
     import numpy as np
 
-    reproduce("exp1", out_dir=tmp_path / "st", seeds=np.int64(1), steps=np.int64(300), conditions=("sagg_random",), n_workers=np.int32(1), progress=False)
+    from saggriac.study import IncompleteStudyWarning
+
+    with pytest.warns(IncompleteStudyWarning, match="No statistics can be computed .* all of sagg_random"):
+        reproduce("exp1", out_dir=tmp_path / "st", seeds=np.int64(1), steps=np.int64(300), conditions=("sagg_random",), n_workers=np.int32(1), progress=False)
     assert len(list((tmp_path / "st" / "runs").iterdir())) == 1

@@ -300,6 +300,8 @@ def _result(learner: Any, config: Config, info: dict[str, Any], extras: dict[str
     }
     if info.get("resumed_at") is not None:
         manifest["resumed_at_step"] = info["resumed_at"]
+    # A learner stopped early (Learner.run(until=...)) saves a result too: say how far it got.
+    manifest["steps"] = {"done": int(learner.steps), "of": int(config.n_steps), "finished": bool(learner.steps >= config.n_steps)}
     reach = None if "environment" in extras else config.reach
     manifest["test_set"] = _test_set_summary(learner.test_set(), config, extras["scale"]["reach"])
     reachable = ReachableSet(config) if reach is not None and config.chain is not None else reach

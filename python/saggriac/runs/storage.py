@@ -278,6 +278,11 @@ def write_run(out: Path, manifest: dict[str, Any], tables: dict[str, pd.DataFram
     return replace_dir(out, fill, "the run", replace=lambda p: overwrite and (p / MANIFEST).exists() and is_saggriac_run(p))
 
 
+def read_manifest(path: Path) -> dict[str, Any]:
+    """run.json of the run at ``path``, checked against its checksum."""
+    return _read_manifest(path)
+
+
 def _read_manifest(path: Path) -> dict[str, Any]:
     try:
         manifest = json.loads((path / MANIFEST).read_text())
