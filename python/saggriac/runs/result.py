@@ -96,7 +96,10 @@ class RunResult:
 
     @classmethod
     def load(cls, path: str | Path) -> RunResult:
-        manifest, tables = read_run(Path(path))
+        from .storage import as_path
+
+        path = as_path(path, "path", "RunResult.load")
+        manifest, tables = read_run(path)
         empty = pd.DataFrame()
         return cls(
             config=Config.from_saved(manifest["config"]),

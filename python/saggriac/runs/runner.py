@@ -23,7 +23,7 @@ from ..errors import ParameterError, StorageError
 from ..reachable import ReachableSet
 from .result import RunResult
 from ..scale import body_scale
-from ..files import check_flag, check_seal, seal
+from ..files import MAX_JSON_BYTES, check_flag, check_seal, read_bounded, seal
 from ..seeding import check_seed, derive_seeds, environment_seed
 from ..testing import _joint_space
 from .resources import check_run_fits, check_threads, checkpoint_bytes
@@ -337,7 +337,7 @@ def resume(out_dir: str | Path, progress: bool = False, threads: int | None = No
     out = as_path(out_dir, "out_dir", "resume")
     ck = checkpoint_dir(out)
     try:
-        found = (ck / "state.bin").is_file() and (ck / "checkpoint.json").is_file()
+        found = os.path.lexists(ck)
         finished = (out / "run.json").exists()
     except OSError as e:
         raise StorageError(f"Cannot look for a checkpoint of {out}: {e.strerror or e}.") from None
@@ -345,21 +345,32 @@ def resume(out_dir: str | Path, progress: bool = False, threads: int | None = No
         if finished:
             raise StorageError(f"{out} already holds a finished run; there is nothing to resume.")
         raise StorageError(f"No checkpoint for {out} (looked for {ck}). Start the run with checkpoint_every (--checkpoint-every) to be able to resume it.")
+    start_over = "Start the run over: run it again without --resume."
+    if ck.is_symlink() or not ck.is_dir():
+        raise StorageError(f"The checkpoint {ck} is damaged: it is not a folder (saggriac writes a folder holding state.bin and checkpoint.json). {start_over}")
+    for name in sorted(CHECKPOINT_FILES):
+        if not os.path.lexists(ck / name):
+            raise StorageError(f"The checkpoint {ck} is damaged: it has no {name}. {start_over}")
     with target_lock(out):
         try:
-            meta = json.loads((ck / "checkpoint.json").read_text())
+            meta = json.loads(read_bounded(ck / "checkpoint.json", "a checkpoint.json", MAX_JSON_BYTES))
             if not isinstance(meta, dict):
                 raise TypeError("not a JSON object")
             info = {k: meta[k] for k in ("seed", "learner_seed", "eval_seed", "overwrite")}
             every = meta["checkpoint_every"]
         except (OSError, ValueError, KeyError, TypeError, UnicodeDecodeError) as e:
-            raise StorageError(f"The checkpoint {ck} is damaged: checkpoint.json cannot be read ({e}). Start the run over: run it again without --resume.") from None
+            raise StorageError(f"The checkpoint {ck} is damaged: checkpoint.json cannot be read ({e}). {start_over}") from None
         check_seal(meta, ck / "checkpoint.json")
         config = Config.from_saved(meta["config"])
         _check_provenance(ck, info, every)
         # The old checkpoint is on the disk already: room for one more.
         check_output_dir(out, info["overwrite"], MIN_FREE_BYTES + checkpoint_bytes(config))
-        learner = _core.Learner.restore(config.core_dict(), (ck / "state.bin").read_bytes())
+        try:
+            # At most twice the largest state its configuration can make.
+            state = read_bounded(ck / "state.bin", "a checkpoint's state.bin", 2 * checkpoint_bytes(config))
+        except (OSError, StorageError) as e:
+            raise StorageError(f"The checkpoint {ck} is damaged: {e} {start_over}") from None
+        learner = _core.Learner.restore(config.core_dict(), state)
         if tuple(learner.seeds) != (info["learner_seed"], info["eval_seed"]):
             raise StorageError(f"The checkpoint {ck} is inconsistent: state.bin was made by a run with other seeds than checkpoint.json records (seed {info['seed']}). Start the run over: run it again without --resume.")
         learner.set_threads(threads)

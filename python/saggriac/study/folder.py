@@ -20,7 +20,7 @@ from ..config import Config
 from ..errors import ParameterError, StorageError
 from ..files import lock, write_file
 from ..runs.result import run_stopped_early
-from ..runs.storage import MANIFEST, run_damage
+from ..runs.storage import MANIFEST, read_manifest, run_damage
 from .spec import _FORMAT, LOCK_FILE, RUNS_DIR, STUDY_FILE, Study, Task
 
 
@@ -115,7 +115,7 @@ def _is_finished(out: Path, task: Task) -> bool | str:
     damage = run_damage(run_dir)
     if damage is not None:
         return damage
-    data = json.loads(manifest.read_text())
+    data = read_manifest(run_dir)
     try:
         same = data["seed"] == task.seed and Config.from_saved(data["config"]) == Config(**task.config)
     except (KeyError, TypeError, ParameterError, StorageError) as e:

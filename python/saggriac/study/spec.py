@@ -19,6 +19,7 @@ from ..config import Config, check_keys
 from ..errors import ParameterError, SaggriacError, StorageError
 from ..runs.runner import recover, run
 from ..seeding import check_seed
+from ..files import MAX_JSON_BYTES, read_bounded
 from ..runs.storage import MANIFEST, as_path
 
 STUDY_FILE = "study.json"
@@ -175,9 +176,11 @@ class Study:
             raise StorageError(f"{given} is a study's description; give the study folder ({given.parent}) instead.")
         path = given / STUDY_FILE
         try:
-            data = json.loads(path.read_text())
+            data = json.loads(read_bounded(path, "a study.json", MAX_JSON_BYTES))
         except FileNotFoundError:
             raise StorageError(f"{given} is not a study folder (no {STUDY_FILE}).") from None
+        except StorageError:
+            raise
         except (OSError, ValueError) as e:
             raise StorageError(f"Cannot read {path}: {e}") from None
         try:

@@ -22,7 +22,7 @@ import numpy as np
 
 from .. import _core
 from ..errors import InputError, ParameterError, StorageError
-from ..files import as_path, check_flag, starts_with, write_file
+from ..files import MAX_TEACHER_BYTES, as_path, check_flag, read_bounded, starts_with, write_file
 from ..values import as_numbers as _numbers
 
 # Every default below is the core's (one declaration): SAGG-RIAC's are the run's, the others'
@@ -202,11 +202,11 @@ class _AskTellSelector:
 
 def load_selector(path: str | os.PathLike[str]) -> _AskTellSelector:
     """The teacher saved by ``save(path)``, as an instance of its class, continuing where it stopped."""
-    path = Path(path)
+    path = as_path(os.fspath(path) if isinstance(path, os.PathLike) else path, "path", "load_selector", kind="file")
     try:
-        data = path.read_bytes()
-    except OSError as e:
-        raise StorageError(f"Cannot read {path}: {e.strerror or e}.") from e
+        data = read_bounded(path, "a saved teacher", MAX_TEACHER_BYTES)
+    except (FileNotFoundError, NotADirectoryError) as e:
+        raise StorageError(f"Cannot read {path}: {e.strerror or e}.") from None
     if not data.startswith(MAGIC):
         raise InputError(f"{path} is not a teacher saved by saggriac (it does not start with {MAGIC!r}).")
     inner = _core.AskTell.restore(data[len(MAGIC) :])
