@@ -6,6 +6,7 @@ import argparse
 import hashlib
 import re
 import sys
+import warnings
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -143,7 +144,8 @@ def _cmd_reproduce(args: argparse.Namespace) -> int:
             raise SaggriacError(f"--conditions takes a comma-separated list of conditions ({', '.join(CONDITIONS)}). Got {args.conditions!r}.")
     if args.out is not None:
         as_path(args.out, "--out", "saggriac reproduce")
-    written = reproduce(
+    # A study of one condition or one seed has no statistics: said, and not an error here.
+    written, _ = _incomplete(lambda: reproduce(
         args.experiment,
         out_dir=args.out,
         seeds=args.seeds,
@@ -154,7 +156,7 @@ def _cmd_reproduce(args: argparse.Namespace) -> int:
         scheduler=args.scheduler,
         progress=not args.no_progress,
         **({} if args.worker_timeout is None else {"worker_timeout": args.worker_timeout}),
-    )
+    ))
     out = Path(args.out) if args.out else Path(f"reproduce-{args.experiment}")
     print(final_summary(out).to_string(index=False))
     budget = time_budget_summary(out)
@@ -166,20 +168,39 @@ def _cmd_reproduce(args: argparse.Namespace) -> int:
     return 0
 
 
+def _incomplete(work: Callable[[], Any]) -> tuple[Any, int]:
+    """Run ``work``, printing each IncompleteStudyWarning it gives as a warning of the command;
+    the exit status is 1 when some were given (what was written leaves runs out), else 0."""
+    from .study import IncompleteStudyWarning
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", IncompleteStudyWarning)
+        value = work()
+    rc = 0
+    for w in caught:
+        if issubclass(w.category, IncompleteStudyWarning):
+            print(f"saggriac: warning: {w.message}", file=sys.stderr)
+            rc = 1
+        else:
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+    return value, rc
+
+
 def _cmd_plot(args: argparse.Namespace) -> int:
     from .study.reproduce import make_report
 
-    for name, path in make_report(args.study).items():
+    written, rc = _incomplete(lambda: make_report(args.study))
+    for name, path in written.items():
         print(f"{name}: {path}")
-    return 0
+    return rc
 
 
 def _cmd_stats(args: argparse.Namespace) -> int:
     from .study.reproduce import write_stats
 
-    written = write_stats(args.study)
+    written, rc = _incomplete(lambda: write_stats(args.study))
     print(written["stats_md"].read_text(), end="")
-    return 0
+    return rc
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -14,6 +14,8 @@ from collections.abc import Iterator
 from pathlib import Path
 from typing import Any, Callable
 
+import numpy as np
+
 from .errors import ParameterError, StorageError
 
 try:
@@ -22,8 +24,9 @@ except ImportError:  # pragma: no cover - Windows: no advisory locks
     fcntl = None  # type: ignore[assignment]
 
 
-def as_path(value: Any, param: str, owner: str) -> Path:
-    """A path argument, refused when empty (``Path('')`` would silently mean the current folder)."""
+def as_path(value: Any, param: str, owner: str, kind: str = "folder") -> Path:
+    """A path argument (of a ``kind``: "folder" or "file"), refused when empty (``Path('')``
+    would silently mean the current folder)."""
     if isinstance(value, Path):
         text = str(value)
     elif isinstance(value, str):
@@ -31,15 +34,16 @@ def as_path(value: Any, param: str, owner: str) -> Path:
     else:
         raise ParameterError(f"The '{param}' parameter of {owner} must be a path (str or pathlib.Path). Got {value!r} instead.", param, repr(value))
     if not text.strip() or "\0" in text:
-        raise ParameterError(f"The '{param}' parameter of {owner} must name a folder. Got {value!r} instead.", param, repr(value))
+        raise ParameterError(f"The '{param}' parameter of {owner} must name a {kind}. Got {value!r} instead.", param, repr(value))
     return Path(value)
 
 
 def check_flag(value: Any, param: str, owner: str) -> bool:
-    """A yes/no argument: only True or False (``overwrite="no"`` is truthy, so it is refused)."""
-    if not isinstance(value, bool):
-        raise ParameterError(f"The '{param}' parameter of {owner} must be True or False. Got {value!r} instead.", param, repr(value))
-    return value
+    """A yes/no argument: only True or False, numpy's included (``overwrite="no"`` and
+    ``progress=0`` would be read by their truth, so they are refused)."""
+    if not isinstance(value, (bool, np.bool_)):
+        raise ParameterError(f"The '{param}' parameter of {owner} must be a bool (True or False). Got {value!r} instead.", param, repr(value))
+    return bool(value)
 
 
 def _kind_of(mode: int) -> str:
@@ -47,6 +51,43 @@ def _kind_of(mode: int) -> str:
         if test(mode):
             return name
     return "not a regular file"
+
+
+#: Bounds of the files saggriac reads, far above what it writes (a run.json or study.json of a
+#: few kB to a few MB; a saved teacher takes about 70 bytes per goal told in 2 dimensions).
+MAX_JSON_BYTES = 64_000_000
+MAX_TEACHER_BYTES = 1_000_000_000
+
+
+def read_bounded(path: str | os.PathLike[str], what: str, limit: int) -> bytes:
+    """The bytes of the file ``path``: the one rule for every file saggriac reads. It must be a
+    regular file (a link to one is followed) of at most ``limit`` bytes: a FIFO would block
+    for a writer, a device never ends, a huge file would be read until memory runs out.
+
+    The file is opened without blocking and looked at through the open descriptor, so what is
+    checked is what is read. A missing file raises FileNotFoundError (callers word it); every
+    other refusal is a StorageError naming the path, ``what`` it should be and the rule."""
+    path = Path(path)
+    try:
+        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_NOCTTY", 0))
+    except (FileNotFoundError, NotADirectoryError):
+        raise
+    except OSError as e:
+        raise StorageError(f"Cannot read {what} {path}: {e.strerror or e}.") from None
+    st = os.fstat(fd)
+    if not stat.S_ISREG(st.st_mode) or st.st_size > limit:
+        os.close(fd)
+        if not stat.S_ISREG(st.st_mode):
+            raise StorageError(f"{path} is {_kind_of(st.st_mode)}; saggriac reads {what} only from a regular file.")
+        raise StorageError(f"{path} is {st.st_size:,} bytes; {what} is at most {limit:,} bytes, so it is not read.")
+    with os.fdopen(fd, "rb") as f:
+        try:
+            data = f.read(limit + 1)
+        except OSError as e:
+            raise StorageError(f"Cannot read {what} {path}: {e.strerror or e}.") from None
+    if len(data) > limit:
+        raise StorageError(f"{path} grew beyond {limit:,} bytes while it was read; {what} is at most that.")
+    return data
 
 
 def write_file(path: Path, write: Callable[[Path], None], *, what: str, overwrite: bool = False, ours: Callable[[Path], bool] | None = None) -> Path:

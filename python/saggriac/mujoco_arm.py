@@ -22,6 +22,7 @@ import numpy as np
 
 from .environments import Box, joint_step, joint_vector
 from .errors import ParameterError
+from .files import check_flag
 
 try:
     import mujoco
@@ -172,8 +173,7 @@ class MujocoArm:
         it against ``mj_kinematics``."""
         if isinstance(scale, bool) or not isinstance(scale, (int, float)) or not (math.isfinite(scale) and scale > 0):
             raise ParameterError(f"The 'scale' parameter of MujocoArm.chain must be a float > 0. Got {scale!r} instead.", "scale", repr(scale))
-        if not isinstance(at_origin, bool):
-            raise ParameterError(f"The 'at_origin' parameter of MujocoArm.chain must be a bool. Got {at_origin!r} instead.", "at_origin", repr(at_origin))
+        at_origin = check_flag(at_origin, "at_origin", "MujocoArm.chain")
         m = self.model
         ee_body = self._body if self._site < 0 else int(m.site_bodyid[self._site])
         path = []

@@ -79,3 +79,45 @@ def test_bad_checkpoint_arguments_are_refused(every, tmp_path):
     with pytest.raises(ParameterError, match="not available with a user's environment"):
         sg.Learner(small(), 0, environment=sg.environments.PlanarArm()).save_checkpoint(tmp_path / "r", 1000)
     assert not any(tmp_path.iterdir())
+
+
+def test_numpy_integers_stop_where_the_ints_they_stand_for_stop(tmp_path):
+    """Learner.run(until=np.int64(1000)) ran the whole budget: the core read the numpy bool its
+    stop test gave as "go on" (issue 33, item 2)."""
+    cfg = small()
+    plain, by_numpy = sg.Learner(cfg, 0, threads=1), sg.Learner(cfg, 0, threads=1)
+    expected, stops = [], []
+    for t in range(600, 3001, 600):
+        plain.run(until=t)
+        expected.append(plain.steps)
+    for t in np.arange(600, 3001, 600):
+        by_numpy.run(until=t)
+        stops.append(by_numpy.steps)
+    assert stops == expected and stops[0] < 1500 and stops[-1] == 3000
+    pd.testing.assert_frame_equal(by_numpy.result().metrics, plain.result().metrics, check_exact=True)
+    one = sg.Learner(cfg, 0, threads=1)
+    one.run(until=1000)
+    assert one.steps < 3000
+    for kind in (np.int32, np.uint16, np.int64, np.uint64):
+        other = sg.Learner(cfg, 0, threads=1)
+        assert not other.run(until=kind(1000))
+        assert other.steps == one.steps
+
+
+def test_numpy_integers_for_checkpoints_seeds_and_threads(tmp_path):
+    """run(checkpoint_every=np.int64(1000)) stopped at its first checkpoint with a TypeError
+    (a numpy int does not go into checkpoint.json), losing the work done."""
+    cfg = small()
+    ref = sg.run(cfg, seed=3)
+    got = sg.run(cfg, seed=np.uint32(3), out_dir=tmp_path / "r", checkpoint_every=np.int64(1000), threads=np.int8(1))
+    pd.testing.assert_frame_equal(got.metrics, ref.metrics, check_exact=True)
+    learner = sg.Learner(cfg, np.int16(3), threads=np.int64(1))
+    learner.run(until=np.uint64(1000))
+    learner.save_checkpoint(tmp_path / "c", np.int32(1000))
+    pd.testing.assert_frame_equal(sg.resume(tmp_path / "c", threads=np.int64(1)).metrics, ref.metrics, check_exact=True)
+
+
+@pytest.mark.parametrize("until", [np.float64(1000.0), np.bool_(True), np.int64(-1)])
+def test_numpy_values_that_are_no_time_step_are_refused(until):
+    with pytest.raises(ParameterError, match="'until' parameter of Learner.run must be an int >= 0"):
+        sg.Learner(small(), 0).run(until=until)

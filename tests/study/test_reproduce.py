@@ -59,7 +59,7 @@ def test_plot_and_stats_rebuild_from_saved_results(study_dir, capsys):
 def test_reproduce_rejects_bad_arguments(tmp_path, capsys):
     assert main(["stats", str(tmp_path)]) == 2
     assert "is not a study folder" in capsys.readouterr().err
-    with pytest.raises(Exception, match=r"The 'seeds' parameter must be an int in \[1, 100000\]. Got 0 instead."):
+    with pytest.raises(Exception, match=r"The 'seeds' parameter of reproduce must be an int in \[1, 100000\]. Got 0 instead."):
         reproduce("exp1", out_dir=tmp_path / "x", seeds=0)
 
 
@@ -68,5 +68,18 @@ def test_cli_reproduce_with_a_subset_of_conditions(tmp_path, capsys):
     rc = main(["reproduce", "exp1", "--seeds", "1", "--steps", "300", "--conditions", "sagg_random", "--workers", "1", "--out", str(out), "--no-progress"])
     assert rc == 0
     assert sorted(p.name for p in (out / "runs").iterdir()) == ["sagg_random"]
-    lines = capsys.readouterr().out.splitlines()
+    captured = capsys.readouterr()
+    assert "saggriac: warning: No statistics can be computed" in captured.err
+    lines = captured.out.splitlines()
     assert any(line.split()[:2] == ["reach_error", "sagg_random"] for line in lines)
+
+
+def test_numpy_integers_count_as_the_ints_they_stand_for(tmp_path):
+    """A seed count or a worker count from numpy (np.arange, an array's length) was refused."""
+    import numpy as np
+
+    from saggriac.study import IncompleteStudyWarning
+
+    with pytest.warns(IncompleteStudyWarning, match="No statistics can be computed .* all of sagg_random"):
+        reproduce("exp1", out_dir=tmp_path / "st", seeds=np.int64(1), steps=np.int64(300), conditions=("sagg_random",), n_workers=np.int32(1), progress=False)
+    assert len(list((tmp_path / "st" / "runs").iterdir())) == 1

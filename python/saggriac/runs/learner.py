@@ -70,9 +70,12 @@ class Learner:
         """Learn until the first evaluation at or after step ``until`` (default: the end of the
         budget), then to the end of that goal attempt; ``progress`` shows a progress bar.
         Returns True once the budget is spent."""
+        progress = check_flag(progress, "progress", "Learner.run")
         target = self.config.n_steps if until is None else until
-        if isinstance(target, bool) or not isinstance(target, (int, np.integer)) or target < 0:
+        if isinstance(target, (bool, np.bool_)) or not isinstance(target, (int, np.integer)) or target < 0:
             raise ParameterError(f"The 'until' parameter of Learner.run must be an int >= 0 (a time step) or None (the end of the budget). Got {until!r} instead.", "until", repr(until))
+        # A numpy integer compares into a numpy bool, which the core does not read as a stop.
+        target = int(target)
         bar = None
         if progress:
             from tqdm.auto import tqdm
@@ -83,7 +86,7 @@ class Learner:
             if bar is not None:
                 bar.update(row["step"] - bar.n)
                 bar.set_postfix(reach=f"{row['reach_error']:.2f}")
-            return row["step"] < target
+            return bool(row["step"] < target)
 
         t0 = time.perf_counter()
         try:
@@ -113,9 +116,9 @@ class Learner:
         owner = "Learner.save_checkpoint"
         out = as_path(out_dir, "out_dir", owner)
         every = checkpoint_every
-        if isinstance(every, bool) or not isinstance(every, (int, np.integer)) or every < 1:
+        if isinstance(every, (bool, np.bool_)) or not isinstance(every, (int, np.integer)) or every < 1:
             raise ParameterError(f"The 'checkpoint_every' parameter of {owner} must be an int >= 1 (time steps). Got {every!r} instead.", "checkpoint_every", repr(every))
-        check_flag(overwrite, "overwrite", owner)
+        overwrite = check_flag(overwrite, "overwrite", owner)
         if "environment" in self._extras or "goal_selector" in self._extras:
             raise ParameterError(f"{owner} is not available with a user's environment or goal selector (saggriac cannot save their state).", "checkpoint_every", repr(every))
         # Refuse now a target that resume() could not write to.

@@ -13,6 +13,28 @@ from ..config import Config
 from .storage import read_run
 
 
+def run_stopped_early(manifest: dict[str, Any], metrics: pd.DataFrame | None = None) -> str | None:
+    """Why the run of ``manifest`` is not a finished one (it stopped at step N of M), or None.
+
+    run.json records the steps done since saggriac 0.6; for an older one, a run whose last
+    evaluation is not the schedule's last was stopped early (``metrics``: its metrics table)."""
+    steps = manifest.get("steps")
+    if isinstance(steps, dict):
+        if steps.get("finished") is True:
+            return None
+        return f"it stopped at step {steps.get('done')} of {steps.get('of')} (a partial run, saved from a learner stopped early)"
+    if metrics is None or not len(metrics):
+        return None
+    try:
+        last = Config.from_saved(manifest["config"]).schedule()[-1]
+    except (KeyError, TypeError, ValueError, OSError):  # an unreadable config is reported where the run is read
+        return None
+    got = int(metrics["step"].iloc[-1])
+    if got < last:
+        return f"its last evaluation is at step {got}, the schedule's last at step {last} (a partial run, saved from a learner stopped early)"
+    return None
+
+
 @dataclass
 class RunResult:
     config: Config
@@ -37,6 +59,21 @@ class RunResult:
         return self.metrics["pred_error"].to_numpy()
 
     @property
+    def finished(self) -> bool:
+        """Whether the run spent its whole budget (``config.n_steps``); False for the result of
+        a learner stopped early (``Learner.run(until=...)``)."""
+        return run_stopped_early(self.manifest, self.metrics) is None
+
+    @property
+    def steps_done(self) -> int | None:
+        """Time steps the learner did (run.json's ``steps.done``); None for a partial run saved
+        by saggriac 0.5.0, whose run.json did not record it."""
+        steps = self.manifest.get("steps")
+        if isinstance(steps, dict):
+            return steps.get("done")
+        return self.config.n_steps if self.finished else None
+
+    @property
     def final_reach_error(self) -> float:
         return float(self.reach_error[-1])
 
@@ -46,9 +83,11 @@ class RunResult:
 
     def save(self, path: str | Path, overwrite: bool = False) -> Path:
         """Write this result as a run directory (atomically, as ``saggriac.run`` does)."""
+        from ..files import check_flag
         from .storage import as_path, check_output_dir, target_lock, write_run
 
         out = as_path(path, "path", "RunResult.save")
+        overwrite = check_flag(overwrite, "overwrite", "RunResult.save")
         check_output_dir(out, overwrite)
         tables = {"metrics": self.metrics, "goals": self.goals, "attempts": self.attempts, "regions": self.regions}
         with target_lock(out, what="save"):
@@ -57,7 +96,10 @@ class RunResult:
 
     @classmethod
     def load(cls, path: str | Path) -> RunResult:
-        manifest, tables = read_run(Path(path))
+        from .storage import as_path
+
+        path = as_path(path, "path", "RunResult.load")
+        manifest, tables = read_run(path)
         empty = pd.DataFrame()
         return cls(
             config=Config.from_saved(manifest["config"]),
@@ -71,7 +113,8 @@ class RunResult:
         )
 
     def __repr__(self) -> str:
+        partial = "" if self.finished else f", partial: stopped at step {self.steps_done if self.steps_done is not None else int(self.steps[-1])} of {self.config.n_steps}"
         return (
-            f"RunResult(condition={self.config.condition!r}, seed={self.seed}, steps={int(self.steps[-1])}, "
+            f"RunResult(condition={self.config.condition!r}, seed={self.seed}, steps={int(self.steps[-1])}{partial}, "
             f"final_reach_error={self.final_reach_error:.3f}, final_pred_error={self.final_pred_error:.3f})"
         )

@@ -23,7 +23,7 @@ from ..errors import ParameterError, StorageError
 from ..reachable import ReachableSet
 from .result import RunResult
 from ..scale import body_scale
-from ..files import check_seal, seal
+from ..files import MAX_JSON_BYTES, check_flag, check_seal, read_bounded, seal
 from ..seeding import check_seed, derive_seeds, environment_seed
 from ..testing import _joint_space
 from .resources import check_run_fits, check_threads, checkpoint_bytes
@@ -84,10 +84,12 @@ def run(
         raise ParameterError(f"The 'config' parameter of run must be a saggriac.Config. Got {type(config).__name__} instead.", "config", repr(config))
     config = for_body(config, environment)
     seed = check_seed(seed)
+    progress = check_flag(progress, "progress", "run")
+    overwrite = check_flag(overwrite, "overwrite", "run")
     threads = check_threads(threads, "run")
     out = as_path(out_dir, "out_dir", "run") if out_dir is not None else None
     if checkpoint_every is not None:
-        _check_checkpointing(checkpoint_every, out, environment, goal_selector)
+        checkpoint_every = _check_checkpointing(checkpoint_every, out, environment, goal_selector)
     check_run_fits(config)
     if out is not None:
         check_output_dir(out, overwrite, _min_free(config, checkpoint_every))
@@ -174,13 +176,15 @@ class CheckpointWarning(UserWarning):
     """A checkpoint could not be written; the run goes on and the last good checkpoint stays."""
 
 
-def _check_checkpointing(every: Any, out: Path | None, environment: Any, goal_selector: Any) -> None:
-    if isinstance(every, bool) or not isinstance(every, (int, np.integer)) or every < 1:
+def _check_checkpointing(every: Any, out: Path | None, environment: Any, goal_selector: Any) -> int:
+    """``checkpoint_every`` as a plain int (a numpy one would not go into checkpoint.json)."""
+    if isinstance(every, (bool, np.bool_)) or not isinstance(every, (int, np.integer)) or every < 1:
         raise ParameterError(f"The 'checkpoint_every' parameter of run must be an int >= 1 (time steps). Got {every!r} instead.", "checkpoint_every", repr(every))
     if out is None:
         raise ParameterError("The 'checkpoint_every' parameter of run needs out_dir, where the checkpoint is kept. Got out_dir=None.", "checkpoint_every", repr(every))
     if environment is not None or goal_selector is not None:
         raise ParameterError("The 'checkpoint_every' parameter of run is not available with a user's environment or goal selector (saggriac cannot save their state).", "checkpoint_every", repr(every))
+    return int(every)
 
 
 def _check_provenance(ck: Path, info: dict[str, Any], every: Any) -> None:
@@ -312,6 +316,8 @@ def _result(learner: Any, config: Config, info: dict[str, Any], extras: dict[str
     }
     if info.get("resumed_at") is not None:
         manifest["resumed_at_step"] = info["resumed_at"]
+    # A learner stopped early (Learner.run(until=...)) saves a result too: say how far it got.
+    manifest["steps"] = {"done": int(learner.steps), "of": int(config.n_steps), "finished": bool(learner.steps >= config.n_steps)}
     reach = None if "environment" in extras else config.reach
     manifest["test_set"] = _test_set_summary(learner.test_set(), config, extras["scale"]["reach"])
     reachable = ReachableSet(config) if reach is not None and config.chain is not None else reach
@@ -342,11 +348,12 @@ def resume(out_dir: str | Path, progress: bool = False, threads: int | None = No
     """Continue the interrupted run whose checkpoint sits next to ``out_dir`` (written by
     ``run(..., out_dir=..., checkpoint_every=N)``), to the same result the run would have given
     without the interruption, and write it to ``out_dir``. ``threads`` as for ``run``."""
+    progress = check_flag(progress, "progress", "resume")
     threads = check_threads(threads, "resume")
     out = as_path(out_dir, "out_dir", "resume")
     ck = checkpoint_dir(out)
     try:
-        found = (ck / "state.bin").is_file() and (ck / "checkpoint.json").is_file()
+        found = os.path.lexists(ck)
         finished = (out / "run.json").exists()
     except OSError as e:
         raise StorageError(f"Cannot look for a checkpoint of {out}: {e.strerror or e}.") from None
@@ -354,21 +361,32 @@ def resume(out_dir: str | Path, progress: bool = False, threads: int | None = No
         if finished:
             raise StorageError(f"{out} already holds a finished run; there is nothing to resume.")
         raise StorageError(f"No checkpoint for {out} (looked for {ck}). Start the run with checkpoint_every (--checkpoint-every) to be able to resume it.")
+    start_over = "Start the run over: run it again without --resume."
+    if ck.is_symlink() or not ck.is_dir():
+        raise StorageError(f"The checkpoint {ck} is damaged: it is not a folder (saggriac writes a folder holding state.bin and checkpoint.json). {start_over}")
+    for name in sorted(CHECKPOINT_FILES):
+        if not os.path.lexists(ck / name):
+            raise StorageError(f"The checkpoint {ck} is damaged: it has no {name}. {start_over}")
     with target_lock(out):
         try:
-            meta = json.loads((ck / "checkpoint.json").read_text())
+            meta = json.loads(read_bounded(ck / "checkpoint.json", "a checkpoint.json", MAX_JSON_BYTES))
             if not isinstance(meta, dict):
                 raise TypeError("not a JSON object")
             info = {k: meta[k] for k in ("seed", "learner_seed", "eval_seed", "overwrite")}
             every = meta["checkpoint_every"]
         except (OSError, ValueError, KeyError, TypeError, UnicodeDecodeError) as e:
-            raise StorageError(f"The checkpoint {ck} is damaged: checkpoint.json cannot be read ({e}). Start the run over: run it again without --resume.") from None
+            raise StorageError(f"The checkpoint {ck} is damaged: checkpoint.json cannot be read ({e}). {start_over}") from None
         check_seal(meta, ck / "checkpoint.json")
         config = Config.from_saved(meta["config"])
         _check_provenance(ck, info, every)
         # The old checkpoint is on the disk already: room for one more.
         check_output_dir(out, info["overwrite"], MIN_FREE_BYTES + checkpoint_bytes(config))
-        learner = _core.Learner.restore(config.core_dict(), (ck / "state.bin").read_bytes())
+        try:
+            # At most twice the largest state its configuration can make.
+            state = read_bounded(ck / "state.bin", "a checkpoint's state.bin", 2 * checkpoint_bytes(config))
+        except (OSError, StorageError) as e:
+            raise StorageError(f"The checkpoint {ck} is damaged: {e} {start_over}") from None
+        learner = _core.Learner.restore(config.core_dict(), state)
         if tuple(learner.seeds) != (info["learner_seed"], info["eval_seed"]):
             raise StorageError(f"The checkpoint {ck} is inconsistent: state.bin was made by a run with other seeds than checkpoint.json records (seed {info['seed']}). Start the run over: run it again without --resume.")
         learner.set_threads(threads)

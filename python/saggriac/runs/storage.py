@@ -30,11 +30,14 @@ import numpy as np
 import pandas as pd
 
 from ..errors import StorageError
-from ..files import _fsync, as_path, check_seal, lock, seal  # noqa: F401 (as_path: runner, study and cli take it from here)
+from ..files import MAX_JSON_BYTES, _fsync, as_path, check_seal, lock, read_bounded, seal  # noqa: F401 (as_path: runner, study and cli take it from here)
 
 MANIFEST = "run.json"
 TABLES = ("metrics", "goals", "attempts", "regions")
 RUN_FILES = frozenset([MANIFEST, *(f"{t}.parquet" for t in TABLES)])
+#: A table of a run saved before run.json recorded sizes: larger is not read (a 200,000-step run's
+#: tables take about 1 MB).
+MAX_TABLE_BYTES = 4_000_000_000
 #: Checked before a run starts: a 200,000-step run directory takes about 1 MB; keep a margin.
 MIN_FREE_BYTES = 20_000_000
 
@@ -78,7 +81,7 @@ def foreign_entries(out: Path) -> list[str]:
 def is_saggriac_run(out: Path) -> bool:
     """A folder saggriac wrote as a run: a manifest of ours and nothing but saggriac's files."""
     try:
-        data = json.loads((out / MANIFEST).read_text())
+        data = json.loads(read_bounded(out / MANIFEST, "a run.json", MAX_JSON_BYTES))
     except (OSError, ValueError, UnicodeDecodeError):
         return False
     return isinstance(data, dict) and {"config", "seed", "version"} <= set(data) and not foreign_entries(out)
@@ -278,9 +281,16 @@ def write_run(out: Path, manifest: dict[str, Any], tables: dict[str, pd.DataFram
     return replace_dir(out, fill, "the run", replace=lambda p: overwrite and (p / MANIFEST).exists() and is_saggriac_run(p))
 
 
+def read_manifest(path: Path) -> dict[str, Any]:
+    """run.json of the run at ``path``, checked against its checksum."""
+    return _read_manifest(path)
+
+
 def _read_manifest(path: Path) -> dict[str, Any]:
     try:
-        manifest = json.loads((path / MANIFEST).read_text())
+        manifest = json.loads(read_bounded(path / MANIFEST, "a run.json", MAX_JSON_BYTES))
+    except StorageError as e:
+        raise StorageError(f"{path / MANIFEST} is damaged: {e}") from None
     except (FileNotFoundError, NotADirectoryError):
         raise StorageError(f"{path} is not a finished run directory (no {MANIFEST}).") from None
     except IsADirectoryError:
@@ -310,6 +320,8 @@ def run_damage(path: Path) -> str | None:
         if f.is_symlink() or not f.is_file():
             return f"{f} is not a regular file"
         if recorded is None:  # written before checksums were recorded: it must at least parse
+            if f.stat().st_size > MAX_TABLE_BYTES:
+                return f"{f} is {f.stat().st_size:,} bytes, more than a table of saggriac holds ({MAX_TABLE_BYTES:,})"
             try:
                 pd.read_parquet(f)
             except Exception as e:  # pyarrow raises several types for a damaged file
@@ -319,6 +331,10 @@ def run_damage(path: Path) -> str | None:
         if not isinstance(want, dict):
             return f"{path / MANIFEST} records no checksum for {f.name}"
         try:
+            # The size first: a huge file put in a table's place is not read through.
+            size = f.stat().st_size
+            if size != want.get("bytes"):
+                return f"{f} has {size} bytes, {MANIFEST} records {want.get('bytes')} (truncated or changed)"
             got = _digest(f)
         except OSError as e:
             return f"{f} cannot be read ({e.strerror or e})"

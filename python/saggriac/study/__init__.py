@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import os
 import sys
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -22,10 +23,12 @@ import pandas as pd
 import pyarrow.parquet as pq
 
 from ..errors import ParameterError, StorageError
-from ..runs.storage import MANIFEST, as_path, clear_stale_lock, run_damage
+from ..files import check_flag
+from ..runs.result import run_stopped_early
+from ..runs.storage import MANIFEST, as_path, clear_stale_lock, read_manifest, run_damage
 from .backends import COST_HINT, SCHEDULER_TIMEOUT, WORKER_TIMEOUT, _check_scheduler, _default_workers, _import_distributed, _longest_first_by_seed, _run_dask, _run_local, check_cluster, check_worker_timeout, local_cluster
 from .folder import _check_or_write_spec, _check_study_folder, _folder_lock, _is_finished, _remove_leftovers, _set_aside
-from .spec import LOCK_FILE, METRICS, RUNS_DIR, STUDY_FILE, Study, StudyError, Task, run_task
+from .spec import LOCK_FILE, METRICS, RUNS_DIR, STUDY_FILE, IncompleteStudyWarning, Study, StudyError, Task, run_task
 
 
 @dataclass
@@ -65,8 +68,10 @@ def run_study(
         raise ParameterError(f"The 'study' parameter of run_study must be a saggriac.Study. Got {type(study).__name__} instead.", "study", repr(study))
     if backend not in ("local", "dask"):
         raise ParameterError(f"The 'backend' parameter of run_study must be one of 'local', 'dask'. Got {backend!r} instead.", "backend", repr(backend))
-    if n_workers is not None and (isinstance(n_workers, bool) or not isinstance(n_workers, int) or n_workers < 1):
+    progress = check_flag(progress, "progress", "run_study")
+    if n_workers is not None and (isinstance(n_workers, (bool, np.bool_)) or not isinstance(n_workers, (int, np.integer)) or n_workers < 1):
         raise ParameterError(f"The 'n_workers' parameter of run_study must be an int >= 1 or None. Got {n_workers!r} instead.", "n_workers", repr(n_workers))
+    n_workers = None if n_workers is None else int(n_workers)
     if scheduler is not None and backend != "dask":
         raise ParameterError("The 'scheduler' parameter of run_study needs backend='dask'.", "scheduler", repr(scheduler))
     if scheduler is not None and n_workers is not None:
@@ -139,14 +144,19 @@ def run_study(
 
 def load_study(out_dir: str | Path) -> pd.DataFrame:
     """The learning curves of every finished run of a study, one row per (run, step, metric):
-    columns ``condition, seed, <grid keys>, step, metric, value``. Unfinished runs are left out."""
-    out = Path(out_dir)
+    columns ``condition, seed, <grid keys>, step, metric, value``. Runs not finished (no
+    run.json, or a partial run saved from a learner stopped early) are left out, and an
+    :class:`IncompleteStudyWarning` names them."""
+    out = as_path(out_dir, "out_dir", "load_study")
     study = Study.load(out)
     keys = list(study.grid)
     parts = []
-    for task in study.tasks():
+    left_out: list[str] = []
+    tasks = study.tasks()
+    for task in tasks:
         run_dir = out / task.path
         if not (run_dir / MANIFEST).exists():
+            left_out.append(f"{task.path} (not finished: no {MANIFEST})")
             continue
         damage = run_damage(run_dir)
         if damage is not None:
@@ -155,6 +165,10 @@ def load_study(out_dir: str | Path) -> pd.DataFrame:
         have = set(pq.read_schema(run_dir / "metrics.parquet").names)
         metrics = [k for k in METRICS if k in have]
         m = pd.read_parquet(run_dir / "metrics.parquet", columns=["step", *metrics])
+        early = run_stopped_early(read_manifest(run_dir), m)
+        if early is not None:
+            left_out.append(f"{task.path} ({early})")
+            continue
         n = len(m) * len(metrics)
         cols: dict[str, Any] = {"condition": [task.condition] * n, "seed": np.full(n, task.seed, dtype=np.int64)}
         for k in keys:
@@ -163,6 +177,9 @@ def load_study(out_dir: str | Path) -> pd.DataFrame:
         cols["metric"] = np.repeat(np.array(metrics, dtype=object), len(m))
         cols["value"] = np.concatenate([m[k].to_numpy(np.float64) for k in metrics])
         parts.append(pd.DataFrame(cols))
+    if left_out:
+        shown = "; ".join(left_out[:10]) + (f"; and {len(left_out) - 10} more" if len(left_out) > 10 else "")
+        warnings.warn(f"{len(left_out)} of {len(tasks)} runs of the study {out} are left out: {shown}. Run the study again (run_study, or saggriac reproduce) to finish them.", IncompleteStudyWarning, stacklevel=2)
     if not parts:
         empty = {"condition": pd.Series(dtype=str), "seed": pd.Series(dtype=np.int64)}
         empty.update({k: pd.Series(dtype=object) for k in keys})
@@ -173,4 +190,4 @@ def load_study(out_dir: str | Path) -> pd.DataFrame:
 
 _COST_HINT = COST_HINT  # its former, private name (older scripts import it from here)
 
-__all__ = ["Study", "Task", "StudyResult", "StudyError", "run_study", "load_study", "run_task", "local_cluster", "METRICS", "STUDY_FILE", "LOCK_FILE", "RUNS_DIR", "SCHEDULER_TIMEOUT", "WORKER_TIMEOUT", "COST_HINT"]
+__all__ = ["Study", "Task", "StudyResult", "StudyError", "IncompleteStudyWarning", "run_study", "load_study", "run_task", "local_cluster", "METRICS", "STUDY_FILE", "LOCK_FILE", "RUNS_DIR", "SCHEDULER_TIMEOUT", "WORKER_TIMEOUT", "COST_HINT"]

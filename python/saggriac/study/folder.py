@@ -13,11 +13,14 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
+import pandas as pd
+
 from .. import _core
 from ..config import Config
 from ..errors import ParameterError, StorageError
 from ..files import lock, write_file
-from ..runs.storage import MANIFEST, run_damage
+from ..runs.result import run_stopped_early
+from ..runs.storage import MANIFEST, read_manifest, run_damage
 from .spec import _FORMAT, LOCK_FILE, RUNS_DIR, STUDY_FILE, Study, Task
 
 
@@ -112,14 +115,22 @@ def _is_finished(out: Path, task: Task) -> bool | str:
     damage = run_damage(run_dir)
     if damage is not None:
         return damage
-    data = json.loads(manifest.read_text())
+    data = read_manifest(run_dir)
     try:
         same = data["seed"] == task.seed and Config.from_saved(data["config"]) == Config(**task.config)
     except (KeyError, TypeError, ParameterError, StorageError) as e:
         return f"{manifest} does not describe a run this version of saggriac can read ({e})"
     if not same:
         raise StorageError(f"{run_dir} holds a finished run of another configuration or seed; delete it to have the run redone.")
+    early = run_stopped_early(data, _last_steps(run_dir))
+    if early is not None:
+        return early
     return True
+
+
+def _last_steps(run_dir: Path) -> pd.DataFrame:
+    """The step column of a run's metrics (what tells a partial run of saggriac 0.5.0)."""
+    return pd.read_parquet(run_dir / "metrics.parquet", columns=["step"])
 
 
 def _remove_leftovers(out: Path, task: Task) -> None:

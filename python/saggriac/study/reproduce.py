@@ -3,20 +3,21 @@ figures (Fig. 2-5 style) and the statistics table, all written into one folder."
 
 from __future__ import annotations
 
-import json
+import warnings
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 import pandas as pd
 
 from ..analysis import plots, splits, statistics
 from ..config import CONDITIONS, PRESETS, Config
-from ..errors import ParameterError, StorageError
-from ..files import as_path, write_file
+from ..errors import InputError, ParameterError, StorageError
+from ..files import as_path, check_flag, write_file
 from ..reachable import ReachableSet
-from ..runs.result import RunResult
-from ..runs.storage import signed_integers
-from . import Study, load_study, run_study
+from ..runs.result import RunResult, run_stopped_early
+from ..runs.storage import read_manifest, signed_integers
+from . import IncompleteStudyWarning, Study, load_study, run_study
 from .backends import WORKER_TIMEOUT
 
 FIGURES = "figures"
@@ -28,6 +29,15 @@ def _atomic(path: Path, write: Any) -> Path:
     """Write a file of the study folder through a temporary sibling (``files.write_file``): it
     replaces only a regular file of that name, never a link, folder or device put there."""
     return write_file(path, write, what=path.name, overwrite=True)
+
+
+def _complete(run_dir: Path) -> bool:
+    """A finished run: its run.json is there and it spent its whole budget (a partial run, saved
+    from a learner stopped early, is not drawn beside finished ones)."""
+    if not (run_dir / "run.json").exists():
+        return False
+    manifest = read_manifest(run_dir)
+    return run_stopped_early(manifest, pd.read_parquet(run_dir / "metrics.parquet", columns=["step"])) is None
 
 
 def matching_preset(config: Config) -> str | None:
@@ -63,8 +73,10 @@ def reproduce(
     figures and statistics. Finished runs in ``out_dir`` are reused (the study resumes)."""
     if experiment not in PRESETS:
         raise ParameterError(f"The 'experiment' parameter must be one of {', '.join(map(repr, PRESETS))}. Got {experiment!r} instead.", "experiment", repr(experiment))
-    if isinstance(seeds, bool) or not isinstance(seeds, int) or not 1 <= seeds <= MAX_SEEDS:
-        raise ParameterError(f"The 'seeds' parameter must be an int in [1, {MAX_SEEDS}]. Got {seeds!r} instead.", "seeds", repr(seeds))
+    if isinstance(seeds, (bool, np.bool_)) or not isinstance(seeds, (int, np.integer)) or not 1 <= seeds <= MAX_SEEDS:
+        raise ParameterError(f"The 'seeds' parameter of reproduce must be an int in [1, {MAX_SEEDS}]. Got {seeds!r} instead.", "seeds", repr(seeds))
+    seeds = int(seeds)
+    progress = check_flag(progress, "progress", "reproduce")
     base = Config.from_preset(experiment, **({} if steps is None else {"n_steps": steps}))
     out = as_path(out_dir, "out_dir", "reproduce") if out_dir is not None else Path(f"reproduce-{experiment}")
     study = Study(base=base, conditions=tuple(conditions), seeds=tuple(range(seeds)))
@@ -92,11 +104,14 @@ def make_report(out_dir: str | Path, title: str | None = None) -> dict[str, Path
     for cond in ("sagg_riac", "sagg_random"):
         for task in study.tasks():
             run_dir = out / task.path
-            if task.condition == cond and (run_dir / "run.json").exists():
+            if task.condition == cond and _complete(run_dir):
                 name = f"goals_{cond}_seed{task.seed}.png"
                 written[f"goals_{cond}"] = plots.plot_goal_histograms(run_dir, figs / name)
                 break
-    written.update(write_stats(out, frame))
+    try:
+        written.update(write_stats(out, frame))
+    except InputError as e:
+        warnings.warn(f"{e} The figures are written; stats.csv and stats.md are not.", IncompleteStudyWarning, stacklevel=2)
     budget = time_budget_summary(out)
     if not budget.empty:
         written["time_budget_csv"] = _atomic(out / "time_budget.csv", lambda p: budget.to_csv(p, index=False))
@@ -111,9 +126,22 @@ def write_stats(out_dir: str | Path, frame: pd.DataFrame | None = None) -> dict[
     out = Path(out_dir)
     frame = load_study(out) if frame is None else frame
     table = statistics.compare(frame)
+    if table.empty:
+        raise InputError(f"No statistics can be computed for the study {out}: {_why_no_stats(frame)}.")
     csv = _atomic(out / "stats.csv", lambda p: table.to_csv(p, index=False))
     md = _atomic(out / "stats.md", lambda p: p.write_text(statistics.to_markdown(table)))
     return {"stats_csv": csv, "stats_md": md}
+
+
+def _why_no_stats(frame: pd.DataFrame) -> str:
+    """Why statistics.compare found nothing to test in ``frame``."""
+    if frame.empty:
+        return "it holds no finished run"
+    conditions = sorted(set(frame["condition"]))
+    if len(conditions) < 2:
+        return f"the tests compare conditions and its finished runs are all of {conditions[0]}"
+    seeds = frame.groupby("condition")["seed"].nunique()
+    return "the tests pair runs of the same seed and need at least 2 seeds finished in each condition; finished seeds: " + ", ".join(f"{c} {n}" for c, n in seeds.items())
 
 
 # The time budget's columns, in the order shown (shares are of all micro-actions of a run).
@@ -127,10 +155,9 @@ def time_budget_summary(out_dir: str | Path) -> pd.DataFrame:
     out = Path(out_dir)
     rows = []
     for task in Study.load(out).tasks():
-        manifest = out / task.path / "run.json"
-        if not manifest.exists():
+        if not _complete(out / task.path):
             continue
-        tb = json.loads(manifest.read_text()).get("time_budget")
+        tb = read_manifest(out / task.path).get("time_budget")
         if tb is None:  # a run from before saggriac 0.2
             continue
         row: dict[str, Any] = {"condition": task.condition, **{k: tb.get(k) for k in BUDGET_COLUMNS}}
@@ -155,9 +182,9 @@ def split_null_model(out_dir: str | Path, n_parts: int = 4) -> pd.DataFrame:
     rows = []
     for task in study.tasks():
         run_dir = out / task.path
-        if task.condition not in ("sagg_riac", "sagg_random") or not (run_dir / "run.json").exists():
+        if task.condition not in ("sagg_riac", "sagg_random") or not _complete(run_dir):
             continue
-        cfg = Config.from_saved(json.loads((run_dir / "run.json").read_text())["config"])
+        cfg = Config.from_saved(read_manifest(run_dir)["config"])
         if task.condition == "sagg_riac":
             regions, label = signed_integers(pd.read_parquet(run_dir / "regions.parquet")), "sagg_riac"
         else:

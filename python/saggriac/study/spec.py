@@ -19,7 +19,8 @@ from ..config import Config, check_keys
 from ..errors import ParameterError, SaggriacError, StorageError
 from ..runs.runner import recover, run
 from ..seeding import check_seed
-from ..runs.storage import MANIFEST
+from ..files import MAX_JSON_BYTES, read_bounded
+from ..runs.storage import MANIFEST, as_path
 
 STUDY_FILE = "study.json"
 LOCK_FILE = ".lock"
@@ -27,6 +28,11 @@ RUNS_DIR = "runs"
 METRICS = ("reach_error", "pred_error", "dx_error", "n_goals", "n_regions")
 _FORMAT = 1
 _SAFE_TEXT = re.compile(r"[A-Za-z0-9_.+-]+")
+
+
+class IncompleteStudyWarning(UserWarning):
+    """Runs of a study were left out of what was read or drawn (not finished, or partial); the
+    message names them."""
 
 
 class StudyError(SaggriacError):
@@ -165,11 +171,16 @@ class Study:
     @classmethod
     def load(cls, out_dir: str | Path) -> Study:
         """The study recorded in ``out_dir/study.json``."""
-        path = Path(out_dir) / STUDY_FILE
+        given = as_path(out_dir, "out_dir", "Study.load")
+        if given.name == STUDY_FILE and not given.is_dir():
+            raise StorageError(f"{given} is a study's description; give the study folder ({given.parent}) instead.")
+        path = given / STUDY_FILE
         try:
-            data = json.loads(path.read_text())
+            data = json.loads(read_bounded(path, "a study.json", MAX_JSON_BYTES))
         except FileNotFoundError:
-            raise StorageError(f"{Path(out_dir)} is not a study folder (no {STUDY_FILE}).") from None
+            raise StorageError(f"{given} is not a study folder (no {STUDY_FILE}).") from None
+        except StorageError:
+            raise
         except (OSError, ValueError) as e:
             raise StorageError(f"Cannot read {path}: {e}") from None
         try:

@@ -22,7 +22,7 @@ import numpy as np
 
 from .. import _core
 from ..errors import InputError, ParameterError, StorageError
-from ..files import as_path, check_flag, starts_with, write_file
+from ..files import MAX_TEACHER_BYTES, as_path, check_flag, read_bounded, starts_with, write_file
 from ..values import as_numbers as _numbers
 from . import ownership
 
@@ -200,7 +200,7 @@ class _AskTellSelector:
         ``overwrite=True``, and only if it is a teacher file saggriac saved: a link, a device, a
         FIFO or any other file is refused before anything is written."""
         owner = f"{type(self).__name__}.save"
-        check_flag(overwrite, "overwrite", owner)
+        overwrite = check_flag(overwrite, "overwrite", owner)
         path = as_path(path, "path", owner)
         if path.is_dir() and not path.is_symlink():
             raise StorageError(f"{path} is a folder; give the path of a file to save the teacher to.")
@@ -210,11 +210,11 @@ class _AskTellSelector:
 
 def load_selector(path: str | os.PathLike[str]) -> _AskTellSelector:
     """The teacher saved by ``save(path)``, as an instance of its class, continuing where it stopped."""
-    path = Path(path)
+    path = as_path(os.fspath(path) if isinstance(path, os.PathLike) else path, "path", "load_selector", kind="file")
     try:
-        data = path.read_bytes()
-    except OSError as e:
-        raise StorageError(f"Cannot read {path}: {e.strerror or e}.") from e
+        data = read_bounded(path, "a saved teacher", MAX_TEACHER_BYTES)
+    except (FileNotFoundError, NotADirectoryError) as e:
+        raise StorageError(f"Cannot read {path}: {e.strerror or e}.") from None
     if not data.startswith(MAGIC):
         raise InputError(f"{path} is not a teacher saved by saggriac (it does not start with {MAGIC!r}).")
     inner = _core.AskTell.restore(data[len(MAGIC) :])
@@ -314,9 +314,7 @@ class _MixtureSelector(_AskTellSelector):
             if k in ("fit_rate", "max_components", "bootstrap"):
                 params[k] = _int_param(owner, k, v, 0, 2**63)
             elif k == "absolute_lp":
-                if not isinstance(v, (bool, np.bool_)):
-                    raise ParameterError(f"The 'absolute_lp' parameter of {owner} must be a bool. Got {v!r} instead.", "absolute_lp", repr(v))
-                params[k] = bool(v)
+                params[k] = check_flag(v, k, owner)
             else:
                 params[k] = _float_param(owner, k, v)
         self._inner = getattr(_core.AskTell, self._make)(lo.tolist(), hi.tolist(), _int_param(owner, "seed", seed, 0, 2**64), **params)
