@@ -120,7 +120,7 @@ class Config:
     # stays hashable; dict(cfg.teacher_params) gives the dict back).
     teacher: str = _CORE["teacher"]
     teacher_params: tuple[tuple[str, Any], ...] = ()
-    # Evaluation (SPEC.md).
+    # Evaluation (docs/reproduction.md, "What is measured").
     n_test_goals: int = _CORE["n_test_goals"]
     n_test_configs: int = _CORE["n_test_configs"]
     # "ik_min_norm": each test goal's least-norm configuration; "uniform": uniform in the limits.

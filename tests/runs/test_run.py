@@ -76,7 +76,7 @@ def test_sagg_random_condition_runs(small_config):
 def test_actuator_conditions_run(small_config, condition):
     res = saggriac.run(small_config.replace(condition=condition, n_steps=2000), seed=1)
     prof = res.manifest["profile"]
-    # Motor babbling only, reset to rest every `max` = 342 steps (the paper's rule, SPEC.md).
+    # Motor babbling only, reset to rest every `max` = 342 steps (the paper's rule, docs/parameters.md: actuator_reset_every).
     assert prof["babbling_steps"] == 2000 and prof["reaching_steps"] == 0
     assert prof["actuator_reset_period"] == 342
     assert res.goals.empty
