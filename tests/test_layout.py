@@ -127,3 +127,10 @@ def test_nothing_in_the_package_imports_through_a_former_path():
     modules = _modules()
     users = {m: sorted(_imports(m, modules) & set(ALIASES)) for m in modules if m not in ALIASES}
     assert not {m: a for m, a in users.items() if a}, "import the new path instead"
+
+
+def test_the_docs_index_lists_every_page():
+    docs = Path(__file__).resolve().parent.parent / "docs"
+    index = (docs / "README.md").read_text()
+    pages = sorted(p.name for p in docs.glob("*.md") if p.name != "README.md")
+    assert [p for p in pages if f"]({p})" not in index] == []
