@@ -20,7 +20,7 @@ from saggriac.errors import ParameterError, SaggriacError, StorageError
         ({"n_joints": "many"}, "The 'n_joints' parameter of Config must be an int >= 1. Got 'many' instead."),
         ({"condition": "best"}, "The 'condition' parameter of Config must be one of 'sagg_riac', 'sagg_random', 'actuator_random', 'actuator_riac'. Got 'best' instead."),
         ({"knn_index": "hnsw"}, "The 'knn_index' parameter of Config must be one of 'blocks', 'brute_force'. Got 'hnsw' instead."),
-        ({"n_evals": 0}, "The 'n_evals' parameter of Config must be an int >= 1. Got 0 instead."),
+        ({"n_evals": 0}, "The 'n_evals' parameter of Config must be an int in [1, max(n_steps, 100)] (a run evaluates at most once per time step; n_steps = 50000). Got 0 instead."),
     ],
 )
 def test_bad_parameter_messages(kwargs, message):

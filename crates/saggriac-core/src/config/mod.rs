@@ -15,7 +15,7 @@ pub use high_level::{check_bounds, CompetenceConfig, InterestDivisor, ModeProbab
 pub use low_level::{EpisodicConfig, ExplorationConfig, ReachingConfig};
 pub use model::{IndexKind, LocalModelConfig, MIN_RCOND};
 
-use crate::error::{invalid, Check, Result};
+use crate::error::{invalid, Check, Num, Result};
 use crate::task_space::MAX_TASK_DIM;
 
 /// The experimental conditions of the paper.
@@ -144,7 +144,32 @@ impl Default for RunConfig {
     }
 }
 
+/// A neighbour count up to this is taken whatever n_steps is (short test runs keep the defaults).
+pub const MIN_NEIGHBOUR_BOUND: u64 = 1000;
+
 impl RunConfig {
+    /// Sizes bounded by what the run can use: neighbour counts by the samples the memory can
+    /// hold (one per time step), lengths by the diameter of the body's reachable ball.
+    fn check_sizes(&self) -> Result<()> {
+        let most = self.n_steps.max(MIN_NEIGHBOUR_BOUND);
+        let rule = format!("an int in [1, max(n_steps, {MIN_NEIGHBOUR_BOUND})] (the memory holds at most one sample per time step; n_steps = {})", self.n_steps);
+        if self.local.k_neighbours as u64 > most {
+            return Err(invalid("LocalModel", "k_neighbours", rule, self.local.k_neighbours));
+        }
+        if self.episodic.k_refine as u64 > most {
+            return Err(invalid("Episodic", "episodic_k", rule, self.episodic.k_refine));
+        }
+        let reach: f64 = self.arm.link_lengths.iter().sum();
+        let lengths = [("Reaching", "v", self.reaching.v), ("Reaching", "eps_max", self.reaching.eps_max), ("Evaluation", "tolerance", self.eval.tolerance)];
+        for (owner, name, value) in lengths {
+            if value > 2.0 * reach {
+                let rule = format!("a finite float > 0 and <= 2 * reach, the diameter of the ball the body reaches (reach = {})", crate::error::G(reach));
+                return Err(invalid(owner, name, rule, Num(value)));
+            }
+        }
+        Ok(())
+    }
+
     pub fn validate(&self) -> Result<()> {
         let c = Check { owner: "Run" };
         if self.n_steps == 0 {
@@ -201,6 +226,7 @@ impl RunConfig {
         }
         c.positive("babble_step", self.babble_step)?;
         self.eval.validate(self.n_steps)?;
+        self.check_sizes()?;
         self.episodic.validate(self.arm.link_lengths.len())?;
         if let Some(b) = self.body_change {
             if self.arm.kind == body::ArmKind::Chain {

@@ -259,7 +259,7 @@ impl AskTell {
             return Err(Error::InvalidInput(format!("goal{at} must have {d} coordinates, the dimension of the goal space; got {}.", goal.len())));
         }
         if !(competence.is_finite() && competence.abs() <= MAX_COMPETENCE) {
-            return Err(Error::InvalidInput(format!("competence{at} must be a finite float with |competence| <= 1e100; got {competence}.")));
+            return Err(Error::InvalidInput(format!("competence{at} must be a finite float with |competence| <= 1e100; got {}.", crate::error::Num(competence))));
         }
         let (lo, hi) = (self.selector.low(), self.selector.high());
         for i in 0..d {
