@@ -103,3 +103,10 @@ def test_overwrite_on_a_damaged_run_json_says_what_is_wrong(tmp_path, capsys):
     err = capsys.readouterr().err
     assert "run.json is damaged (not JSON" in err and "delete it yourself" in err and "not a saggriac manifest" not in err
     assert {p.name: p.read_bytes() for p in out.iterdir()} == before
+
+
+def test_a_huge_goal_is_printed_short():
+    t = sg.SaggRiacSelector([0.0, 0.0], [1.0, 1.0], seed=0)
+    with pytest.raises(InputError) as e:
+        t.update([1e300, 0.5], -0.5)
+    assert "coordinate 0 is 1e300 but the bounds are [0, 1]" in str(e.value) and len(str(e.value)) < 300

@@ -30,7 +30,8 @@ def test_n_evals_on_the_command_line_is_refused_before_any_work(tmp_path, capsys
 
 @pytest.mark.parametrize("name", ["k_neighbours", "episodic_k"])
 def test_neighbours_beyond_what_memory_holds_are_refused(name):
-    with pytest.raises(ParameterError, match=rf"'{name}' parameter of Config must be an int in \[1, max\(n_steps, 1000\)\] \(the memory holds at most one sample per time step; n_steps = 300\)\. Got 1000000"):
+    least = 1 if name == "k_neighbours" else 2  # episodic_k: min(n_joints, 2)
+    with pytest.raises(ParameterError, match=rf"'{name}' parameter of Config must be an int in \[{least}, max\(n_steps, 1000\)\] \(the memory holds at most one sample per time step; n_steps = 300\)\. Got 1000000"):
         sg.Config.from_preset("exp1", n_steps=300, **{name: 1_000_000})
     sg.Config.from_preset("exp1", n_steps=300, **{name: 1000})
     sg.Config.from_preset("exp1", n_steps=5000, **{name: 5000})
@@ -59,3 +60,16 @@ def test_a_mixture_teacher_in_too_many_dimensions_is_refused_at_once(cls):
         cls(np.zeros(10_000), np.ones(10_000), seed=0)
     assert time.perf_counter() - t < 2
     cls(np.zeros(100), np.ones(100), seed=0)
+
+
+@pytest.mark.parametrize("name, small, rule", [
+    ("k_neighbours", 0, r"an int in \[1, max\(n_steps, 1000\)\]"),
+    ("episodic_k", 1, r"an int in \[2, max\(n_steps, 1000\)\]"),
+    ("v", 0.0, r"a finite float > 0 and <= 2 \* reach"),
+    ("eval_tolerance", float("nan"), r"a finite float > 0 and <= 2 \* reach"),
+])
+def test_one_rule_text_whether_too_small_or_too_large(name, small, rule):
+    big = 10**7 if isinstance(small, int) else 1e300
+    for value in (small, big):
+        with pytest.raises(ParameterError, match=rf"'{name}' parameter of Config must be {rule}"):
+            sg.Config.from_preset("exp1", n_steps=300, **{name: value})

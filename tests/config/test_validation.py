@@ -14,7 +14,7 @@ from saggriac.errors import ParameterError, SaggriacError, StorageError
     [
         ({"g_max": 1}, "The 'g_max' parameter of Config must be an int in [2, 1000000]. Got 1 instead."),
         ({"eps_c": -2.0}, "The 'eps_c' parameter of Config must be a float with min_c < eps_c < 0 (min_c = -1). Got -2 instead."),
-        ({"v": 0.0}, "The 'v' parameter of Config must be a finite float > 0. Got 0 instead."),
+        ({"v": 0.0}, "The 'v' parameter of Config must be a finite float > 0 and <= 2 * reach, the diameter of the ball the body reaches (reach = 50). Got 0 instead."),
         ({"q": 0}, "The 'q' parameter of Config must be an int >= 1. Got 0 instead."),
         ({"joint_limit": 4.0}, "The 'joint_limit' parameter of Config must be a float in (0, 3.141592653589793]. Got 4 instead."),
         ({"n_joints": "many"}, "The 'n_joints' parameter of Config must be an int >= 1. Got 'many' instead."),

@@ -39,7 +39,7 @@ pub fn check_vector(vals: Vec<f64>, n: usize, what: &str) -> Result<Vec<f64>, St
         return Err(format!("{what} must have shape ({n},); got shape ({},).", vals.len()));
     }
     if let Some(i) = vals.iter().position(|x| !x.is_finite()) {
-        return Err(format!("{what} must be finite; element {i} is {}.", vals[i]));
+        return Err(format!("{what} must be finite; element {i} is {}.", saggriac_core::error::Num(vals[i])));
     }
     Ok(vals)
 }

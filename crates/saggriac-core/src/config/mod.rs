@@ -151,18 +151,19 @@ impl RunConfig {
     /// Sizes bounded by what the run can use: neighbour counts by the samples the memory can
     /// hold (one per time step), lengths by the diameter of the body's reachable ball.
     fn check_sizes(&self) -> Result<()> {
+        // One rule text for a value too small or too large (checked before the parts' own rules).
         let most = self.n_steps.max(MIN_NEIGHBOUR_BOUND);
-        let rule = format!("an int in [1, max(n_steps, {MIN_NEIGHBOUR_BOUND})] (the memory holds at most one sample per time step; n_steps = {})", self.n_steps);
-        if self.local.k_neighbours as u64 > most {
-            return Err(invalid("LocalModel", "k_neighbours", rule, self.local.k_neighbours));
-        }
-        if self.episodic.k_refine as u64 > most {
-            return Err(invalid("Episodic", "episodic_k", rule, self.episodic.k_refine));
+        let neighbours = [("LocalModel", "k_neighbours", self.local.k_neighbours, 1), ("Episodic", "episodic_k", self.episodic.k_refine, self.arm.link_lengths.len().min(2))];
+        for (owner, name, k, least) in neighbours {
+            if k < least || k as u64 > most {
+                let rule = format!("an int in [{least}, max(n_steps, {MIN_NEIGHBOUR_BOUND})] (the memory holds at most one sample per time step; n_steps = {})", self.n_steps);
+                return Err(invalid(owner, name, rule, k));
+            }
         }
         let reach: f64 = self.arm.link_lengths.iter().sum();
         let lengths = [("Reaching", "v", self.reaching.v), ("Reaching", "eps_max", self.reaching.eps_max), ("Evaluation", "tolerance", self.eval.tolerance)];
         for (owner, name, value) in lengths {
-            if value > 2.0 * reach {
+            if !(value > 0.0 && value <= 2.0 * reach) {
                 let rule = format!("a finite float > 0 and <= 2 * reach, the diameter of the ball the body reaches (reach = {})", crate::error::G(reach));
                 return Err(invalid(owner, name, rule, Num(value)));
             }
@@ -185,6 +186,7 @@ impl RunConfig {
             ));
         }
         check_bounds("Run", &self.goal_low, &self.goal_high)?;
+        self.check_sizes()?;
         self.reaching.validate()?;
         self.exploration.validate()?;
         self.local.validate()?;
@@ -226,7 +228,6 @@ impl RunConfig {
         }
         c.positive("babble_step", self.babble_step)?;
         self.eval.validate(self.n_steps)?;
-        self.check_sizes()?;
         self.episodic.validate(self.arm.link_lengths.len())?;
         if let Some(b) = self.body_change {
             if self.arm.kind == body::ArmKind::Chain {

@@ -104,7 +104,7 @@ impl DiscreteLp {
 
     pub fn check_goal(&self, goal: &[f64], competence: f64) -> Result<()> {
         if self.task(goal).is_none() {
-            return Err(crate::Error::InvalidInput(format!("goal must be a task index, a whole number in [0, {}); got {}.", self.cfg.n_tasks, goal[0])));
+            return Err(crate::Error::InvalidInput(format!("goal must be a task index, a whole number in [0, {}); got {}.", self.cfg.n_tasks, crate::error::Num(goal[0]))));
         }
         if !(0.0..=1.0).contains(&competence) {
             return Err(crate::Error::InvalidInput(format!("competence must be a success rate in [0, 1] for the discrete learning-progress teacher; got {}.", crate::error::Num(competence))));
