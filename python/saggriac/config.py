@@ -25,6 +25,9 @@ import numpy as np
 from . import _core
 from .bodies import PUSHER_CHAIN
 from .errors import ParameterError, StorageError
+from .teacher_params import TeacherParams
+from .teacher_params import teacher_params as _teacher_params
+from .values import plain as _plain
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -168,7 +171,7 @@ class Config:
                 object.__setattr__(self, name, tuple(val))
             elif not (isinstance(val, tuple) or (val is None and name in ("link_lengths", "eval_schedule", "chain"))):
                 raise ParameterError(f"The '{name}' parameter of Config must be a list of numbers. Got {val!r} instead.", name, repr(val))
-        object.__setattr__(self, "teacher_params", _pairs(self.teacher_params))
+        object.__setattr__(self, "teacher_params", _teacher_params(self.teacher_params))
         if self.eval_schedule is not None and len(self.eval_schedule) == 0:
             raise ParameterError("The 'eval_schedule' parameter of Config must be a non-empty list of steps (or None for n_evals). Got () instead.", "eval_schedule", "()")
         _check_types(self)
@@ -331,70 +334,6 @@ def read_toml(path: Path, preset: str | None = None) -> tuple[str, dict[str, Any
         raise ParameterError(f"{path} names preset {named!r} but --preset (preset=) says {preset!r}; give one of them, or the same in both.", "preset", repr(preset))
     check_keys(data, source=path)
     return (named if named is not None else preset if preset is not None else "exp1"), data
-
-
-class TeacherParams(Mapping):
-    """``Config.teacher_params``: a read-only dict of a teacher's parameters, hashable (so a
-    Config stays hashable), equal to the dict of the same items, printed as that dict."""
-
-    __slots__ = ("_items", "_dict")
-
-    def __init__(self, params: Mapping[str, Any]) -> None:
-        self._items = tuple(sorted(params.items()))
-        self._dict = dict(self._items)
-
-    def __getitem__(self, key: str) -> Any:
-        return self._dict[key]
-
-    def __iter__(self) -> Any:
-        return iter(self._dict)
-
-    def __len__(self) -> int:
-        return len(self._dict)
-
-    def __hash__(self) -> int:
-        return hash(self._items)
-
-    def __eq__(self, other: object) -> bool:
-        return isinstance(other, Mapping) and self._dict == dict(other.items())
-
-    def __repr__(self) -> str:
-        return repr(self._dict)
-
-    def __reduce__(self) -> Any:
-        return (TeacherParams, (self._dict,))
-
-    def __deepcopy__(self, memo: Any) -> TeacherParams:
-        return self  # read-only
-
-
-def _pairs(params: Any) -> TeacherParams:
-    """``teacher_params`` from a dict (a TOML table, a run.json object); the core checks the
-    names and values against the chosen teacher. A list of pairs is refused: the docs and every
-    record show a dict, and a list is also what a mistyped dict literal gives."""
-    if isinstance(params, Mapping):
-        items = [(n, _plain(v)) for n, v in params.items()]
-    else:
-        raise ParameterError(f"The 'teacher_params' parameter of Config must be a dict of the teacher's parameters, such as {{'fit_rate': 100}}. Got {params!r} instead.", "teacher_params", repr(params))
-    for name, value in items:
-        if isinstance(name, str) and not isinstance(value, (bool, int, float)) and _core.teacher_param_rule(name):
-            # The parameter's own rule, as for a value of the right type out of range.
-            raise ParameterError(f"The 'teacher_params.{name}' parameter of Config must be {_core.teacher_param_rule(name)}. Got {value!r} instead.", f"teacher_params.{name}", repr(value))
-        if not isinstance(name, str) or not isinstance(value, (bool, int, float)):
-            raise ParameterError(f"The 'teacher_params' parameter of Config must map parameter names (str) to numbers or bools. Got {name!r}: {value!r} instead.", "teacher_params", repr(params))
-    if len({n for n, _ in items}) != len(items):
-        raise ParameterError(f"The 'teacher_params' parameter of Config must name each parameter once. Got {params!r} instead.", "teacher_params", repr(params))
-    return TeacherParams(dict(items))
-
-
-def _plain(value: Any) -> Any:
-    if isinstance(value, np.generic):
-        return value.item()
-    if isinstance(value, np.ndarray):
-        return [_plain(v) for v in value.tolist()]
-    if isinstance(value, (list, tuple)):
-        return type(value)(_plain(v) for v in value)
-    return value
 
 
 #: Parameters whose default is None, with the type of their values.

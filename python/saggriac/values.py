@@ -35,3 +35,14 @@ def _holds_bool(value: Any) -> bool:
     if isinstance(value, (bool, np.bool_)):
         return True
     return isinstance(value, (list, tuple)) and any(map(_holds_bool, value))
+
+
+def plain(value: Any) -> Any:
+    """numpy scalars and arrays as the Python values they stand for (lists keep their type)."""
+    if isinstance(value, np.generic):
+        return value.item()
+    if isinstance(value, np.ndarray):
+        return [plain(v) for v in value.tolist()]
+    if isinstance(value, (list, tuple)):
+        return type(value)(plain(v) for v in value)
+    return value
