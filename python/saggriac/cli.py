@@ -92,11 +92,22 @@ def default_run_dir(preset: str, cfg: Config, seed: int) -> Path:
     that runs of other --steps or --set land in folders of their own and say what they are."""
     base = Config.from_preset(preset, condition=cfg.condition).to_dict()
     mine = cfg.to_dict()
-    diffs = [f"{k}={_name_value(mine[k])}" for k in sorted(mine) if mine[k] != base[k]]
-    name = "-".join([f"{preset}-{cfg.condition}-seed{seed}", *diffs])
+    # A dict (teacher_params) is spelled one key at a time: teacher_params.fit_rate=100.
+    mine.update({f"teacher_params.{k}": v for k, v in mine.pop("teacher_params").items()})
+    base.pop("teacher_params")
+    diffs = [f"{k}={_name_value(mine[k])}" for k in sorted(mine) if mine[k] != base.get(k)]
+    head = f"{preset}-{cfg.condition}-seed{seed}"
+    name = "-".join([head, *diffs])
     if len(name) > 120 or not re.fullmatch(r"[A-Za-z0-9_.,=+-]+", name):
+        # Too long or not a plain name: the digest of every difference, after as many of the
+        # plain ones as fit (the teacher first), so that the folder still says what it holds.
         digest = hashlib.sha256(repr(sorted(diffs)).encode()).hexdigest()[:10]
-        name = f"{preset}-{cfg.condition}-seed{seed}-custom-{digest}"
+        plain = [d for d in sorted(diffs, key=lambda d: not d.startswith("teacher")) if re.fullmatch(r"[A-Za-z0-9_.,=+-]+", d)]
+        shown: list[str] = []
+        for d in plain:
+            if len("-".join([head, *shown, d, "custom", digest])) <= 120:
+                shown.append(d)
+        name = "-".join([head, *shown, "custom", digest])
     return Path("runs") / name
 
 

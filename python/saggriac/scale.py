@@ -16,16 +16,24 @@ measured: it is placed at :data:`CLOUD_SIZE` configurations drawn uniformly in i
 (:data:`saggriac.config.LENGTH_DIVISORS`). Uniform configurations seldom stretch a body with
 many joints, so a measured reach is a lower bound, the closer the fewer the joints: declare
 ``reach`` when you know it.
+
+A declared reach must be within the bounds of every length (``saggriac.config.REACH_RULE``), and
+it is checked against a quick measurement (:data:`QUICK_SIZE` placements): a :class:`ReachWarning`
+says so when it is below the measured half-span (positions farther apart than the ball allows) or
+more than :data:`REACH_FACTOR` times it (a reach ten times the body's left 41 of 100 test goals
+unreached, said only in run.json).
 """
 
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
+from .config import REACH_RULE, reach_ok
 from .errors import ConformanceError
 from .seeding import FIXED
 
@@ -35,6 +43,17 @@ CLOUD_SIZE = 10_000
 DIRECTIONS = 256
 #: The generator of the configurations (fixed: a body's size does not depend on the run's seed).
 CLOUD_SEED = FIXED["body_measure"]
+#: Placements of the quick measurement a declared reach is compared with (a few ms for saggriac's arms).
+QUICK_SIZE = 300
+#: A declared reach more than this many times the quick measurement is warned about. Uniform
+#: configurations seldom stretch a long arm: the quick half-span of saggriac's 15-joint arm is
+#: 0.82 of its reach (0.49 with limits of +-pi, 0.43 with 100 joints); ten times the body's is
+#: the audit's mistake.
+REACH_FACTOR = 5.0
+
+
+class ReachWarning(UserWarning):
+    """A body's declared reach is far from what a quick measurement of the body gives."""
 
 
 @dataclass
@@ -57,8 +76,8 @@ def declared_reach(env: Any) -> float | None:
     r = getattr(env, "reach", None)
     if r is None:
         return None
-    if isinstance(r, bool) or not isinstance(r, (int, float, np.floating)) or not math.isfinite(r) or r <= 0:
-        raise ConformanceError(f"environment.reach must be a finite float > 0 (the radius of the ball about the origin that the body reaches); got {r!r}.")
+    if isinstance(r, bool) or not isinstance(r, (int, float, np.integer, np.floating)) or not reach_ok(float(r)):
+        raise ConformanceError(f"environment.reach must be {REACH_RULE}: the radius of the ball about the origin that the body reaches; got {r!r}.")
     return float(r)
 
 
@@ -86,12 +105,12 @@ def diameter(points: np.ndarray) -> float:
     return float(np.sqrt(((c[:, None, :] - c[None, :, :]) ** 2).sum(axis=-1).max()))
 
 
-def measure(env: Any, low: np.ndarray, high: np.ndarray, m: int) -> BodyScale:
-    """Place ``env`` at CLOUD_SIZE uniform configurations in [low, high] and measure its reach
+def measure(env: Any, low: np.ndarray, high: np.ndarray, m: int, size: int = CLOUD_SIZE) -> BodyScale:
+    """Place ``env`` at ``size`` uniform configurations in [low, high] and measure its reach
     (``m``: the task space's dimension)."""
     rng = np.random.default_rng(CLOUD_SEED)
-    configs = rng.uniform(low, high, (CLOUD_SIZE, len(low)))
-    positions = np.empty((CLOUD_SIZE, m))
+    configs = rng.uniform(low, high, (size, len(low)))
+    positions = np.empty((size, m))
     for i, t in enumerate(configs):
         out = env.reset(options={"theta": t})
         try:
@@ -103,14 +122,47 @@ def measure(env: Any, low: np.ndarray, high: np.ndarray, m: int) -> BodyScale:
         positions[i] = x
     d = diameter(positions)
     if not d > 0:
-        raise ConformanceError(f"The environment's end effector did not move over {CLOUD_SIZE} configurations across its joint space (always at {positions[0].tolist()}): saggriac cannot learn to reach with it.")
+        raise ConformanceError(f"The environment's end effector did not move over {size} configurations across its joint space (always at {positions[0].tolist()}): saggriac cannot learn to reach with it.")
+    if not reach_ok(d / 2):
+        raise ConformanceError(f"The environment's measured reach (half the largest distance between its positions over {size} configurations) must be {REACH_RULE}; got {d / 2:g}.")
     return BodyScale(reach=d / 2, source="measured", configs=configs, positions=positions)
+
+
+def check_declared(env: Any, reach: float, low: np.ndarray, high: np.ndarray, m: int) -> float | None:
+    """Warn (ReachWarning) when ``reach`` is below the half-span of QUICK_SIZE placements of
+    ``env`` or more than REACH_FACTOR times it; the measured half-span is returned (None if the
+    body cannot be measured: the run's own checks then say why, at the call that fails)."""
+    try:
+        measured = measure(env, low, high, m, QUICK_SIZE).reach
+    except ConformanceError:
+        return None
+    ratio = reach / measured
+    if ratio < 1 - 1e-9:
+        warnings.warn(
+            f"environment.reach = {reach:g} is {1 / ratio:.3g} times smaller than the body's span: {QUICK_SIZE} placements at uniform configurations "
+            f"put its end effector {2 * measured:g} apart, which a ball of radius {reach:g} cannot hold. The run's lengths (v, eps_max, eval_tolerance) "
+            "and test goals follow the declared reach: check it, or delete the attribute to have the body measured.",
+            ReachWarning,
+            stacklevel=4,
+        )
+    elif ratio > REACH_FACTOR:
+        warnings.warn(
+            f"environment.reach = {reach:g} is {ratio:.3g} times the half-span of {QUICK_SIZE} placements of the body at uniform configurations ({measured:g}); "
+            f"saggriac's own arms measure 0.4 to 1 times their reach this way. The run's lengths (v, eps_max, eval_tolerance) and test goals follow the "
+            "declared reach, and goals beyond the body's would count as unreached: check it, or delete the attribute to have the body measured.",
+            ReachWarning,
+            stacklevel=4,
+        )
+    return measured
 
 
 def body_scale(env: Any, low: np.ndarray, high: np.ndarray, m: int) -> BodyScale:
     """The declared reach of ``env`` if it has one, else its measured one."""
     r = declared_reach(env)
-    return BodyScale(reach=r, source="declared") if r is not None else measure(env, low, high, m)
+    if r is None:
+        return measure(env, low, high, m)
+    check_declared(env, r, low, high, m)
+    return BodyScale(reach=r, source="declared")
 
 
-__all__ = ["BodyScale", "body_scale", "declared_reach", "diameter", "measure", "CLOUD_SIZE", "DIRECTIONS", "CLOUD_SEED"]
+__all__ = ["BodyScale", "ReachWarning", "body_scale", "check_declared", "declared_reach", "diameter", "measure", "CLOUD_SIZE", "CLOUD_SEED", "DIRECTIONS", "QUICK_SIZE", "REACH_FACTOR"]

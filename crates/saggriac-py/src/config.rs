@@ -200,8 +200,10 @@ fn teacher_with(teacher: Teacher, params: &Bound<'_, PyDict>) -> PyResult<Teache
         let wrong = |kind: &str| to_py(py, invalid("Config", &name, kind, shown()));
         // A bool is an int to Python: refused where a number is meant, the only place it is meant.
         let is_bool = v.is_instance_of::<pyo3::types::PyBool>();
-        let int = || if is_bool { Err(wrong("an int")) } else { v.extract::<usize>().map_err(|_| wrong("an int >= 0")) };
-        let float = || if is_bool { Err(wrong("a float")) } else { v.extract::<f64>().map_err(|_| wrong("a float")) };
+        // A value of the wrong type is told the rule a value out of range is told.
+        let rule = saggriac_core::config::teachers::param_rule(&key).unwrap_or_default();
+        let int = || if is_bool { Err(wrong(&rule)) } else { v.extract::<usize>().map_err(|_| wrong(&rule)) };
+        let float = || if is_bool { Err(wrong(&rule)) } else { v.extract::<f64>().map_err(|_| wrong(&rule)) };
         match (&mut t, key.as_str()) {
             (Teacher::Riac(c), "max_region_size") => c.max_region_size = int()?,
             (Teacher::Riac(c), "split_attempts") => c.split_attempts = int()?,

@@ -38,6 +38,12 @@ fn config_defaults(py: Python<'_>) -> PyResult<Bound<'_, pyo3::types::PyDict>> {
     config::defaults(py)
 }
 
+/// teacher_param_rule(name) -> str | None: the rule of a teacher's parameter, as its check states it.
+#[pyfunction]
+fn teacher_param_rule(name: &str) -> Option<String> {
+    saggriac_core::config::teachers::param_rule(name)
+}
+
 /// teacher_defaults() -> dict: the default parameters of each teacher a run can take.
 #[pyfunction]
 fn teacher_defaults(py: Python<'_>) -> PyResult<Bound<'_, pyo3::types::PyDict>> {
@@ -64,6 +70,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(config_debug, m)?)?;
     m.add_function(wrap_pyfunction!(config_defaults, m)?)?;
     m.add_function(wrap_pyfunction!(teacher_defaults, m)?)?;
+    m.add_function(wrap_pyfunction!(teacher_param_rule, m)?)?;
     m.add_function(wrap_pyfunction!(child_seed, m)?)?;
     m.add_function(wrap_pyfunction!(competence::competence, m)?)?;
     m.add_function(wrap_pyfunction!(chain::chain_forward, m)?)?;

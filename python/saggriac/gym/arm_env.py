@@ -22,6 +22,7 @@ from gymnasium import spaces
 
 from ..environments import PlanarArm, SpatialArm
 from ..errors import InputError, ParameterError
+from ..values import as_numbers
 
 BODIES = {"planar_arm": PlanarArm, "spatial_arm": SpatialArm}
 REWARDS = ("sparse", "dense")
@@ -38,10 +39,25 @@ def _positive(name: str, value: Any) -> float:
 
 
 def _point(name: str, value: Any, dim: int) -> np.ndarray:
-    a = np.asarray(value, dtype=np.float64)
+    try:
+        a = as_numbers(f"'{name}'", value)
+    except InputError:
+        raise InputError(f"'{name}' must be {dim} finite floats (strings and bools are refused, not converted); got {value!r}.") from None
     if a.shape != (dim,) or not np.all(np.isfinite(a)):
         raise InputError(f"'{name}' must be {dim} finite floats; got {value!r}.")
     return a
+
+
+def within_limits(name: str, theta: np.ndarray, limit: float) -> np.ndarray:
+    """``theta`` if every joint is in [-limit, limit] (a float32 space's rounding let through,
+    then clipped), else an InputError: placing a body elsewhere than asked without a word
+    would evaluate it at the wrong configuration."""
+    slack = limit * 1e-6 + 1e-12
+    bad = np.flatnonzero(np.abs(theta) > limit + slack)
+    if bad.size:
+        i = int(bad[0])
+        raise InputError(f"{name} must lie within the joint limits [-{limit:g}, {limit:g}]; joint {i} is {float(theta[i]):g} ({bad.size} joint(s) beyond).")
+    return np.clip(theta, -limit, limit)
 
 
 class GoalArmEnv(gymnasium.Env):
@@ -149,7 +165,8 @@ class GoalArmEnv(gymnasium.Env):
             # Outside the goal box the observation would leave observation_space.
             raise InputError(f"GoalArmEnv.reset(): the goal {goal.tolist()} lies outside the environment's goal box [{lo.tolist()}, {hi.tolist()}]; a teacher must choose goals in that box.")
         if options.get("theta") is not None:
-            self._theta, self._x = self.arm.reset(options={"theta": _point("options['theta']", options["theta"], len(self.arm.lengths))})
+            theta = within_limits("GoalArmEnv.reset(options={'theta': ...})", _point("options['theta']", options["theta"], len(self.arm.lengths)), self.arm.joint_limit)
+            self._theta, self._x = self.arm.reset(options={"theta": theta})
         else:
             self._theta, self._x = self.arm.reset()
         self._goal = goal
@@ -158,7 +175,10 @@ class GoalArmEnv(gymnasium.Env):
         return self._obs(), self._info()
 
     def step(self, action: Any) -> tuple[dict[str, np.ndarray], float, bool, bool, dict[str, Any]]:
-        a = np.asarray(action, dtype=np.float64)
+        try:
+            a = as_numbers("GoalArmEnv.step()'s action", action)
+        except InputError:
+            raise InputError(f"GoalArmEnv.step() needs {self.action_space.shape[0]} finite joint changes (numbers: strings and bools are refused, not converted); got {action!r}.") from None
         if a.shape != self.action_space.shape or not np.all(np.isfinite(a)):
             raise InputError(f"GoalArmEnv.step() needs {self.action_space.shape[0]} finite joint changes; got {action!r}.")
         if self.action_scale == "normalized":
@@ -175,7 +195,16 @@ class GoalArmEnv(gymnasium.Env):
     def compute_reward(self, achieved_goal: Any, desired_goal: Any, info: Any) -> Any:
         """Reward of reaching ``achieved_goal`` when ``desired_goal`` was wanted; both may be
         batches (one point per row), for relabelling. ``info`` is not read."""
-        d = np.linalg.norm(np.asarray(achieved_goal, dtype=np.float64) - np.asarray(desired_goal, dtype=np.float64), axis=-1)
+        a, g = as_numbers("achieved_goal", achieved_goal), as_numbers("desired_goal", desired_goal)
+        dim = self.goal_space.shape[0]
+        # One point each, or batches of the same number of rows (or one point against a batch).
+        ok = a.ndim in (1, 2) and g.ndim in (1, 2) and a.shape[-1] == dim and g.shape[-1] == dim and (a.ndim == 1 or g.ndim == 1 or a.shape == g.shape)
+        if not ok:
+            raise InputError(
+                f"GoalArmEnv.compute_reward() needs achieved_goal and desired_goal of shape ({dim},) or (n, {dim}) with the same n; "
+                f"got achieved_goal of shape {a.shape} and desired_goal of shape {g.shape}."
+            )
+        d = np.linalg.norm(a - g, axis=-1)
         if self.reward_type == "dense":
             return -d
         return -(d > self.distance_threshold).astype(np.float64)

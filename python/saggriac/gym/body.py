@@ -31,7 +31,8 @@ from typing import Any, Callable
 
 import numpy as np
 
-from ..environments import Box, joint_step
+from ..environments import Box, joint_step, joint_vector
+from .arm_env import within_limits
 from ..errors import InputError, ParameterError
 
 Reader = Callable[[Any, Any], Any]
@@ -104,7 +105,8 @@ class GymBody:
         if options and "theta" in options:
             if seed is not None:
                 self.env.reset(seed=seed)
-            obs = self._place(self.env, np.clip(np.asarray(options["theta"], dtype=np.float64), -self.joint_limit, self.joint_limit))
+            theta = joint_vector("GymBody.reset(options={'theta': ...})", options["theta"], len(self.theta))
+            obs = self._place(self.env, within_limits("GymBody.reset(options={'theta': ...})", np.asarray(theta), self.joint_limit))
         else:
             obs, _ = self.env.reset(seed=seed)
         self.theta = self._read_theta(obs)

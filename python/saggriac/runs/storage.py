@@ -80,11 +80,25 @@ def foreign_entries(out: Path) -> list[str]:
 
 def is_saggriac_run(out: Path) -> bool:
     """A folder saggriac wrote as a run: a manifest of ours and nothing but saggriac's files."""
+    return _manifest_problem(out) is None and not foreign_entries(out)
+
+
+def _manifest_problem(out: Path) -> str | None:
+    """Why ``out``'s run.json does not show a run saggriac wrote, or None if it does."""
     try:
         data = json.loads(read_bounded(out / MANIFEST, "a run.json", MAX_JSON_BYTES))
-    except (OSError, ValueError, UnicodeDecodeError):
-        return False
-    return isinstance(data, dict) and {"config", "seed", "version"} <= set(data) and not foreign_entries(out)
+    except StorageError as e:
+        return f"its {MANIFEST} cannot be read ({e})"
+    except OSError as e:
+        return f"its {MANIFEST} cannot be read ({e.strerror or e})"
+    except (ValueError, UnicodeDecodeError) as e:
+        return f"its {MANIFEST} is damaged (not JSON: {e})"
+    missing = sorted({"config", "seed", "version"} - set(data)) if isinstance(data, dict) else None
+    if missing is None:
+        return f"its {MANIFEST} is damaged (a JSON {type(data).__name__}, not an object)"
+    if missing:
+        return f"its {MANIFEST} lacks {', '.join(missing)}"
+    return None
 
 
 def _describe(names: list[str]) -> str:
@@ -150,8 +164,13 @@ def _check_output_dir(out: Path, overwrite: bool, min_free: int) -> None:
                 raise RunExistsError(out)
             if not is_saggriac_run(out):
                 extra = foreign_entries(out)
-                why = f"it also holds files saggriac did not write ({_describe(extra)})" if extra else f"its {MANIFEST} is not a saggriac manifest"
-                raise StorageError(f"{out} cannot be overwritten: {why}. Move those files out, or choose another path.")
+                if extra:
+                    raise StorageError(f"{out} cannot be overwritten: it also holds files saggriac did not write ({_describe(extra)}). Move those files out, or choose another path.")
+                why = _manifest_problem(out)
+                raise StorageError(
+                    f"{out} cannot be overwritten: {why}, so saggriac cannot tell that it wrote this folder, and replaces only runs it can tell are its own. "
+                    "If the folder is a damaged run of yours, delete it yourself; or choose another path."
+                )
         else:
             entries = sorted(os.listdir(out))
             if entries:

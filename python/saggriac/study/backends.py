@@ -144,6 +144,17 @@ def _check_scheduler(address: str) -> None:
     import socket
 
     rule = "an address such as 'tcp://HOST:PORT'"
+    web = re.fullmatch(r"(https?)://\[?([A-Za-z0-9_.:-]*?)\]?(?::(\d{1,5}))?(/.*)?", address.strip())
+    if web is not None:
+        # Dask would try it for 20 s and end in a TimeoutError that names neither cause.
+        scheme, host = web.group(1), web.group(2) or "127.0.0.1"
+        port = int(web.group(3) or (443 if scheme == "https" else 80))
+        raise ParameterError(
+            f"The 'scheduler' parameter of run_study must be {rule}: a Dask scheduler speaks Dask's own protocol over tcp:// (port 8786 unless set), "
+            f"not {scheme}://, which is its dashboard's (port 8787). Got {address!r}; {_what_answers(host, port, scheme)}.",
+            "scheduler",
+            repr(address),
+        )
     m = re.fullmatch(r"(?:(tcp|tls)://)?\[?([A-Za-z0-9_.:-]*?)\]?:(\d{1,5})", address.strip())
     if m is None:
         if re.fullmatch(r"[a-z]+://.+", address.strip()):
@@ -156,6 +167,31 @@ def _check_scheduler(address: str) -> None:
         socket.create_connection((host, port), timeout=SCHEDULER_TIMEOUT).close()
     except OSError as e:
         raise ParameterError(f"The 'scheduler' parameter of run_study names {address!r}, where no Dask scheduler answers within {SCHEDULER_TIMEOUT} s ({e.strerror or e}). Start it (dask scheduler) or check the address.", "scheduler", repr(address)) from None
+
+
+#: Seconds to wait for a web server's first line.
+PROBE_TIMEOUT = 3.0
+
+
+def _what_answers(host: str, port: int, scheme: str) -> str:
+    """What answers an HTTP request at host:port, in words (its status line and server)."""
+    import socket
+
+    if scheme == "https":
+        return f"saggriac did not look at what answers at {host}:{port} (https)"
+    try:
+        with socket.create_connection((host, port), timeout=PROBE_TIMEOUT) as s:
+            s.settimeout(PROBE_TIMEOUT)
+            s.sendall(f"HEAD / HTTP/1.0\r\nHost: {host}\r\n\r\n".encode())
+            head = s.recv(4096).decode("latin-1")
+    except OSError as e:
+        return f"nothing answers at {host}:{port} ({e.strerror or e})"
+    lines = head.splitlines()
+    if not lines or not lines[0].startswith("HTTP/"):
+        return f"what answers at {host}:{port} is not a web server ({head[:60]!r})"
+    server = next((ln.split(":", 1)[1].strip() for ln in lines if ln.lower().startswith("server:")), None)
+    dashboard = " (Tornado: likely Dask's dashboard; its scheduler is then at tcp://HOST:8786)" if server and "tornado" in server.lower() else ""
+    return f"at {host}:{port} a web server answers {lines[0].strip()!r}" + (f", server {server!r}" if server else "") + dashboard
 
 
 #: Seconds to wait for the first Dask worker to join a given scheduler or cluster before giving up.

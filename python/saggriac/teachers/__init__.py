@@ -63,14 +63,16 @@ def _int_param(owner: str, name: str, value: Any, low: int, high: int) -> int:
     truncated), and the range is checked here so the core's fixed-width ints never overflow
     (the core checks each parameter's own rule)."""
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not low <= int(value) < high:
-        span = f"in [{low}, 2**{high.bit_length() - 1})"
-        raise ParameterError(f"The '{name}' parameter of {owner} must be an int {span}. Got {value!r} instead.", name, repr(value))
+        # The parameter's own rule where the core states one: the same text as for a value out of range.
+        rule = _core.teacher_param_rule(name) or f"an int in [{low}, 2**{high.bit_length() - 1})"
+        raise ParameterError(f"The '{name}' parameter of {owner} must be {rule}. Got {value!r} instead.", name, repr(value))
     return int(value)
 
 
 def _float_param(owner: str, name: str, value: Any) -> float:
     if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
-        raise ParameterError(f"The '{name}' parameter of {owner} must be a float. Got {value!r} instead.", name, repr(value))
+        rule = _core.teacher_param_rule(name) or "a float"
+        raise ParameterError(f"The '{name}' parameter of {owner} must be {rule}. Got {value!r} instead.", name, repr(value))
     return float(value)
 
 

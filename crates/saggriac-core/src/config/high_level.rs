@@ -2,7 +2,7 @@
 //! rule every box of a goal space obeys.
 
 use crate::config::teachers::{AlpGmmConfig, CovarGmmConfig, RiacConfig};
-use crate::error::{invalid, Check, Result, MAX_COUNT};
+use crate::error::{invalid, Check, Num, Result};
 
 /// What an attempt's final distance to its goal is measured against.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -50,10 +50,10 @@ impl Default for CompetenceConfig {
 impl CompetenceConfig {
     pub fn validate(&self) -> Result<()> {
         if !(self.min_c.is_finite() && self.min_c < 0.0) {
-            return Err(invalid("Competence", "min_c", "a finite float < 0", self.min_c));
+            return Err(invalid("Competence", "min_c", "a finite float < 0", Num(self.min_c)));
         }
         if !(self.eps_c.is_finite() && self.eps_c < 0.0 && self.eps_c > self.min_c) {
-            return Err(invalid("Competence", "eps_c", format!("a float with min_c < eps_c < 0 (min_c = {})", self.min_c), self.eps_c));
+            return Err(invalid("Competence", "eps_c", format!("a float with min_c < eps_c < 0 (min_c = {})", Num(self.min_c)), Num(self.eps_c)));
         }
         Ok(())
     }
@@ -115,8 +115,8 @@ impl Default for RegionTreeConfig {
 impl RegionTreeConfig {
     pub fn validate(&self) -> Result<()> {
         let c = Check { owner: "RegionTree" };
-        c.within("g_max", self.g_max, 2, MAX_COUNT)?;
-        c.within("zeta", self.zeta, 2, MAX_COUNT)?;
+        crate::config::teachers::check_int(&c, "g_max", self.g_max)?;
+        crate::config::teachers::check_int(&c, "zeta", self.zeta)?;
         c.at_least("min_child", self.min_child, 1)?;
         if 2 * self.min_child > self.g_max + 1 {
             return Err(invalid("RegionTree", "min_child", format!("an int with 2 * min_child <= g_max + 1 (g_max = {})", self.g_max), self.min_child));
@@ -146,7 +146,7 @@ impl ModeProbabilities {
         c.probability("p_lowest", self.p_lowest)?;
         let s = self.p_interest + self.p_global + self.p_lowest;
         if (s - 1.0).abs() > 1e-9 {
-            return Err(invalid("SaggRiac", "p_lowest", format!("such that p_interest + p_global + p_lowest = 1 (p_interest = {}, p_global = {})", self.p_interest, self.p_global), self.p_lowest));
+            return Err(invalid("SaggRiac", "p_lowest", format!("such that p_interest + p_global + p_lowest = 1 (p_interest = {}, p_global = {})", Num(self.p_interest), Num(self.p_global)), Num(self.p_lowest)));
         }
         Ok(())
     }
@@ -212,7 +212,7 @@ pub fn check_bounds(owner: &'static str, low: &[f64], high: &[f64]) -> Result<()
     }
     for (i, (l, h)) in low.iter().zip(high).enumerate() {
         if !(l.is_finite() && h.is_finite() && l < h) {
-            return Err(invalid(owner, "bounds", format!("finite with low < high in every dimension (dimension {i}: low = {l})"), h));
+            return Err(invalid(owner, "bounds", format!("finite with low < high in every dimension (dimension {i}: low = {})", Num(*l)), Num(*h)));
         }
         // Goals are drawn as low + u * (high - low): the width itself must be a finite float.
         if !(h - l).is_finite() {

@@ -15,7 +15,7 @@ pub use high_level::{check_bounds, CompetenceConfig, InterestDivisor, ModeProbab
 pub use low_level::{EpisodicConfig, ExplorationConfig, ReachingConfig};
 pub use model::{IndexKind, LocalModelConfig, MIN_RCOND};
 
-use crate::error::{invalid, Check, Result};
+use crate::error::{invalid, Check, Num, Result};
 use crate::task_space::MAX_TASK_DIM;
 
 /// The experimental conditions of the paper.
@@ -144,7 +144,33 @@ impl Default for RunConfig {
     }
 }
 
+/// A neighbour count up to this is taken whatever n_steps is (short test runs keep the defaults).
+pub const MIN_NEIGHBOUR_BOUND: u64 = 1000;
+
 impl RunConfig {
+    /// Sizes bounded by what the run can use: neighbour counts by the samples the memory can
+    /// hold (one per time step), lengths by the diameter of the body's reachable ball.
+    fn check_sizes(&self) -> Result<()> {
+        // One rule text for a value too small or too large (checked before the parts' own rules).
+        let most = self.n_steps.max(MIN_NEIGHBOUR_BOUND);
+        let neighbours = [("LocalModel", "k_neighbours", self.local.k_neighbours, 1), ("Episodic", "episodic_k", self.episodic.k_refine, self.arm.link_lengths.len().min(2))];
+        for (owner, name, k, least) in neighbours {
+            if k < least || k as u64 > most {
+                let rule = format!("an int in [{least}, max(n_steps, {MIN_NEIGHBOUR_BOUND})] (the memory holds at most one sample per time step; n_steps = {})", self.n_steps);
+                return Err(invalid(owner, name, rule, k));
+            }
+        }
+        let reach: f64 = self.arm.link_lengths.iter().sum();
+        let lengths = [("Reaching", "v", self.reaching.v), ("Reaching", "eps_max", self.reaching.eps_max), ("Evaluation", "tolerance", self.eval.tolerance)];
+        for (owner, name, value) in lengths {
+            if !(value > 0.0 && value <= 2.0 * reach) {
+                let rule = format!("a finite float > 0 and <= 2 * reach, the diameter of the ball the body reaches (reach = {})", crate::error::G(reach));
+                return Err(invalid(owner, name, rule, Num(value)));
+            }
+        }
+        Ok(())
+    }
+
     pub fn validate(&self) -> Result<()> {
         let c = Check { owner: "Run" };
         if self.n_steps == 0 {
@@ -160,6 +186,7 @@ impl RunConfig {
             ));
         }
         check_bounds("Run", &self.goal_low, &self.goal_high)?;
+        self.check_sizes()?;
         self.reaching.validate()?;
         self.exploration.validate()?;
         self.local.validate()?;

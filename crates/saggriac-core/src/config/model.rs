@@ -1,6 +1,6 @@
 //! The sensorimotor model's parameters: the local linear models and the neighbour index.
 
-use crate::error::{invalid, Check, Result};
+use crate::error::{invalid, Check, Num, Result};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct LocalModelConfig {
@@ -27,7 +27,7 @@ impl LocalModelConfig {
         c.at_least("k_neighbours", self.k_neighbours, 1)?;
         c.positive("ridge", self.ridge)?;
         if !(self.pinv_rcond.is_finite() && (MIN_RCOND..=1.0).contains(&self.pinv_rcond)) {
-            return Err(invalid("LocalModel", "pinv_rcond", format!("a float in [{MIN_RCOND:e}, 1]"), self.pinv_rcond));
+            return Err(invalid("LocalModel", "pinv_rcond", format!("a float in [{MIN_RCOND:e}, 1]"), Num(self.pinv_rcond)));
         }
         c.non_negative("bandwidth", self.bandwidth)?;
         Ok(())

@@ -4,7 +4,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::error::{invalid, Error, Result};
+use crate::error::{invalid, Error, Num, Result};
 use crate::high_level::goal_selection::{GoalChoice, GoalSelector, ModeProbabilities};
 use crate::high_level::region_tree::RegionTreeConfig;
 use crate::high_level::teachers::TeacherSpec;
@@ -259,12 +259,12 @@ impl AskTell {
             return Err(Error::InvalidInput(format!("goal{at} must have {d} coordinates, the dimension of the goal space; got {}.", goal.len())));
         }
         if !(competence.is_finite() && competence.abs() <= MAX_COMPETENCE) {
-            return Err(Error::InvalidInput(format!("competence{at} must be a finite float with |competence| <= 1e100; got {competence}.")));
+            return Err(Error::InvalidInput(format!("competence{at} must be a finite float with |competence| <= 1e100; got {}.", Num(competence))));
         }
         let (lo, hi) = (self.selector.low(), self.selector.high());
         for i in 0..d {
             if !(goal[i] >= lo[i] && goal[i] <= hi[i]) {
-                return Err(Error::InvalidInput(format!("goal{at} must lie in the goal space [low, high]; coordinate {i} is {} but the bounds are [{}, {}].", goal[i], lo[i], hi[i])));
+                return Err(Error::InvalidInput(format!("goal{at} must lie in the goal space [low, high]; coordinate {i} is {} but the bounds are [{}, {}].", Num(goal[i]), Num(lo[i]), Num(hi[i]))));
             }
         }
         self.selector.check_told(goal, competence).map_err(|e| match (e, row) {

@@ -44,7 +44,7 @@ impl DiscreteLpConfig {
         c.within("n_tasks", self.n_tasks, 1, MAX_COUNT)?;
         c.in_open_closed("alpha", self.alpha, 0.0, 1.0)?;
         if !(self.theta.is_finite() && self.theta > 0.0 && self.theta < 1.0) {
-            return Err(invalid("DiscreteLpSelector", "theta", "a float in (0, 1)", self.theta));
+            return Err(invalid("DiscreteLpSelector", "theta", "a float in (0, 1)", crate::error::Num(self.theta)));
         }
         Ok(())
     }
@@ -104,10 +104,10 @@ impl DiscreteLp {
 
     pub fn check_goal(&self, goal: &[f64], competence: f64) -> Result<()> {
         if self.task(goal).is_none() {
-            return Err(crate::Error::InvalidInput(format!("goal must be a task index, a whole number in [0, {}); got {}.", self.cfg.n_tasks, goal[0])));
+            return Err(crate::Error::InvalidInput(format!("goal must be a task index, a whole number in [0, {}); got {}.", self.cfg.n_tasks, crate::error::Num(goal[0]))));
         }
         if !(0.0..=1.0).contains(&competence) {
-            return Err(crate::Error::InvalidInput(format!("competence must be a success rate in [0, 1] for the discrete learning-progress teacher; got {competence}.")));
+            return Err(crate::Error::InvalidInput(format!("competence must be a success rate in [0, 1] for the discrete learning-progress teacher; got {}.", crate::error::Num(competence))));
         }
         Ok(())
     }
