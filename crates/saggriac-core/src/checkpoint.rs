@@ -67,6 +67,17 @@ fn other_format(bytes: &[u8]) -> Option<Head> {
     (![5, FORMAT].contains(&h.format) && (1..FORMAT + 100).contains(&h.format) && version).then_some(h)
 }
 
+/// The configuration as a checkpoint of `format` printed it. Format 5 (saggriac 0.5) printed the
+/// run's teacher as its own enum, `Own` for the condition's own high level.
+fn config_text(cfg: &RunConfig, format: u32) -> String {
+    let text = format!("{cfg:?}");
+    match (format, &cfg.teacher) {
+        (5, None) => text.replacen("teacher: None,", "teacher: Own,", 1),
+        (5, Some(t)) => text.replacen(&format!("teacher: Some({t:?}),"), &format!("teacher: {t:?},"), 1),
+        _ => text,
+    }
+}
+
 fn wrong_format(h: Head) -> Error {
     refuse(format!("The checkpoint has format {} but this saggriac ({}) reads format {FORMAT}; it was written by saggriac {}.", h.format, env!("CARGO_PKG_VERSION"), h.version))
 }
@@ -105,7 +116,7 @@ impl Learner {
         if ![5, FORMAT].contains(&s.format) {
             return Err(wrong_format(Head { format: s.format, version: s.version }));
         }
-        if s.config != format!("{cfg:?}") {
+        if s.config != config_text(&cfg, s.format) {
             return Err(refuse("The checkpoint belongs to a run with another configuration; resume it with the configuration it was written with."));
         }
         let mut l = Learner::new(cfg, s.seeds.0, s.seeds.1)?;
