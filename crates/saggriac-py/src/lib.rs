@@ -56,7 +56,7 @@ fn child_seed(parent: u64, stream: u64) -> u64 {
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<run_loop::PyLearner>()?;
     m.add_class::<ask_tell::PyAskTell>()?;
-    m.add("CONFIG_KEYS", config::KEYS.to_vec())?;
+    m.add("CONFIG_KEYS", config::keys(m.py())?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add("GIT_COMMIT", env!("SAGGRIAC_GIT_COMMIT"))?;
     // A test configuration further than this times the reach from its goal did not reach it.

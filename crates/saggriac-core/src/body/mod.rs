@@ -4,6 +4,7 @@
 
 pub mod arm;
 pub mod chain;
+pub mod params;
 
 use crate::task_space::Point;
 

@@ -4,7 +4,8 @@
 use crate::error::{invalid, Check, Result, MAX_COUNT};
 
 /// What an attempt's final distance to its goal is measured against.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
 pub enum CompetenceKind {
     /// Eq. 7: C = -D(x_g, x_f) / D(x_start, x_g), the paper's.
     Relative,
@@ -31,12 +32,13 @@ impl CompetenceKind {
 }
 
 /// Thresholds of the competence measure.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct CompetenceConfig {
     /// Lowest competence; worse attempts are clipped to it (min_C < 0).
     pub min_c: f64,
     /// Tolerance: a cost above eps_C (min_C < eps_C < 0) counts as reached, competence 0.
     pub eps_c: f64,
+    #[serde(rename = "competence")]
     pub kind: CompetenceKind,
 }
 

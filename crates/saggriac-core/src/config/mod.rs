@@ -20,7 +20,8 @@ use crate::error::{invalid, Check, Result};
 use crate::task_space::MAX_TASK_DIM;
 
 /// The experimental conditions of the paper.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
 pub enum Condition {
     /// Goals chosen by competence progress over the region tree.
     SaggRiac,
@@ -57,7 +58,8 @@ impl Condition {
 }
 
 /// How the low level acts (see `low_level/episodic.rs`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
 pub enum Paradigm {
     /// The paper's: goals reached through subgoals by micro-actions; one step = one micro-action.
     MicroActions,
@@ -81,28 +83,45 @@ impl Paradigm {
     }
 }
 
-#[derive(Debug, Clone, PartialEq)]
+/// Serialised flat, by the names of Python's `Config` (each part's fields in its place, renamed
+/// where two parts share a name). The body (`arm`, `body_change`) and the teacher are given in
+/// `Config` by other keys than their fields (`n_joints`, `arm_length`, `teacher_params`...):
+/// they are left to the caller (`#[serde(skip)]`), which sets them from those keys.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default)]
 pub struct RunConfig {
+    #[serde(skip)]
     pub body_change: Option<BodyChange>,
     pub condition: Condition,
     pub paradigm: Paradigm,
+    #[serde(flatten)]
     pub episodic: EpisodicConfig,
     pub n_steps: u64,
+    #[serde(skip)]
     pub arm: ArmConfig,
     pub goal_low: Vec<f64>,
     pub goal_high: Vec<f64>,
+    #[serde(flatten)]
     pub reaching: ReachingConfig,
+    #[serde(flatten)]
     pub exploration: ExplorationConfig,
+    #[serde(flatten)]
     pub local: LocalModelConfig,
+    #[serde(flatten)]
     pub competence: CompetenceConfig,
+    #[serde(flatten)]
     pub tree: RegionTreeConfig,
+    #[serde(flatten)]
     pub modes: ModeProbabilities,
     /// Who chooses the goals of the goal-babbling condition in place of its own high level
     /// (None, `Config`'s "own": SAGG-RIAC's, set by `tree` and `modes`).
+    #[serde(skip)]
     pub teacher: Option<Teacher>,
     /// The arm returns to rest every `reset_every` goal attempts (paper: r = 2).
     pub reset_every: usize,
+    #[serde(flatten)]
     pub eval: EvalConfig,
+    #[serde(rename = "knn_index")]
     pub index: IndexKind,
     /// Newest samples added to the warm-start candidates of the neighbour search (0 = cold search).
     pub warm_start_recent: usize,

@@ -1,10 +1,11 @@
 # Writes a checkpoint of format 5 with the saggriac 0.5.0 core (4ffeabf), and what the run
 # evaluates after it is resumed there (reach_error, pred_error bits per metric row).
 import sys, importlib.util
-spec = importlib.util.spec_from_file_location("_core", "/work/target-34/old_core.abi3.so")
+# python checkpoints_v5.py PATH_OF_0.5.0_CORE.so OUT_DIR
+spec = importlib.util.spec_from_file_location("_core", sys.argv[1])
 core = importlib.util.module_from_spec(spec); spec.loader.exec_module(core)
 print(core.__version__, core.GIT_COMMIT)
-out = sys.argv[1]
+out = sys.argv[2]
 for name, extra in (("micro", {}), ("episodic", {"paradigm": "episodic", "joint_limit": 3.141592653589793, "goal_low": [-50.0, -50.0], "goal_high": [50.0, 50.0]})):
     cfg = {"n_steps": 300, "n_test_goals": 5, "n_test_configs": 5, "eval_schedule": [0, 100, 200, 300], **extra}
     l = core.Learner(cfg, 3, 4)

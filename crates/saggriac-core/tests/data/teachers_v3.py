@@ -1,9 +1,10 @@
 # Teachers saved by the saggriac 0.5.0 core (format 3, 4ffeabf) after 300 goals, and the 20
 # goals each asks next (told as in tests/data's format-2 files).
 import importlib.util, struct, sys
-spec = importlib.util.spec_from_file_location("_core", "/work/target-34/old_core.abi3.so")
+# python teachers_v3.py PATH_OF_0.5.0_CORE.so OUT_DIR
+spec = importlib.util.spec_from_file_location("_core", sys.argv[1])
 core = importlib.util.module_from_spec(spec); spec.loader.exec_module(core)
-out = sys.argv[1]
+out = sys.argv[2]
 lo, hi = [0.0, -1.0, 0.0], [1.0, 1.0, 2.0]
 makers = {
     "sagg_riac": lambda: core.AskTell("sagg_riac", lo, hi, 7, g_max=12, zeta=8, min_child=2, interest_divisor="window"),
