@@ -21,6 +21,12 @@ from saggriac.errors import ParameterError, SaggriacError, StorageError
         ({"condition": "best"}, "The 'condition' parameter of Config must be one of 'sagg_riac', 'sagg_random', 'actuator_random', 'actuator_riac'. Got 'best' instead."),
         ({"knn_index": "hnsw"}, "The 'knn_index' parameter of Config must be one of 'blocks', 'brute_force'. Got 'hnsw' instead."),
         ({"n_evals": 0}, "The 'n_evals' parameter of Config must be an int in [1, max(n_steps, 100)] (a run evaluates at most once per time step; n_steps = 50000). Got 0 instead."),
+        # A value of the wrong type is named with the core's rule for that parameter, read as data.
+        ({"g_max": "many"}, "The 'g_max' parameter of Config must be an int in [2, 1000000]. Got 'many' instead."),
+        ({"eps_max": "far"}, "The 'eps_max' parameter of Config must be a finite float > 0 and <= 2 * reach, the diameter of the ball the body reaches (reach = 50). Got 'far' instead."),
+        ({"competence": "best"}, "The 'competence' parameter of Config must be one of 'relative', 'absolute'. Got 'best' instead."),
+        ({"paradigm": 3}, "The 'paradigm' parameter of Config must be a str. Got 3 instead."),
+        ({"body": "tentacle"}, "The 'body' parameter of Config must be one of 'planar_arm', 'spatial_arm', 'chain'. Got 'tentacle' instead."),
     ],
 )
 def test_bad_parameter_messages(kwargs, message):

@@ -3,16 +3,19 @@
 use crate::error::{invalid, Check, Num, Result};
 
 /// Which kinematics the arm has.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum ArmKind {
     /// The paper's arm: every joint turns about z, the task space is the plane (x, y).
+    #[serde(rename = "planar_arm")]
     Planar,
     /// An arm in space: joint i turns about its link frame's z axis for even i and its y axis
     /// for odd i; the task space is (x, y, z).
+    #[serde(rename = "spatial_arm")]
     Spatial,
     /// A serial chain of hinges given by fixed transforms (`ArmConfig::chain`), such as a
     /// MuJoCo model's arm; the task space is (x, y, z) and each joint's coordinate in [-1, 1]
     /// spans its range.
+    #[serde(rename = "chain")]
     Chain,
 }
 

@@ -3,7 +3,7 @@
 
 use crate::error::{Check, Result};
 
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ReachingConfig {
     /// Length of the desired displacement per micro-action (paper: v = 0.5). Near the target the
     /// step is shortened to the remaining distance ("v bounded by v_max").
@@ -45,12 +45,13 @@ impl ReachingConfig {
     }
 }
 
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ExplorationConfig {
     /// Number of random micro-actions per exploration phase.
     pub q: usize,
     /// Half-width of the box around the phase's starting configuration in which the random
     /// configurations are drawn (radians, per joint).
+    #[serde(rename = "explore_step")]
     pub step: f64,
 }
 
@@ -69,13 +70,16 @@ impl ExplorationConfig {
     }
 }
 
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct EpisodicConfig {
     /// Standard deviation of the Gaussian noise added to every joint of a proposal (rad).
+    #[serde(rename = "episodic_noise")]
     pub noise: f64,
     /// Refine the nearest neighbour's configuration with a local linear model.
+    #[serde(rename = "episodic_refine")]
     pub refine: bool,
     /// Neighbours (in joint space) of the local linear model used by `refine`.
+    #[serde(rename = "episodic_k")]
     pub k_refine: usize,
 }
 

@@ -2,7 +2,7 @@
 
 use crate::error::{invalid, Check, Num, Result};
 
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct LocalModelConfig {
     /// Neighbours used for each local fit.
     pub k_neighbours: usize,
@@ -38,7 +38,8 @@ impl LocalModelConfig {
 pub const MIN_RCOND: f64 = 1e-6;
 
 /// Which exact neighbour index backs the memory (both give the same answers, bit for bit).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
 pub enum IndexKind {
     /// Boxes over runs of consecutive samples (`block_index.rs`), the default.
     Blocks,
