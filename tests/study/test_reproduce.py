@@ -70,3 +70,14 @@ def test_cli_reproduce_with_a_subset_of_conditions(tmp_path, capsys):
     assert sorted(p.name for p in (out / "runs").iterdir()) == ["sagg_random"]
     lines = capsys.readouterr().out.splitlines()
     assert any(line.split()[:2] == ["reach_error", "sagg_random"] for line in lines)
+
+
+def test_cli_reproduce_from_a_first_seed(tmp_path, capsys):
+    # A second, independent set of seeds (the replication of docs/reproduction.md): seeds 3 and 4.
+    out = tmp_path / "later"
+    rc = main(["reproduce", "exp1", "--seeds", "2", "--first-seed", "3", "--steps", "300", "--conditions", "sagg_random", "--workers", "1", "--out", str(out), "--no-progress"])
+    assert rc == 0
+    assert sorted(p.name for p in (out / "runs" / "sagg_random").iterdir()) == ["seed3", "seed4"]
+    capsys.readouterr()
+    with pytest.raises(Exception, match=r"The 'first_seed' parameter must be an int in \[0, 100000\]. Got -1 instead."):
+        reproduce("exp1", out_dir=tmp_path / "x", seeds=1, first_seed=-1)
