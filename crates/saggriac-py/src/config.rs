@@ -8,6 +8,7 @@ use saggriac_core::body::chain::{Chain, ChainSpec};
 use saggriac_core::config::body::{DEFAULT_ARM_LENGTH, MAX_JOINTS};
 use saggriac_core::config::evaluation::TestConfigs;
 use saggriac_core::config::high_level::{CompetenceKind, InterestDivisor, Teacher};
+use saggriac_core::config::low_level::ExplorationTrigger;
 use saggriac_core::config::teachers::{AlpGmmConfig, CovarGmmConfig, RiacConfig};
 use saggriac_core::config::Paradigm;
 use saggriac_core::error::invalid;
@@ -20,7 +21,7 @@ use crate::errors::to_py;
 #[rustfmt::skip]
 pub const KEYS: &[&str] = &[
     "condition", "n_steps", "body", "n_joints", "arm_length", "link_lengths", "joint_limit", "max_joint_step", "goal_low", "goal_high",
-    "v", "n_subgoals", "eps_max", "timeout_factor", "timeout_min", "timeout_in_exploration", "q", "explore_step", "k_neighbours", "ridge", "pinv_rcond",
+    "v", "n_subgoals", "eps_max", "timeout_factor", "timeout_min", "timeout_in_exploration", "exploration_trigger", "q", "explore_step", "k_neighbours", "ridge", "pinv_rcond",
     "bandwidth", "min_c", "eps_c", "competence", "g_max", "zeta", "min_child", "interest_divisor", "p_interest", "p_global", "p_lowest", "reset_every",
     "n_test_goals", "n_test_configs", "test_configs", "eval_tolerance", "eval_patience", "eval_timeout_factor", "eval_timeout_min",
     "eval_schedule", "knn_index", "warm_start_recent", "babble_step", "actuator_candidates", "actuator_reset_every", "paradigm", "episodic_noise", "episodic_refine", "episodic_k", "motor_noise", "sensor_noise", "body_change_step",
@@ -128,6 +129,8 @@ pub fn parse_config(d: &Bound<'_, PyDict>) -> PyResult<RunConfig> {
     c.reaching.timeout_factor = get(d, "timeout_factor", c.reaching.timeout_factor, "a float")?;
     c.reaching.timeout_min = get(d, "timeout_min", c.reaching.timeout_min, "an int >= 1")?;
     c.reaching.timeout_in_exploration = get(d, "timeout_in_exploration", c.reaching.timeout_in_exploration, "a bool")?;
+    let trigger: String = get(d, "exploration_trigger", c.reaching.trigger.name().to_string(), "a str")?;
+    c.reaching.trigger = ExplorationTrigger::parse(&trigger).ok_or_else(|| to_py(py, invalid("Config", "exploration_trigger", "one of 'executed' (the default), 'desired' (the paper's epsilon)", format!("'{trigger}'"))))?;
     c.exploration.q = get(d, "q", c.exploration.q, "an int >= 1")?;
     c.exploration.step = get(d, "explore_step", c.exploration.step, "a float")?;
     c.local.k_neighbours = get(d, "k_neighbours", c.local.k_neighbours, "an int >= 1")?;
@@ -250,6 +253,7 @@ pub fn defaults(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
     d.set_item("timeout_factor", r.timeout_factor)?;
     d.set_item("timeout_min", r.timeout_min)?;
     d.set_item("timeout_in_exploration", r.timeout_in_exploration)?;
+    d.set_item("exploration_trigger", r.trigger.name())?;
     d.set_item("q", c.exploration.q)?;
     d.set_item("explore_step", c.exploration.step)?;
     d.set_item("k_neighbours", c.local.k_neighbours)?;

@@ -87,7 +87,7 @@ class _AskTellSelector:
         for name, value in params.items():
             if name == "interest_divisor":
                 if not isinstance(value, str):
-                    raise ParameterError(f"The 'interest_divisor' parameter of {owner} must be one of 'zeta', 'window'. Got {value!r} instead.", name, repr(value))
+                    raise ParameterError(f"The 'interest_divisor' parameter of {owner} must be one of 'zeta', 'window', 'printed'. Got {value!r} instead.", name, repr(value))
             elif name.startswith("p_"):
                 params[name] = _float_param(owner, name, value)
             else:

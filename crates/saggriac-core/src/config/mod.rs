@@ -12,7 +12,7 @@ pub mod teachers;
 pub use body::{ArmConfig, ArmKind, BodyChange};
 pub use evaluation::EvalConfig;
 pub use high_level::{check_bounds, CompetenceConfig, InterestDivisor, ModeProbabilities, RegionTreeConfig, Teacher};
-pub use low_level::{EpisodicConfig, ExplorationConfig, ReachingConfig};
+pub use low_level::{EpisodicConfig, ExplorationConfig, ExplorationTrigger, ReachingConfig};
 pub use model::{IndexKind, LocalModelConfig, MIN_RCOND};
 
 use crate::error::{invalid, Check, Result};
