@@ -130,7 +130,8 @@ pub fn parse_config(d: &Bound<'_, PyDict>) -> PyResult<RunConfig> {
     c.reaching.timeout_min = get(d, "timeout_min", c.reaching.timeout_min, "an int >= 1")?;
     c.reaching.timeout_in_exploration = get(d, "timeout_in_exploration", c.reaching.timeout_in_exploration, "a bool")?;
     let trigger: String = get(d, "exploration_trigger", c.reaching.trigger.name().to_string(), "a str")?;
-    c.reaching.trigger = ExplorationTrigger::parse(&trigger).ok_or_else(|| to_py(py, invalid("Config", "exploration_trigger", "one of 'executed' (the default), 'desired' (the paper's epsilon)", format!("'{trigger}'"))))?;
+    c.reaching.trigger = ExplorationTrigger::parse(&trigger)
+        .ok_or_else(|| to_py(py, invalid("Config", "exploration_trigger", "one of 'executed' (the default), 'desired' (the paper's epsilon)", format!("'{trigger}'"))))?;
     c.exploration.q = get(d, "q", c.exploration.q, "an int >= 1")?;
     c.exploration.step = get(d, "explore_step", c.exploration.step, "a float")?;
     c.local.k_neighbours = get(d, "k_neighbours", c.local.k_neighbours, "an int >= 1")?;

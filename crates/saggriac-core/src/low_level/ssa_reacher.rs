@@ -5,8 +5,8 @@
 //! model exists yet), until the target is reached or the attempt times out. Each subgoal's
 //! competence goes to the high level.
 
-use crate::config::low_level::{ExplorationConfig, ExplorationTrigger};
 pub use crate::config::low_level::ReachingConfig;
+use crate::config::low_level::{ExplorationConfig, ExplorationTrigger};
 use crate::config::RunConfig;
 use crate::high_level::competence::{clip, cost_of, CompetenceConfig};
 use crate::high_level::goal_selection::GoalChoice;
