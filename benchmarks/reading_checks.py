@@ -3,6 +3,7 @@ docs/parameters.md states (committed before these runs).
 
     python benchmarks/reading_checks.py window  --out DIR [--workers 2]
     python benchmarks/reading_checks.py trigger --out DIR [--workers 2]
+    python benchmarks/reading_checks.py trigger_more --out DIR [--workers 2]
     python benchmarks/reading_checks.py q20     --out DIR --repro REPRO [--workers 2]
     python benchmarks/reading_checks.py report  --out DIR [--repro REPRO] [--csv FILE]
 
@@ -10,7 +11,8 @@ docs/parameters.md states (committed before these runs).
   zeta + 1 values, the middle one cancelling) against ``"zeta"`` (the last zeta values), exp2,
   SAGG-RIAC, tuning seeds 100-129, evaluated at the end only (DIR/exp2-zeta, DIR/exp2-printed).
 - ``trigger``: ``exploration_trigger="desired"`` against the default ``"executed"``, the same runs
-  on tuning seeds 100-114 (DIR/exp2-desired, paired with DIR/exp2-zeta).
+  on tuning seeds 100-114 (DIR/exp2-desired, paired with DIR/exp2-zeta); ``trigger_more`` adds
+  seeds 115-129 (DIR/exp2-desired-more), after the registered comparison, to check its size.
 - ``q20``: Fig. 3's setting, exp2 with q = 20, SAGG-RIAC and SAGG-Random on the report seeds
   15-29 (DIR/exp2-q20), paired with the q = 100 runs of the replication (REPRO/reproduce-exp2,
   made by ``bench_reproduce.py --first-seed 15``).
@@ -53,6 +55,10 @@ def studies(which: str) -> dict[str, sg.Study]:
         }
     if which == "trigger":
         return {"exp2-desired": sg.Study(sg.Config.from_preset("exp2", exploration_trigger="desired", **base), ("sagg_riac",), TUNING_15)}
+    if which == "trigger_more":
+        # Added after the registered 15 seeds: the other 15 tuning seeds, to check the size of the
+        # effect on the share (it decides nothing; docs/parameters.md says so).
+        return {"exp2-desired-more": sg.Study(sg.Config.from_preset("exp2", exploration_trigger="desired", **base), ("sagg_riac",), TUNING_30[15:])}
     if which == "q20":
         return {"exp2-q20": sg.Study(sg.Config.from_preset("exp2", q=20, **base), ("sagg_riac", "sagg_random"), REPORT_2)}
     raise SystemExit(f"unknown study {which!r}")
@@ -101,11 +107,14 @@ def markdown(table: pd.DataFrame) -> str:
 def report(out: Path, repro: Path | None, csv: Path | None) -> int:
     rows, per_run = [], []
     ref = read(out / "exp2-zeta", "sagg_riac") if (out / "exp2-zeta").exists() else pd.DataFrame()
-    for folder, label in (("exp2-printed", "eq. 2 window: 'printed' - 'zeta' (SAGG-RIAC)"), ("exp2-desired", "trigger: 'desired' - 'executed' (SAGG-RIAC)")):
+    for folder, label in (("exp2-printed", "eq. 2 window: 'printed' - 'zeta' (SAGG-RIAC)"), ("exp2-desired", "trigger: 'desired' - 'executed' (SAGG-RIAC)"), ("exp2-desired-more", "trigger, seeds added after the rule: 'desired' - 'executed' (SAGG-RIAC)")):
         if (out / folder).exists() and not ref.empty:
             var = read(out / folder, "sagg_riac")
             rows += compare(label, var, ref)
             per_run.append(var.assign(study=folder, condition="sagg_riac"))
+    if (out / "exp2-desired-more").exists() and not ref.empty:
+        var = pd.concat([read(out / "exp2-desired", "sagg_riac"), read(out / "exp2-desired-more", "sagg_riac")])
+        rows += compare("trigger, all 30 tuning seeds: 'desired' - 'executed' (SAGG-RIAC)", var, ref)
     if not ref.empty:
         per_run.append(ref.assign(study="exp2-zeta", condition="sagg_riac"))
     if repro is not None and (out / "exp2-q20").exists():
@@ -132,7 +141,7 @@ def report(out: Path, repro: Path | None, csv: Path | None) -> int:
 
 def main() -> int:
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("what", choices=("window", "trigger", "q20", "report"))
+    p.add_argument("what", choices=("window", "trigger", "trigger_more", "q20", "report"))
     p.add_argument("--out", required=True, help="folder of the study folders")
     p.add_argument("--repro", default=None, help="folder holding reproduce-exp2 of seeds 15-29 (for q20)")
     p.add_argument("--workers", type=int, default=2)
