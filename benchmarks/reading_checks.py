@@ -39,6 +39,7 @@ from saggriac.analysis.statistics import paired
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from eq2_readings import read_run  # noqa: E402  (final errors, goals, second-half reachable share)
+from goal_placement import zones  # noqa: E402  (the reachable area)
 
 TUNING_30 = tuple(range(100, 130))
 TUNING_15 = tuple(range(100, 115))
@@ -85,6 +86,19 @@ def read(folder: Path, condition: str) -> pd.DataFrame:
     return pd.DataFrame.from_dict(rows, orient="index").sort_index()
 
 
+def quarter_shares(folder: Path, condition: str, seeds: tuple[int, ...]) -> np.ndarray:
+    """Mean over seeds of the reachable share of the goals started in each quarter of the run."""
+    out = []
+    for seed in seeds:
+        run_dir = folder / "runs" / condition / f"seed{seed}"
+        cfg = sg.Config.from_saved(json.loads((run_dir / "run.json").read_text())["config"])
+        goals = pd.read_parquet(run_dir / "goals.parquet")
+        quarter = np.minimum(goals["step_start"].to_numpy() * 4 // cfg.n_steps, 3)
+        reach = np.asarray(zones(goals, cfg)["reachable"], float)
+        out.append([reach[quarter == i].mean() for i in range(4)])
+    return np.mean(out, axis=0)
+
+
 METRICS = (("reach_error", "final reaching error", 2), ("share_2nd_half", "2nd-half reachable share", 3), ("pred_error", "final prediction error", 2), ("goals", "goals per run", 1))
 
 
@@ -123,6 +137,11 @@ def report(out: Path, repro: Path | None, csv: Path | None) -> int:
             q100 = q100.loc[q100.index.intersection(list(REPORT_2))]
             rows += compare(f"Fig. 3's q: q = 20 - q = 100 ({cond})", q20, q100)
             per_run += [q20.assign(study="exp2-q20", condition=cond), q100.assign(study="replication exp2 (q = 100)", condition=cond)]
+        print("reachable share of the goals started in each quarter of the run (mean over seeds 15-29)")
+        for cond in ("sagg_riac", "sagg_random"):
+            for name, folder in (("q = 20", out / "exp2-q20"), ("q = 100", repro / "reproduce-exp2")):
+                print(f"  {cond:12s} {name:8s} " + " ".join(f"{v:.3f}" for v in quarter_shares(folder, cond, REPORT_2)))
+        print()
         r20, s20 = read(out / "exp2-q20", "sagg_riac"), read(out / "exp2-q20", "sagg_random")
         rows += compare("at q = 20: SAGG-RIAC - SAGG-Random", r20, s20)
     table = pd.DataFrame(rows)
