@@ -145,6 +145,23 @@ def markdown(t: pd.DataFrame) -> str:
     return "\n".join(out)
 
 
+def finals(sets: dict[str, Path]) -> str:
+    """Final reaching and prediction error and goals, mean ± sd over each set's seeds."""
+    out = ["| experiment | seeds | condition | reaching error | prediction error | goals |", "|---|---|---|---|---|---|"]
+    for exp in ("exp2", "exp1"):
+        for label, folder in sets.items():
+            study = folder / f"reproduce-{exp}"
+            if not study.exists():
+                continue
+            for c, name in NAMES.items():
+                d = per_run(study, c)
+                if d.empty:
+                    continue
+                goals = f"{d['goals'].mean():.0f}" if "goals" in d else "-"
+                out.append(f"| {exp} | {label} | {name} | {d['reach_error'].mean():.2f} ± {d['reach_error'].std(ddof=1):.2f} | {d['pred_error'].mean():.2f} ± {d['pred_error'].std(ddof=1):.2f} | {goals} |")
+    return "\n".join(out) + "\n"
+
+
 def main() -> int:
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--sets", nargs="+", required=True, metavar="LABEL=FOLDER", help="sets of seeds in order, the replication last")
@@ -153,7 +170,7 @@ def main() -> int:
     a = p.parse_args()
     sets = {s.split("=", 1)[0]: Path(s.split("=", 1)[1]) for s in a.sets}
     t = table(sets)
-    md = markdown(t)
+    md = markdown(t) + "\n" + finals(sets)
     print(md)
     if a.md:
         Path(a.md).write_text(md + "\n")
