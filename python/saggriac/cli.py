@@ -160,6 +160,7 @@ def _cmd_reproduce(args: argparse.Namespace) -> int:
         args.experiment,
         out_dir=args.out,
         seeds=args.seeds,
+        first_seed=args.first_seed,
         conditions=conditions,
         steps=args.steps,
         backend=args.backend,
@@ -235,7 +236,8 @@ def build_parser() -> argparse.ArgumentParser:
 
     rp = sub.add_parser("reproduce", help="run one of the paper's experiments (4 conditions x seeds) with figures and statistics")
     rp.add_argument("experiment", choices=sorted(PRESETS), help="the preset to study: exp1 or exp2 (the paper's), explauto, arm3d or pusher")
-    rp.add_argument("--seeds", type=int, default=15, help="seeds 0..N-1 (default 15, as the paper)")
+    rp.add_argument("--seeds", type=int, default=15, help="how many seeds (default 15, as the paper)")
+    rp.add_argument("--first-seed", type=int, default=0, help="the first seed: seeds FIRST..FIRST+N-1 (default 0; e.g. 15 for a second, independent set)")
     rp.add_argument("--conditions", help="comma-separated subset of the conditions (default: all four)")
     rp.add_argument("--steps", type=int, help="time steps per run (default: the paper's)")
     rp.add_argument("--out", help="study folder (default reproduce-EXPERIMENT); rerunning resumes it")

@@ -94,6 +94,10 @@ class Config:
     timeout_min: int = _CORE["timeout_min"]
     # Also end an exploration phase at the timeout (Algorithm 1 checks it between phases only).
     timeout_in_exploration: bool = _CORE["timeout_in_exploration"]
+    # What the exploration trigger compares the realised displacement with: "executed" (J dtheta
+    # of the command executed, the default) or "desired" (the desired step, the paper's epsilon).
+    # See docs/parameters.md.
+    exploration_trigger: str = _CORE["exploration_trigger"]
     q: int = _CORE["q"]
     explore_step: float = _CORE["explore_step"]
     # Local models (paper III.B).
@@ -110,8 +114,10 @@ class Config:
     g_max: int = _CORE["g_max"]
     zeta: int = _CORE["zeta"]
     min_child: int = _CORE["min_child"]
-    # Eq. 2's denominator for a region holding fewer than zeta measurements: "zeta" as the
-    # paper prints it, or "window" (its own count, saggriac <= 0.2). See docs/parameters.md.
+    # Eq. 2's reading: "zeta" (the default: divided by zeta, the last zeta values), "window"
+    # (a young region divided by its own count, saggriac <= 0.2) or "printed" (the printed index
+    # ranges: a full region compares the last zeta + 1 values, the middle one cancelling).
+    # See docs/parameters.md.
     interest_divisor: str = _CORE["interest_divisor"]
     p_interest: float = _CORE["p_interest"]
     p_global: float = _CORE["p_global"]

@@ -86,7 +86,7 @@ def test_one_constructor_takes_a_kind_and_its_parameters():
     for kind, params in _core.teacher_defaults().items():
         low, high = ([], []) if kind == "discrete_lp" else ([0.0, 0.0], [1.0, 1.0])
         assert _core.AskTell(kind, low, high, 3, params).kind == kind
-    with pytest.raises(sg.ParameterError, match=r"^The 'interest_divisor' parameter of SaggRiacSelector must be one of 'zeta', 'window'. Got 'w' instead.$"):
+    with pytest.raises(sg.ParameterError, match=r"^The 'interest_divisor' parameter of SaggRiacSelector must be one of 'zeta', 'window', 'printed'. Got 'w' instead.$"):
         _core.AskTell("sagg_riac", [0.0], [1.0], 0, {"interest_divisor": "w"})
     with pytest.raises(sg.ParameterError, match=r"'params' parameter of AlpGmmSelector must be a dict of the 'alp_gmm' teacher's parameters \(those of saggriac.AlpGmmSelector: fit_rate, max_components, random_task_ratio, bootstrap\). Got a dict with key 'bogus'"):
         _core.AskTell("alp_gmm", [0.0], [1.0], 0, {"bogus": 1})

@@ -58,6 +58,15 @@ pub struct Counters {
     pub explorations: u64,
     pub fit_failures: u64,
     pub test_steps: u64,
+    /// Reaching micro-actions where the exploration trigger's two readings disagree: only the
+    /// one against J dtheta of the executed command fires, or only the one against the desired
+    /// dx; and the sum of |J dtheta - desired dx| over reaching micro-actions. Counts only.
+    #[serde(default)]
+    pub trigger_only_executed: u64,
+    #[serde(default)]
+    pub trigger_only_desired: u64,
+    #[serde(default)]
+    pub trigger_gap_sum: f64,
 }
 
 /// The rows, counters, timers and clock of one run. A checkpoint keeps all of it but the

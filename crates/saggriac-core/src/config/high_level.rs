@@ -60,8 +60,9 @@ impl CompetenceConfig {
     }
 }
 
-/// The denominator of eq. 2 for a region holding fewer than zeta measurements (for a full window
-/// both readings divide by zeta). The paper prints zeta and says nothing of young regions.
+/// How eq. 2 reads a region's window: the denominator of a region holding fewer than zeta
+/// measurements, and which values a full region compares. The paper prints zeta and says nothing
+/// of young regions; its index ranges hold zeta + 1 values.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum InterestDivisor {
@@ -72,16 +73,21 @@ pub enum InterestDivisor {
     /// The region's own window w = min(|R|, zeta): a young region gets the scale of a full one
     /// (saggriac <= 0.2; kept for comparisons and for the same bits as older builds).
     Window,
+    /// Eq. 2's index ranges as printed: a full region compares the last zeta + 1 values, the
+    /// middle one (in both printed sums) cancelling; divided by zeta. A region of at most zeta
+    /// values reads as `Zeta`. (`Zeta` and `Window` compare the last zeta values.)
+    Printed,
 }
 
 impl InterestDivisor {
-    pub const NAMES: [&'static str; 2] = ["zeta", "window"];
+    pub const NAMES: [&'static str; 3] = ["zeta", "window", "printed"];
 
     pub fn parse(owner: &'static str, s: &str) -> Result<Self> {
         match s {
             "zeta" => Ok(InterestDivisor::Zeta),
             "window" => Ok(InterestDivisor::Window),
-            _ => Err(invalid(owner, "interest_divisor", "one of 'zeta' (eq. 2 as printed), 'window' (saggriac <= 0.2)", format!("'{s}'"))),
+            "printed" => Ok(InterestDivisor::Printed),
+            _ => Err(invalid(owner, "interest_divisor", "one of 'zeta' (the default), 'window' (saggriac <= 0.2), 'printed' (eq. 2's index ranges, zeta + 1 values)", format!("'{s}'"))),
         }
     }
     pub fn name(&self) -> &'static str {
@@ -90,8 +96,15 @@ impl InterestDivisor {
     /// The denominator of a window of `w` values under window length `zeta`.
     pub fn of(&self, w: usize, zeta: usize) -> f64 {
         match self {
-            InterestDivisor::Zeta => zeta as f64,
+            InterestDivisor::Zeta | InterestDivisor::Printed => zeta as f64,
             InterestDivisor::Window => w as f64,
+        }
+    }
+    /// How many of a region's most recent values eq. 2 reads under window length `zeta`.
+    pub fn window_len(&self, zeta: usize) -> usize {
+        match self {
+            InterestDivisor::Zeta | InterestDivisor::Window => zeta,
+            InterestDivisor::Printed => zeta + 1,
         }
     }
 }

@@ -13,7 +13,7 @@ pub use body::{ArmConfig, ArmKind, BodyChange};
 pub use evaluation::EvalConfig;
 pub use high_level::{check_bounds, CompetenceConfig, InterestDivisor, ModeProbabilities, RegionTreeConfig};
 pub use teachers::{SaggRiacConfig, Teacher};
-pub use low_level::{EpisodicConfig, ExplorationConfig, ReachingConfig};
+pub use low_level::{EpisodicConfig, ExplorationConfig, ExplorationTrigger, ReachingConfig};
 pub use model::{IndexKind, LocalModelConfig, MIN_RCOND};
 
 use crate::error::{invalid, Check, Num, Result};
