@@ -14,7 +14,7 @@ import saggriac
 from saggriac.cli import main
 from saggriac.errors import InputError, ParameterError, StorageError
 from saggriac.runs import runner, storage
-from saggriac.runs.runner import checkpoint_dir
+from saggriac.runs import checkpoint_dir
 
 
 def tiny(**kw):
