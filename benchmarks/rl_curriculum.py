@@ -7,7 +7,7 @@ The protocol, the decision rule and the results are in docs/rl_curriculum.md. Th
 joints, reach 1, goals in the box [-2, 2]^2, of which the arm reaches the disc of radius 1
 (a fifth of the box). Every ``--every`` steps the deterministic policy is scored on the same 200
 test goals, uniform in the reachable disc. A teacher (:data:`TEACHERS`) chooses the goal of
-every training episode through :class:`saggriac.sb3.TeacherCallback` and is told the episode's
+every training episode through :class:`saggriac.adapters.sb3.TeacherCallback` and is told the episode's
 closeness ``max(0, 1 - final distance / reach)``. A goal counts as reached within 0.2 (the
 pilot's rule moved it from 0.1, see docs/rl_curriculum.md).
 
@@ -56,7 +56,7 @@ def test_goals(reach: float) -> np.ndarray:
 def make_env():
     from gymnasium.wrappers import TimeLimit
 
-    from saggriac.gym import GoalArmEnv
+    from saggriac.adapters.gym import GoalArmEnv
 
     return TimeLimit(GoalArmEnv(**ENV), EPISODE_STEPS)
 
@@ -98,7 +98,7 @@ def one_run(job: tuple[str, int, int, int, str]) -> str:
     from stable_baselines3.common.vec_env import DummyVecEnv
 
     from saggriac.files import write_file
-    from saggriac.sb3 import TeacherCallback
+    from saggriac.adapters.sb3 import TeacherCallback
 
     torch.set_num_threads(1)
     path = Path(out) / "jobs" / f"{name}_{seed}.csv"

@@ -30,7 +30,7 @@ import pyarrow.parquet as pq
 import saggriac
 from saggriac import _core
 from saggriac.config import CONDITIONS
-from saggriac.environments import PlanarArm
+from saggriac.bodies.environments import PlanarArm
 
 TABLES = ("metrics", "goals", "attempts", "regions")
 # Keys of run.json that measure the machine, not the run ("checksum" hashes run.json itself, wall

@@ -2,7 +2,7 @@
 
     python benchmarks/teacher_niches.py --out niches/ [--seeds 20] [--updates 8000] [--distractors 0 4]
 
-The learner is :class:`saggriac.progress_niches.ProgressNiches` (a chain of niches that open one
+The learner is :class:`saggriac.teachers.progress_niches.ProgressNiches` (a chain of niches that open one
 after another, noisy cells, impossible cells, and optional distractor dimensions). For every
 space (number of distractors), teacher and seed, the teacher asks ``--updates`` goals one at a
 time and is told the competence of each. Seed s gives the learner's noise and the teacher's
@@ -33,7 +33,7 @@ from tqdm import tqdm
 
 import saggriac as sg
 from saggriac.analysis.statistics import holm, paired
-from saggriac.progress_niches import KINDS, ProgressNiches
+from saggriac.teachers.progress_niches import KINDS, ProgressNiches
 
 TEACHERS = ("sagg_riac", "riac", "alp_gmm", "covar_gmm", "discrete_lp", "random")
 EXTRA = ("sagg_riac_w",)  # rows for comparison, outside the protocol's family of 15 pairs

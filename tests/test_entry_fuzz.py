@@ -226,7 +226,7 @@ elements = st.one_of(floats, st.floats(width=32).map(np.float32), st.sampled_fro
 @given(action=st.lists(elements, min_size=14, max_size=16), theta=st.lists(elements, min_size=15, max_size=15))
 def test_gymnasium_actions_and_placements_are_numbers_or_refused(action, theta):
     from saggriac.errors import InputError
-    from saggriac.gym import GoalArmEnv
+    from saggriac.adapters.gym import GoalArmEnv
 
     env = GoalArmEnv()
     env.reset(seed=0)
@@ -256,7 +256,7 @@ def test_gymnasium_actions_and_placements_are_numbers_or_refused(action, theta):
 @given(reach=anything)
 def test_a_declared_reach_is_within_the_length_bounds_or_refused(reach):
     from saggriac.errors import ConformanceError
-    from saggriac.scale import declared_reach
+    from saggriac.bodies.scale import declared_reach
 
     class Body:
         pass

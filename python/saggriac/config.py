@@ -23,10 +23,10 @@ from typing import Any
 import numpy as np
 
 from . import _core
-from .bodies import PUSHER_CHAIN
+from .bodies.pusher import PUSHER_CHAIN
 from .errors import ParameterError, StorageError
-from .teacher_params import TeacherParams
-from .teacher_params import teacher_params as _teacher_params
+from .teachers.params import TeacherParams
+from .teachers.params import teacher_params as _teacher_params
 from .values import plain as _plain
 
 if sys.version_info >= (3, 11):
@@ -45,7 +45,7 @@ _REMOVED_INDEXES = ("kdtree", "kdtree_crate")
 # own window.
 #: The length parameters that follow the body: left None, each is the reach divided by this (for
 #: the paper's 50-unit arm, exactly the values the paper's runs were tuned with: 0.5, 0.1, 0.01).
-#: The reach is the built-in arm's length, or a user's body's (saggriac.scale). A value given
+#: The reach is the built-in arm's length, or a user's body's (saggriac.bodies.scale). A value given
 #: is used as given.
 LENGTH_DIVISORS = {"v": 100, "eps_max": 500, "eval_tolerance": 5000}
 _LEGACY_VALUES = {"test_configs": "uniform", "actuator_candidates": 0, "interest_divisor": "window"}
@@ -77,7 +77,7 @@ class Config:
     body_change_link: int | None = _CORE["body_change_link"]
     body_change_length: float | None = _CORE["body_change_length"]
     # body="chain": a serial arm of hinges as fixed transforms, read out of a MuJoCo model by
-    # saggriac.mujoco_arm.MujocoArm.chain() (15 numbers per joint, then the tip; see
+    # saggriac.bodies.mujoco_arm.MujocoArm.chain() (15 numbers per joint, then the tip; see
     # docs/mujoco.md). Its joints are in [-1, 1] (each one's range), so joint_limit <= 1.
     chain: tuple[float, ...] | None = _CORE["chain"]
     # Goal space S' (one bound per task-space dimension: 2 for the planar arm, 3 in space).

@@ -1,4 +1,4 @@
-"""saggriac.sb3: one teacher in the main process for Stable-Baselines3's vector environments,
+"""saggriac.adapters.sb3: one teacher in the main process for Stable-Baselines3's vector environments,
 tested with SB3 itself (DummyVecEnv and SubprocVecEnv, PPO). Skipped when SB3 is not installed,
 unless SAGGRIAC_REQUIRE_EXTRAS=1 (CI sets it)."""
 
@@ -18,10 +18,10 @@ from stable_baselines3.common.env_util import make_vec_env
 from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv
 
 import saggriac as sg
-import saggriac.gym as sgym
-from saggriac.sb3 import TeacherCallback
+import saggriac.adapters.gym as sgym
+from saggriac.adapters.sb3 import TeacherCallback
 
-ENV = "saggriac.gym:saggriac/PlanarArm-v0"  # the module prefix registers the ids in spawned workers too
+ENV = "saggriac.adapters.gym:saggriac/PlanarArm-v0"  # the module prefix registers the ids in spawned workers too
 
 
 @pytest.mark.parametrize("env_id", list(sgym.ENVIRONMENTS))
@@ -109,7 +109,7 @@ def test_a_mistaken_goal_under_vecnormalize_names_the_route_used():
 def test_checkpoints_save_the_teacher_and_a_resumed_training_continues_it(tmp_path):
     from stable_baselines3.common.callbacks import CheckpointCallback
 
-    from saggriac.sb3 import teacher_path
+    from saggriac.adapters.sb3 import teacher_path
 
     def make():
         return make_vec_env(lambda: gymnasium.make(ENV, max_episode_steps=20), n_envs=2, seed=0)

@@ -19,7 +19,7 @@ from syllabus.task_space import BoxTaskSpace, DiscreteTaskSpace, MultiDiscreteTa
 
 import saggriac as sg
 from saggriac.errors import ConformanceError, ParameterError
-from saggriac.syllabus import SelectorCurriculum
+from saggriac.adapters.syllabus import SelectorCurriculum
 
 LOW, HIGH = [0.0, -2.0, 0.5], [1.0, 2.0, 0.75]
 
@@ -213,8 +213,8 @@ def test_through_syllabus_sync_wrappers():
 def test_saggriacs_goal_environments_as_syllabus_task_environments():
     """GoalTaskWrapper, shipped: a saggriac goal environment behind Syllabus's sync wrapper, its
     goals chosen by a SAGG-RIAC curriculum in Syllabus's update thread."""
-    import saggriac.gym  # noqa: F401 (registers the environments)
-    from saggriac.syllabus import GoalTaskWrapper
+    import saggriac.adapters.gym  # noqa: F401 (registers the environments)
+    from saggriac.adapters.syllabus import GoalTaskWrapper
 
     env = GoalTaskWrapper(gymnasium.make("saggriac/PlanarArmExp1-v0", max_episode_steps=5))
     space = env.task_space
@@ -245,9 +245,9 @@ def test_saggriacs_goal_environments_as_syllabus_task_environments():
 
 
 def test_goal_task_wrapper_refuses_tasks_outside_the_goal_box():
-    import saggriac.gym  # noqa: F401
+    import saggriac.adapters.gym  # noqa: F401
     from saggriac.errors import InputError
-    from saggriac.syllabus import GoalTaskWrapper
+    from saggriac.adapters.syllabus import GoalTaskWrapper
 
     env = GoalTaskWrapper(gymnasium.make("saggriac/PlanarArmExp1-v0"))
     with pytest.raises(InputError, match="goal box"):

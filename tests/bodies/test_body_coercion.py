@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 import saggriac
-import saggriac.gym as sgym
-from saggriac.environments import PlanarArm
+import saggriac.adapters.gym as sgym
+from saggriac.bodies.environments import PlanarArm
 from saggriac.errors import InputError
 
 

@@ -7,9 +7,9 @@ import warnings
 import pytest
 
 import saggriac as sg
-from saggriac.environments import PlanarArm
+from saggriac.bodies.environments import PlanarArm
 from saggriac.errors import ConformanceError
-from saggriac.scale import ReachWarning
+from saggriac.bodies.scale import ReachWarning
 
 
 def small(**kw):

@@ -46,7 +46,7 @@ def test_lengths_beyond_the_reachable_ball_are_refused(name, value):
 
 
 def test_lengths_follow_a_user_body_s_reach():
-    from saggriac.environments import PlanarArm
+    from saggriac.bodies.environments import PlanarArm
 
     cfg = sg.Config.from_preset("exp1", n_steps=200, n_evals=1, n_test_goals=5, n_test_configs=5, v=30.0)
     with pytest.raises(ParameterError, match=r"'v' parameter .*\(reach = 10\)\. Got 30"):

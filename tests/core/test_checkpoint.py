@@ -11,7 +11,7 @@ import pytest
 
 import saggriac
 from saggriac import _core
-from saggriac.environments import PlanarArm
+from saggriac.bodies.environments import PlanarArm
 from saggriac.errors import ParameterError, StorageError
 from saggriac.runs import checkpoint_dir
 

@@ -26,8 +26,9 @@ const START_OVER: &str = "Start the run over: run it again without --resume (fro
 /// A checkpoint: the run's identity, then each part's own state (`Parts::save`) and the
 /// low-level controller's progress.
 /// Generic in how the body's state is held, so that format 5 is read with the same struct.
+/// Generic in the counters added since format 5 too (`()` there: nothing encoded).
 #[derive(Serialize, Deserialize)]
-struct StateAs<Body> {
+struct StateAs<Body, Since5> {
     format: u32,
     version: String,
     /// The full configuration, printed: a checkpoint resumes only the run it came from.
@@ -35,12 +36,17 @@ struct StateAs<Body> {
     seeds: (u64, u64),
     parts: PartsStateAs<Body>,
     low_level: u64,
+    since_5: Since5,
 }
 
-type State = StateAs<Vec<u8>>;
+/// The exploration trigger's counters (recorder.rs, `Counters`): only executed, only desired,
+/// the gap's sum.
+type TriggerCounts = (u64, u64, f64);
 
-/// Format 5 (saggriac 0.5): the same, with the arm's state inline.
-type StateV5 = StateAs<InlineState>;
+type State = StateAs<Vec<u8>, TriggerCounts>;
+
+/// Format 5 (saggriac 0.5): the arm's state inline, no trigger counters.
+type StateV5 = StateAs<InlineState, ()>;
 
 fn decode<T: serde::de::DeserializeOwned>(bytes: &[u8]) -> std::result::Result<T, Error> {
     match postcard::take_from_bytes_crc32::<T>(bytes, CHECKSUM.digest()) {
@@ -68,9 +74,13 @@ fn other_format(bytes: &[u8]) -> Option<Head> {
 }
 
 /// The configuration as a checkpoint of `format` printed it. Format 5 (saggriac 0.5) printed the
-/// run's teacher as its own enum, `Own` for the condition's own high level.
+/// run's teacher as its own enum, `Own` for the condition's own high level, and no trigger.
 fn config_text(cfg: &RunConfig, format: u32) -> String {
-    let text = format!("{cfg:?}");
+    let mut text = format!("{cfg:?}");
+    if format == 5 {
+        // 0.5 had no choice of exploration trigger: its runs used today's default.
+        text = text.replacen(", trigger: Executed", "", 1);
+    }
     match (format, &cfg.teacher) {
         (5, None) => text.replacen("teacher: None,", "teacher: Own,", 1),
         (5, Some(t)) => text.replacen(&format!("teacher: Some({t:?}),"), &format!("teacher: {t:?},"), 1),
@@ -96,6 +106,10 @@ impl Learner {
             seeds: self.seeds,
             parts: self.parts.save()?,
             low_level: self.low_level.saved_progress(),
+            since_5: {
+                let c = &self.parts.recorder().counters;
+                (c.trigger_only_executed, c.trigger_only_desired, c.trigger_gap_sum)
+            },
         };
         postcard::to_stdvec_crc32(&state, CHECKSUM.digest()).map_err(|e| refuse(format!("Could not encode the checkpoint: {e}.")))
     }
@@ -108,8 +122,8 @@ impl Learner {
         }
         let format = postcard::take_from_bytes::<u32>(bytes).map(|(f, _)| f).unwrap_or(FORMAT);
         let s: State = if format == 5 {
-            let StateAs { format, version, config, seeds, parts, low_level } = decode::<StateV5>(bytes)?;
-            StateAs { format, version, config, seeds, parts: parts.upgraded(), low_level }
+            let StateAs { format, version, config, seeds, parts, low_level, since_5: () } = decode::<StateV5>(bytes)?;
+            StateAs { format, version, config, seeds, parts: parts.upgraded(), low_level, since_5: (0, 0, 0.0) }
         } else {
             decode::<State>(bytes)?
         };
@@ -124,6 +138,8 @@ impl Learner {
             return Err(refuse("The checkpoint does not match this run's goal selector or body."));
         }
         l.low_level.restore_progress(s.low_level);
+        let c = l.parts.counters_mut();
+        (c.trigger_only_executed, c.trigger_only_desired, c.trigger_gap_sum) = s.since_5;
         Ok(l)
     }
 }

@@ -61,11 +61,13 @@ pub struct Counters {
     /// Reaching micro-actions where the exploration trigger's two readings disagree: only the
     /// one against J dtheta of the executed command fires, or only the one against the desired
     /// dx; and the sum of |J dtheta - desired dx| over reaching micro-actions. Counts only.
-    #[serde(default)]
+    /// A checkpoint keeps them apart (checkpoint.rs, `TriggerCounts`), so that the recorder of
+    /// a format-5 checkpoint, written before they existed, still decodes.
+    #[serde(skip)]
     pub trigger_only_executed: u64,
-    #[serde(default)]
+    #[serde(skip)]
     pub trigger_only_desired: u64,
-    #[serde(default)]
+    #[serde(skip)]
     pub trigger_gap_sum: f64,
 }
 

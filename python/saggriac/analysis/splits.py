@@ -15,7 +15,7 @@ import pandas as pd
 
 from ..config import Config
 from ..teachers import SaggRiacSelector
-from ..reachable import ReachableSet
+from ..bodies.reachable import ReachableSet
 
 
 def _dims(regions: pd.DataFrame) -> list[str]:
@@ -44,7 +44,7 @@ def replay_regions(attempts: pd.DataFrame, config: Config) -> pd.DataFrame:
 
 def reachable_share(low: np.ndarray, high: np.ndarray, reach: float | ReachableSet, grid: int = 40) -> float:
     """Share of the box [low, high] inside the ball of radius ``reach`` around the origin, or
-    inside a :class:`~saggriac.reachable.ReachableSet` (midpoints of a grid of ``grid`` cells
+    inside a :class:`~saggriac.bodies.reachable.ReachableSet` (midpoints of a grid of ``grid`` cells
     per side)."""
     return float(reachable_shares(np.asarray(low, float)[None, :], np.asarray(high, float)[None, :], reach, grid)[0])
 

@@ -33,10 +33,10 @@ from .. import _core
 from ..config import Config
 from ..errors import ParameterError, StorageError
 from ..files import as_path, check_flag
-from ..reachable import ReachableSet
-from ..scale import body_scale
+from ..bodies.reachable import ReachableSet
+from ..bodies.scale import body_scale
 from ..seeding import check_seed, derive_seeds, environment_seed
-from ..testing import _joint_space
+from ..testing import joint_space_of
 from . import checkpoint as _checkpoint
 from .checkpoint import CheckpointWarning, check_every, checkpoint_dir
 from .resources import check_run_fits, check_threads
@@ -198,7 +198,7 @@ def for_body(config: Config, environment: Any) -> Config:
     own arms. The resolved value is what run.json records."""
     if environment is None:
         return config
-    limit = float(_joint_space(environment)[1][0])
+    limit = float(joint_space_of(environment)[1][0])
     if limit == config.joint_limit:
         return config
     try:
@@ -224,7 +224,7 @@ def _build(config: Config, seed: int, threads: int, environment: Any, goal_selec
         extras["environment"] = f"{type(environment).__module__}.{type(environment).__qualname__}"
         if config.chain is None:
             # A user's body: the length parameters and the test goals follow its size and place.
-            body = body_scale(environment, *_joint_space(environment), len(config.goal_low))
+            body = body_scale(environment, *joint_space_of(environment), len(config.goal_low))
             core = config.core_dict(reach=body.reach)
             extras["scale"] = body.summary(config.lengths(body.reach))
             if body.positions is not None:

@@ -24,7 +24,7 @@ from .result import RunResult
 from .storage import MIN_FREE_BYTES, as_path, check_output_dir, target_lock, write_run
 
 if TYPE_CHECKING:
-    from ..environments import Environment
+    from ..bodies.environments import Environment
     from ..teachers import GoalSelectorProtocol
 
 def run(

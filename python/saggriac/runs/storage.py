@@ -30,7 +30,7 @@ import numpy as np
 import pandas as pd
 
 from ..errors import StorageError
-from ..files import MAX_JSON_BYTES, _fsync, as_path, check_seal, lock, read_bounded, seal  # noqa: F401 (as_path: runner, study and cli take it from here)
+from ..files import MAX_JSON_BYTES, fsync_path, as_path, check_seal, lock, read_bounded, seal  # noqa: F401 (as_path: runner, study and cli take it from here)
 
 MANIFEST = "run.json"
 TABLES = ("metrics", "goals", "attempts", "regions")
@@ -248,7 +248,7 @@ def replace_dir(out: Path, fill: Callable[[Path], None], what: str, replace: Cal
         tmp.chmod(0o755)  # mkdtemp makes it private; results are meant to be shared
         fill(tmp)
         for f in tmp.iterdir():
-            _fsync(f)
+            fsync_path(f)
         if out.is_dir() and not out.is_symlink() and not os.listdir(out):
             os.rename(tmp, out)  # over an empty folder only: fails if anything appeared in it
         elif os.path.lexists(out):
@@ -261,7 +261,7 @@ def replace_dir(out: Path, fill: Callable[[Path], None], what: str, replace: Cal
             shutil.rmtree(old, ignore_errors=True)
         else:
             _rename_noreplace(tmp, out)
-        _fsync(out.parent)
+        fsync_path(out.parent)
     except OSError as e:
         shutil.rmtree(tmp, ignore_errors=True)
         raise StorageError(f"Could not write {what} to {out}: {e.strerror or e}.") from None

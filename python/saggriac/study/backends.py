@@ -19,7 +19,7 @@ from ..errors import ParameterError
 from .spec import Task, run_task
 
 
-def _default_workers() -> int:
+def default_workers() -> int:
     # Honour CPU affinity (SLURM allocations, containers), where os.cpu_count() counts the node.
     if hasattr(os, "process_cpu_count"):
         return os.process_cpu_count() or 1
@@ -46,7 +46,7 @@ def _die_with_parent(parent_pid: int) -> None:
 COST_HINT = {"actuator_riac": 4.0, "actuator_random": 1.7}
 
 
-def _longest_first_by_seed(tasks: list[Task]) -> list[Task]:
+def longest_first_by_seed(tasks: list[Task]) -> list[Task]:
     """The tasks seed by seed (a partial study still compares conditions on the same seeds), the
     costliest first within a seed, so the last seed's long run does not start last and leave the
     other workers idle at the end."""
@@ -58,7 +58,7 @@ def _longest_first_by_seed(tasks: list[Task]) -> list[Task]:
     return sorted(tasks, key=lambda t: (seed_rank[t.seed], -cost(t)))
 
 
-def _run_local(tasks: list[Task], out: Path, n_workers: int, on_done: Callable[[Task, Any], None]) -> None:
+def run_local(tasks: list[Task], out: Path, n_workers: int, on_done: Callable[[Task, Any], None]) -> None:
     import concurrent.futures as cf
     import multiprocessing
 
@@ -73,7 +73,7 @@ def _run_local(tasks: list[Task], out: Path, n_workers: int, on_done: Callable[[
             raise
 
 
-def _import_distributed() -> Any:
+def import_distributed() -> Any:
     try:
         import distributed
     except ImportError as e:
@@ -88,7 +88,7 @@ def local_cluster(n_workers: int) -> Iterator[Any]:
     ``dashboard_address=None``, with a warning and another port if 8787 is taken); here it has no
     routes, listens on a free loopback port only while the cluster starts, and is then closed.
     Workers serve no routes either."""
-    distributed = _import_distributed()
+    distributed = import_distributed()
     import dask
 
     quiet = {"distributed.scheduler.http.routes": [], "distributed.worker.http.routes": []}
@@ -138,7 +138,7 @@ def _dask_client(distributed: Any, scheduler: Any, n_workers: int) -> Iterator[A
 SCHEDULER_TIMEOUT = 10
 
 
-def _check_scheduler(address: str) -> None:
+def check_scheduler(address: str) -> None:
     """Refuse, before anything is written, an address that is not one or a scheduler that does
     not answer within SCHEDULER_TIMEOUT seconds (Dask itself waits 30 s, then may hang on exit)."""
     import socket
@@ -248,8 +248,8 @@ def _wait_for_a_worker(client: Any, scheduler: Any, timeout: float) -> None:
         ) from None
 
 
-def _run_dask(tasks: list[Task], out: Path, n_workers: int, scheduler: Any, on_done: Callable[[Task, Any], None], worker_timeout: float = WORKER_TIMEOUT) -> None:
-    distributed = _import_distributed()
+def run_dask(tasks: list[Task], out: Path, n_workers: int, scheduler: Any, on_done: Callable[[Task, Any], None], worker_timeout: float = WORKER_TIMEOUT) -> None:
+    distributed = import_distributed()
     with _dask_client(distributed, scheduler, n_workers) as client:
         if scheduler is not None:
             _wait_for_a_worker(client, scheduler, worker_timeout)

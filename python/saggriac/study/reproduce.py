@@ -14,7 +14,7 @@ from ..analysis import plots, splits, statistics
 from ..config import CONDITIONS, PRESETS, Config
 from ..errors import InputError, ParameterError, StorageError
 from ..files import as_path, check_flag, write_file
-from ..reachable import ReachableSet
+from ..bodies.reachable import ReachableSet
 from ..runs.result import RunResult, run_stopped_early
 from ..runs.storage import read_manifest, signed_integers
 from . import IncompleteStudyWarning, Study, load_study, run_study

@@ -1,5 +1,5 @@
 """Teachers (goal selectors) on their own, ask/tell style: SAGG-RIAC and the field's other
-learning-progress teachers as curricula for any learner. ``saggriac.goal_selection`` is the same
+learning-progress teachers as curricula for any learner. ``saggriac.teachers`` is the same
 module under its former name.
 
     teacher = SaggRiacSelector(low=[0, 0], high=[1, 1], seed=0)

@@ -70,7 +70,7 @@ impl BodyParams {
         match (chain, body) {
             (Some(_), ArmKind::Chain) if link_lengths.is_some() => return Err(invalid("Run", "link_lengths", "not given with body 'chain' (the chain's geometry gives its links)", "a list")),
             (Some(flat), ArmKind::Chain) => arm = Chain::arm_config(ChainSpec::from_flat(&flat)?, arm),
-            (None, ArmKind::Chain) => return Err(invalid("Run", "chain", "the chain's geometry for body 'chain' (saggriac.mujoco_arm.MujocoArm.chain() gives it)", "None")),
+            (None, ArmKind::Chain) => return Err(invalid("Run", "chain", "the chain's geometry for body 'chain' (saggriac.bodies.mujoco_arm.MujocoArm.chain() gives it)", "None")),
             (Some(_), _) => return Err(invalid("Run", "chain", format!("None unless body is 'chain' (body is '{}')", body.name()), "a list")),
             (None, _) => {}
         }

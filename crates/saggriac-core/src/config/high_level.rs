@@ -131,8 +131,8 @@ impl Default for RegionTreeConfig {
 impl RegionTreeConfig {
     pub fn validate(&self) -> Result<()> {
         let c = Check { owner: "RegionTree" };
-        crate::config::teachers::check_int(&c, "g_max", self.g_max)?;
-        crate::config::teachers::check_int(&c, "zeta", self.zeta)?;
+        crate::config::rules::check_int(&c, "g_max", self.g_max)?;
+        crate::config::rules::check_int(&c, "zeta", self.zeta)?;
         c.at_least("min_child", self.min_child, 1)?;
         if 2 * self.min_child > self.g_max + 1 {
             return Err(invalid("RegionTree", "min_child", format!("an int with 2 * min_child <= g_max + 1 (g_max = {})", self.g_max), self.min_child));

@@ -7,6 +7,7 @@ pub mod evaluation;
 pub mod high_level;
 pub mod low_level;
 pub mod model;
+pub mod rules;
 pub mod teachers;
 
 pub use body::{ArmConfig, ArmKind, BodyChange};

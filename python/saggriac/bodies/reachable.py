@@ -17,8 +17,8 @@ from typing import Any
 
 import numpy as np
 
-from . import _core
-from .config import Config
+from .. import _core
+from ..config import Config
 
 #: Configurations sampled for a chain, and the grid's cells per axis.
 CHAIN_SAMPLES = 1_000_000

@@ -7,9 +7,9 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
-from . import _core
-from .errors import ParameterError
-from .values import plain
+from .. import _core
+from ..errors import ParameterError
+from ..values import plain
 
 
 class TeacherParams(Mapping):

@@ -1,7 +1,7 @@
 """saggriac and Gymnasium (the optional extra ``pip install "saggriac[gymnasium]"``).
 
-``import saggriac.gym`` registers saggriac's arms as goal-conditioned environments, so that
-``gymnasium.make("saggriac/PlanarArm-v0")`` works (``gymnasium.make("saggriac.gym:saggriac/PlanarArm-v0")``
+``import saggriac.adapters.gym`` registers saggriac's arms as goal-conditioned environments, so that
+``gymnasium.make("saggriac/PlanarArm-v0")`` works (``gymnasium.make("saggriac.adapters.gym:saggriac/PlanarArm-v0")``
 imports this module itself):
 
 * ``saggriac/PlanarArm-v0``: the paper's 15-joint planar arm, goals in the box around its reach;
@@ -19,7 +19,7 @@ from __future__ import annotations
 try:
     import gymnasium
 except ImportError:  # pragma: no cover - depends on the installation
-    raise ImportError('saggriac.gym needs Gymnasium: pip install "saggriac[gymnasium]"') from None
+    raise ImportError('saggriac.adapters.gym needs Gymnasium: pip install "saggriac[gymnasium]"') from None
 
 from .arm_env import GoalArmEnv
 from .body import GymBody
@@ -38,7 +38,7 @@ ENVIRONMENTS = {
 def _register() -> None:
     for env_id, kwargs in ENVIRONMENTS.items():
         if env_id not in gymnasium.registry:
-            gymnasium.register(env_id, entry_point="saggriac.gym.arm_env:GoalArmEnv", kwargs=kwargs, max_episode_steps=MAX_EPISODE_STEPS)
+            gymnasium.register(env_id, entry_point="saggriac.adapters.gym.arm_env:GoalArmEnv", kwargs=kwargs, max_episode_steps=MAX_EPISODE_STEPS)
 
 
 _register()

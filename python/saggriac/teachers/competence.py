@@ -12,9 +12,9 @@ from typing import Any
 
 import numpy as np
 
-from . import _core
-from .errors import InputError
-from .values import as_numbers
+from .. import _core
+from ..errors import InputError
+from ..values import as_numbers
 
 
 def competence(goal: Any, reached: Any, start: Any, *, min_c: float = -1.0, eps_c: float = -0.05, kind: str = "relative", reach: float | None = None) -> float | np.ndarray:

@@ -34,14 +34,14 @@ try:
     from syllabus.core import Curriculum, TaskWrapper
     from syllabus.task_space import BoxTaskSpace, DiscreteTaskSpace
 except ImportError:  # pragma: no cover - depends on the installation
-    raise ImportError('saggriac.syllabus needs Syllabus: pip install "saggriac[syllabus]"') from None
+    raise ImportError('saggriac.adapters.syllabus needs Syllabus: pip install "saggriac[syllabus]"') from None
 
 import numpy as np
 
-from .competence import competence as _competence
-from .errors import ConformanceError, InputError, ParameterError
-from .teachers import DiscreteLpSelector
-from .gym.goals import _check_goal_taken, _sample_batch
+from ..teachers.competence import competence as _competence
+from ..errors import ConformanceError, InputError, ParameterError
+from ..teachers import DiscreteLpSelector
+from .gym.goals import check_goal_taken, sample_batch
 
 COMPETENCES = ("progress", "return")
 
@@ -110,7 +110,7 @@ class SelectorCurriculum(Curriculum):
         """``k`` tasks from the teacher, as the task space encodes them."""
         if isinstance(k, bool) or not isinstance(k, (int, np.integer)) or k < 1:
             raise ParameterError(f"The 'k' parameter of SelectorCurriculum.sample must be an int >= 1. Got {k!r} instead.", "k", repr(k))
-        goals = _sample_batch(self.selector, int(k))
+        goals = sample_batch(self.selector, int(k))
         if self._discrete:
             return [int(g[0]) for g in goals]
         # The bounds are values of the Box's dtype and rounding is monotone, so a goal inside
@@ -184,7 +184,7 @@ class GoalTaskWrapper(TaskWrapper):
             options["goal"] = self.task
         obs, info = self.env.reset(options=options, **kwargs)
         if self.task is not None:
-            _check_goal_taken(self.task, obs, "GoalTaskWrapper", "reset(options={'goal': ...})")
+            check_goal_taken(self.task, obs, "GoalTaskWrapper", "reset(options={'goal': ...})")
         else:
             self.task = np.asarray(obs["desired_goal"], dtype=np.float64).copy()
         self._start = np.asarray(obs["achieved_goal"], dtype=np.float64).copy()

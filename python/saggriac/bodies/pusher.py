@@ -2,7 +2,7 @@
 presets run without those packages (and without any call into them per micro-action).
 
 ``PUSHER_CHAIN`` is the 7-joint arm of Gymnasium's MuJoCo Pusher (``pusher_v5.xml``, Gymnasium
-1.4.0), ``saggriac.mujoco_arm.pusher_chain()``: its shoulder at the origin and its
+1.4.0), ``saggriac.bodies.mujoco_arm.pusher_chain()``: its shoulder at the origin and its
 lengths scaled by ``PUSHER_SCALE`` so that it reaches 50, the length of the paper's arm, and every
 task-space parameter keeps the meaning it has for that arm (one unit is 0.821 / 50 m = 1.642 cm).
 One row per joint, from the shoulder to the wrist: the body's position and orientation

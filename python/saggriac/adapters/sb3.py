@@ -3,7 +3,7 @@ any vector environment SB3 trains on, ``SubprocVecEnv`` included.
 
 :class:`TeacherCallback` is an SB3 callback. It hands every sub-environment its next goal through
 ``VecEnv.env_method("set_next_goal", g)`` (saggriac's goal environments and
-:class:`saggriac.gym.GoalSlot` have it; else ``set_attr(goal_attr, g)``), read on reset, reads the end of each episode from the step's ``dones`` and
+:class:`saggriac.adapters.gym.GoalSlot` have it; else ``set_attr(goal_attr, g)``), read on reset, reads the end of each episode from the step's ``dones`` and
 ``infos``, checks that the environment pursued the goal it was given, and tells the teacher the
 episode's competence. A teacher captured by the workers instead would be copied into each of them
 and the one in the main process told nothing; saggriac's wrappers refuse such copies.
@@ -27,16 +27,16 @@ from typing import Any, Callable
 
 import numpy as np
 
-from .errors import ConformanceError, ParameterError
-from .files import check_flag
-from .gym.goals import _check_fits, _check_goal_shape, _check_goal_taken
-from .teachers import ownership
+from ..errors import ConformanceError, ParameterError
+from ..files import check_flag
+from .gym.goals import check_fits, check_goal_shape, check_goal_taken
+from ..teachers import ownership
 
 try:
     from stable_baselines3.common.callbacks import BaseCallback, CheckpointCallback
     from stable_baselines3.common.vec_env import VecEnvWrapper
 except ImportError as e:  # pragma: no cover - exercised without the extra
-    raise ImportError(f'saggriac.sb3 needs Stable-Baselines3, which is not installed ({e}). Install it with: pip install "saggriac[sb3]"') from e
+    raise ImportError(f'saggriac.adapters.sb3 needs Stable-Baselines3, which is not installed ({e}). Install it with: pip install "saggriac[sb3]"') from e
 
 COMPETENCES = ("success", "distance")
 
@@ -82,7 +82,7 @@ class TeacherCallback(BaseCallback):
     teachers that say, as saggriac's do) and ``teacher/regions`` (leaves of a region tree, for
     the teachers that have one). ``save_with`` takes SB3's ``CheckpointCallback``: the teacher is
     saved at each of its checkpoints, to :func:`teacher_path` of the model's file.
-    ``allow_copy`` is :class:`saggriac.gym.SelectorGoals`'s."""
+    ``allow_copy`` is :class:`saggriac.adapters.gym.SelectorGoals`'s."""
 
     def __init__(self, teacher: Any, competence: str | Callable[[dict[str, Any]], float] = "success", goal_attr: str = "next_goal", verbose: int = 0, *, save_with: CheckpointCallback | None = None, allow_copy: bool = False) -> None:
         super().__init__(verbose)
@@ -119,7 +119,7 @@ class TeacherCallback(BaseCallback):
         return float(bool(info[key])) if key == "is_success" else -float(info[key])
 
     def _hand_out(self, i: int) -> None:
-        goal = _check_goal_shape(np.asarray(self.teacher.sample(), dtype=np.float64), self.training_env.observation_space["desired_goal"], "TeacherCallback")
+        goal = check_goal_shape(np.asarray(self.teacher.sample(), dtype=np.float64), self.training_env.observation_space["desired_goal"], "TeacherCallback")
         self.asked += 1
         mode = getattr(self.teacher, "last_mode", None)
         if isinstance(mode, str):
@@ -137,10 +137,10 @@ class TeacherCallback(BaseCallback):
         env = self.training_env
         if "desired_goal" not in getattr(env.observation_space, "spaces", {}):
             raise ConformanceError(f"TeacherCallback needs a goal-conditioned environment: a Dict observation space with 'desired_goal'; got {env.observation_space}.")
-        _check_fits(self.teacher, env.observation_space["desired_goal"], "TeacherCallback")
+        check_fits(self.teacher, env.observation_space["desired_goal"], "TeacherCallback")
         self._by_method = self.goal_attr == "next_goal" and env.has_attr("set_next_goal")
         if not (self._by_method or env.has_attr(self.goal_attr)):
-            raise ConformanceError(f"The environments have no '{self.goal_attr}' attribute to take their next goal from; wrap each in saggriac.gym.GoalSlot (it reads it on reset and passes options={{'goal': ...}}).")
+            raise ConformanceError(f"The environments have no '{self.goal_attr}' attribute to take their next goal from; wrap each in saggriac.adapters.gym.GoalSlot (it reads it on reset and passes options={{'goal': ...}}).")
         n = env.num_envs
         self._queued = [np.empty(0)] * n
         self._current = [None] * n
@@ -166,7 +166,7 @@ class TeacherCallback(BaseCallback):
             # The sub-environment has already reset, with the goal queued for it.
             self._current[i] = self._queued[i]
             if raw is not None:
-                _check_goal_taken(self._queued[i], {"desired_goal": np.asarray(raw["desired_goal"])[i]}, f"TeacherCallback (sub-environment {i})", self._route + how)
+                check_goal_taken(self._queued[i], {"desired_goal": np.asarray(raw["desired_goal"])[i]}, f"TeacherCallback (sub-environment {i})", self._route + how)
             self._hand_out(i)
         self.logger.record("teacher/asked", self.asked)
         self.logger.record("teacher/told", len(self.history))

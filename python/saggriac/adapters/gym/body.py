@@ -1,4 +1,4 @@
-"""Any Gymnasium environment as a saggriac body (the protocol of ``saggriac.environments``).
+"""Any Gymnasium environment as a saggriac body (the protocol of ``saggriac.bodies.environments``).
 
 saggriac's learner needs joint angles, the end effector's position and a way to change the
 joints by a small amount. A Gymnasium environment has observations and actions of its own
@@ -18,7 +18,7 @@ meaning, so :class:`GymBody` is told how to read and how to move:
   ``options={"theta": theta}``.
 
 ``reach`` (optional): the radius of the ball about the origin the end effector reaches, if you
-know it; else saggriac measures the body before a run (saggriac.scale).
+know it; else saggriac measures the body before a run (saggriac.bodies.scale).
 
 Joint limits must be symmetric and equal, ``[-joint_limit, joint_limit]`` (the core's rule);
 map other ranges in ``theta`` and ``set_joints``/``place``. Episode ends (terminated, truncated) are ignored: saggriac's learning is one long life.
@@ -31,9 +31,9 @@ from typing import Any, Callable
 
 import numpy as np
 
-from ..environments import Box, joint_step, joint_vector
+from ...bodies.environments import Box, joint_step, joint_vector
 from .arm_env import within_limits
-from ..errors import InputError, ParameterError
+from ...errors import InputError, ParameterError
 
 Reader = Callable[[Any, Any], Any]
 
@@ -66,7 +66,7 @@ class GymBody:
                 raise ParameterError(f"The '{name}' parameter of GymBody must be a finite number > 0. Got {v!r} instead.", name, repr(v))
         if reach is not None and (isinstance(reach, bool) or not isinstance(reach, (int, float)) or not math.isfinite(reach) or reach <= 0):
             raise ParameterError(f"The 'reach' parameter of GymBody must be a finite number > 0 or None (measured). Got {reach!r} instead.", "reach", repr(reach))
-        # Declared only when given: saggriac.scale measures a body without the attribute.
+        # Declared only when given: saggriac.bodies.scale measures a body without the attribute.
         if reach is not None:
             self.reach = float(reach)
         self.env = env

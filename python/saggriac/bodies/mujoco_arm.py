@@ -21,13 +21,13 @@ from typing import Any
 import numpy as np
 
 from .environments import Box, joint_step, joint_vector
-from .errors import ParameterError
-from .files import check_flag
+from ..errors import ParameterError
+from ..files import check_flag
 
 try:
     import mujoco
 except ImportError:  # pragma: no cover - depends on the installation
-    raise ImportError('saggriac.mujoco_arm needs MuJoCo: pip install "saggriac[mujoco]"') from None
+    raise ImportError('saggriac.bodies.mujoco_arm needs MuJoCo: pip install "saggriac[mujoco]"') from None
 
 PUSHER_JOINTS = ("r_shoulder_pan_joint", "r_shoulder_lift_joint", "r_upper_arm_roll_joint", "r_elbow_flex_joint", "r_forearm_roll_joint", "r_wrist_flex_joint", "r_wrist_roll_joint")
 
@@ -232,7 +232,7 @@ def pusher_arm(max_joint_step: float = 0.02) -> MujocoArm:
 def pusher_chain() -> tuple[float, ...]:
     """The Pusher's arm as the ``pusher`` preset's native chain (``saggriac.bodies.PUSHER_CHAIN``):
     shoulder at the origin, scaled to reach 50."""
-    from .bodies import PUSHER_SCALE
+    from .pusher import PUSHER_SCALE
 
     return pusher_arm().chain(scale=PUSHER_SCALE, at_origin=True)
 

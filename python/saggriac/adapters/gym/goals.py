@@ -24,10 +24,10 @@ from typing import Any
 import gymnasium
 import numpy as np
 
-from ..competence import competence
-from ..errors import ConformanceError, ParameterError
-from ..files import check_flag
-from ..teachers import ownership
+from ...teachers.competence import competence
+from ...errors import ConformanceError, ParameterError
+from ...files import check_flag
+from ...teachers import ownership
 
 GOAL_VIA = ("options", "observation")
 
@@ -43,7 +43,7 @@ class _Scoring:
         return competence(goal, reached, start, **self.kw)
 
 
-def _check_goal_taken(wanted: np.ndarray, obs: dict[str, Any], owner: str, how: str) -> None:
+def check_goal_taken(wanted: np.ndarray, obs: dict[str, Any], owner: str, how: str) -> None:
     """The environment must pursue the goal it was given: its desired_goal after the reset."""
     got = np.asarray(obs["desired_goal"], dtype=np.float64)
     if got.shape != wanted.shape or not np.allclose(got, wanted, rtol=1e-6, atol=1e-6 * (1.0 + float(np.max(np.abs(wanted))))):
@@ -60,7 +60,7 @@ def _check_goal_space(space: Any, owner: str) -> None:
         raise ConformanceError(f"{owner} needs a goal-conditioned environment: a Dict observation space with 'achieved_goal' and 'desired_goal'; got {space}.")
 
 
-def _check_fits(teacher: Any, goal_space: Any, owner: str) -> None:
+def check_fits(teacher: Any, goal_space: Any, owner: str) -> None:
     """A teacher's goal box must have the environment's goal dimension and lie within its
     desired_goal bounds (where they are finite): found before training, not as a numpy
     traceback or an environment's refusal at some later reset."""
@@ -77,7 +77,7 @@ def _check_fits(teacher: Any, goal_space: Any, owner: str) -> None:
         raise ParameterError(f"{owner}: the teacher's goal box {low.tolist()} to {high.tolist()} leaves the environment's desired_goal bounds {env_low.tolist()} to {env_high.tolist()} (dimension(s) {np.flatnonzero(outside).tolist()}): the environment would refuse or clip such goals. Give the teacher a box within those bounds.", "teacher", repr(teacher))
 
 
-def _check_goal_shape(goal: np.ndarray, goal_space: Any, owner: str) -> np.ndarray:
+def check_goal_shape(goal: np.ndarray, goal_space: Any, owner: str) -> np.ndarray:
     """One goal handed out: the environment's goal shape, finite."""
     if goal.shape != tuple(goal_space.shape) or not np.all(np.isfinite(goal)):
         raise ConformanceError(f"{owner}: the teacher's sample() gave {goal.tolist()!r}, and the environment's goals are {tuple(goal_space.shape)} finite floats.")
@@ -132,7 +132,7 @@ def _success_for_teacher(info: dict[str, Any], rule: Any, achieved: np.ndarray, 
     return info
 
 
-def _sample_batch(selector: Any, n: int) -> np.ndarray:
+def sample_batch(selector: Any, n: int) -> np.ndarray:
     if hasattr(selector, "sample_batch"):
         return np.asarray(selector.sample_batch(n), dtype=np.float64)
     return np.array([np.asarray(selector.sample(), dtype=np.float64) for _ in range(n)])
@@ -168,7 +168,7 @@ class SelectorGoals(gymnasium.Wrapper):
             raise ConformanceError(f"SelectorGoals needs a selector with sample() and update(goal, competence); got {selector!r}.")
         check_flag(allow_copy, "allow_copy", "SelectorGoals")
         ownership.claim(selector, "SelectorGoals", allow_copy)
-        _check_fits(selector, env.observation_space["desired_goal"], "SelectorGoals")
+        check_fits(selector, env.observation_space["desired_goal"], "SelectorGoals")
         self.selector, self.goal_via, self.allow_copy = selector, goal_via, allow_copy
         self._score = _Scoring(min_c, eps_c, competence, reach)
         self._success = _success_rule(success, env, "SelectorGoals") if goal_via == "observation" else False
@@ -184,12 +184,12 @@ class SelectorGoals(gymnasium.Wrapper):
 
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None) -> tuple[Any, dict[str, Any]]:
         ownership.claim(self.selector, "SelectorGoals", self.allow_copy)
-        self._goal = _check_goal_shape(np.asarray(self.selector.sample(), dtype=np.float64), self.observation_space["desired_goal"], "SelectorGoals")
+        self._goal = check_goal_shape(np.asarray(self.selector.sample(), dtype=np.float64), self.observation_space["desired_goal"], "SelectorGoals")
         if self.goal_via == "options":
             options = {**(options or {}), "goal": self._goal}
         obs, info = self.env.reset(seed=seed, options=options)
         if self.goal_via == "options":
-            _check_goal_taken(self._goal, obs, "SelectorGoals", "reset(options={'goal': ...})")
+            check_goal_taken(self._goal, obs, "SelectorGoals", "reset(options={'goal': ...})")
         self._start = np.asarray(obs["achieved_goal"], dtype=np.float64).copy()
         self._open = True
         if self.goal_via == "observation":
@@ -249,7 +249,7 @@ class VectorSelectorGoals(gymnasium.vector.VectorWrapper):
             raise ConformanceError(f"VectorSelectorGoals needs a selector with sample() and update(goal, competence); got {selector!r}.")
         check_flag(allow_copy, "allow_copy", "VectorSelectorGoals")
         ownership.claim(selector, "VectorSelectorGoals", allow_copy)
-        _check_fits(selector, env.single_observation_space["desired_goal"], "VectorSelectorGoals")
+        check_fits(selector, env.single_observation_space["desired_goal"], "VectorSelectorGoals")
         self.selector, self.allow_copy = selector, allow_copy
         self._score = _Scoring(min_c, eps_c, competence, reach)
         n = env.num_envs
@@ -260,10 +260,10 @@ class VectorSelectorGoals(gymnasium.vector.VectorWrapper):
     def _hand_out(self, which: np.ndarray) -> None:
         """New goals for the sub-environments ``which``, read on their next reset."""
         ownership.claim(self.selector, "VectorSelectorGoals", self.allow_copy)
-        new = _sample_batch(self.selector, int(which.sum()))
+        new = sample_batch(self.selector, int(which.sum()))
         space = self.env.single_observation_space["desired_goal"]
         for g in new:
-            _check_goal_shape(g, space, "VectorSelectorGoals")
+            check_goal_shape(g, space, "VectorSelectorGoals")
         self._goals[which] = new
         values: list[Any] = [None] * self.num_envs
         for i, g in zip(np.flatnonzero(which), new):
@@ -280,7 +280,7 @@ class VectorSelectorGoals(gymnasium.vector.VectorWrapper):
 
     def _check_taken(self, obs: dict[str, Any], which: np.ndarray) -> None:
         for i in np.flatnonzero(which):
-            _check_goal_taken(self._goals[i], {"desired_goal": np.asarray(obs["desired_goal"])[i]}, f"VectorSelectorGoals (sub-environment {i})", "set_attr('next_goal', ...)")
+            check_goal_taken(self._goals[i], {"desired_goal": np.asarray(obs["desired_goal"])[i]}, f"VectorSelectorGoals (sub-environment {i})", "set_attr('next_goal', ...)")
 
     def step(self, actions: Any) -> tuple[Any, Any, Any, Any, dict[str, Any]]:
         obs, reward, terminated, truncated, info = self.env.step(actions)

@@ -20,9 +20,9 @@ import gymnasium
 import numpy as np
 from gymnasium import spaces
 
-from ..environments import PlanarArm, SpatialArm
-from ..errors import InputError, ParameterError
-from ..values import as_numbers
+from ...bodies.environments import PlanarArm, SpatialArm
+from ...errors import InputError, ParameterError
+from ...values import as_numbers
 
 BODIES = {"planar_arm": PlanarArm, "spatial_arm": SpatialArm}
 REWARDS = ("sparse", "dense")

@@ -23,8 +23,8 @@ from typing import Any, Protocol, runtime_checkable
 
 import numpy as np
 
-from .errors import InputError, ParameterError
-from .values import as_numbers
+from ..errors import InputError, ParameterError
+from ..values import as_numbers
 
 
 class Box:
@@ -126,7 +126,7 @@ class _SerialArm:
     def reach(self) -> float:
         """The radius of the ball about the origin (the base) that the arm reaches, as
         ``Config.reach`` gives it: a run scales its length parameters and places its test goals
-        by it (saggriac.scale)."""
+        by it (saggriac.bodies.scale)."""
         return self._reach
 
     def forward(self, theta: Any) -> np.ndarray:

@@ -2,7 +2,7 @@
 
 saggriac's own arms know their reach (the ball of that radius about the origin, their base). A
 body that declares ``reach`` (a float > 0: the radius of the ball about the origin it reaches,
-as :class:`saggriac.environments.PlanarArm` does) is taken at its word. Any other body is
+as :class:`saggriac.bodies.environments.PlanarArm` does) is taken at its word. Any other body is
 measured: it is placed at :data:`CLOUD_SIZE` configurations drawn uniformly in its joint space
 (one fixed generator, so the measure is the body's, not the run's), and
 
@@ -33,9 +33,9 @@ from typing import Any
 
 import numpy as np
 
-from .config import REACH_RULE, reach_ok
-from .errors import ConformanceError
-from .seeding import FIXED
+from ..config import REACH_RULE, reach_ok
+from ..errors import ConformanceError
+from ..seeding import FIXED
 
 #: Placements made to measure a body without a declared reach.
 CLOUD_SIZE = 10_000

@@ -26,7 +26,7 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from .errors import ParameterError
+from ..errors import ParameterError
 
 #: Eight niches in a snake from the bottom left, four noisy cells and four impossible ones.
 LAYOUT = (
