@@ -4,6 +4,7 @@ subpackages under a small top level, no import circle among saggriac's modules, 
 mapping that warns (nothing in the package imports through them)."""
 
 import ast
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -163,3 +164,12 @@ def test_the_docs_index_lists_every_page():
     index = (docs / "README.md").read_text()
     pages = sorted(p.name for p in docs.glob("*.md") if p.name != "README.md")
     assert [p for p in pages if f"]({p})" not in index] == []
+
+
+def test_nothing_cites_a_spec_the_repository_does_not_hold():
+    """The project's reading of the paper is in its own docs; a citation of a SPEC.md that is not
+    in the repository sends a reader nowhere (issue 34, item 5)."""
+    root = Path(__file__).resolve().parent.parent
+    files = [*(root / "python").rglob("*.py"), *(root / "crates").rglob("*.rs"), *(root / "docs").glob("*.md"), *(root / "tests").rglob("*.py"), root / "README.md"]
+    found = [str(f.relative_to(root)) for f in files if f.name != "test_layout.py" and re.search(r"\bSPEC\b", f.read_text(errors="replace"))]
+    assert files and found == []

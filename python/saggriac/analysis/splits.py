@@ -1,5 +1,5 @@
-"""The null model of Fig. 3's "regions split in the reachable area first" (SPEC "What every run
-and study reports"): where SAGG-RIAC's tree splits, against where the same tree splits when it is
+"""The null model of Fig. 3's "regions split in the reachable area first" (docs/reproduction.md, "Fig. 3: where
+SAGG-RIAC's goals and splits go"): where SAGG-RIAC's tree splits, against where the same tree splits when it is
 fed the measurements of SAGG-Random, which chose its goals without looking at the tree.
 
 Big regions nearly always meet the reachable area, so a share of splits "in" it means little

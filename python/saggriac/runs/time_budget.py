@@ -1,4 +1,4 @@
-"""Where a run's time went (SPEC "What every run and study reports"): micro-actions by kind,
+"""Where a run's time went (docs/reproduction.md, "What is measured"): micro-actions by kind,
 goals attempted, steps per goal inside and outside the reachable area, and the share of time by
 goal-selection mode. Written into run.json as ``time_budget`` and summed up by ``reproduce``.
 

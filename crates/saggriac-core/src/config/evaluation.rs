@@ -2,7 +2,7 @@
 
 use crate::error::{invalid, Check, Result};
 
-/// Where the forward model is tested (SPEC "Evaluation").
+/// Where the forward model is tested (docs/reproduction.md, "What is measured").
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum TestConfigs {

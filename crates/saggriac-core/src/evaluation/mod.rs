@@ -1,4 +1,4 @@
-//! Evaluation (SPEC.md "Evaluation"): reaching error of the learnt inverse model on fixed test
+//! Evaluation (docs/reproduction.md, "What is measured"): reaching error of the learnt inverse model on fixed test
 //! goals, and prediction error of the learnt forward model on fixed test configurations. It gets
 //! the model as a `ModelView` (shared references only: it cannot write what was learnt) and its
 //! micro-actions run on a scratch copy of the body, so evaluation neither counts as time nor
