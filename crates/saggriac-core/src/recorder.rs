@@ -6,6 +6,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::high_level::goal_selection::Mode;
 use crate::task_space::Point;
+pub use crate::timers::Timers;
 
 /// One evaluation point of the learning curve.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -57,16 +58,6 @@ pub struct Counters {
     pub explorations: u64,
     pub fit_failures: u64,
     pub test_steps: u64,
-}
-
-/// Wall time spent in each part, in seconds.
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
-pub struct Timers {
-    pub knn: f64,
-    pub fit: f64,
-    pub goal_selection: f64,
-    pub evaluation: f64,
-    pub total: f64,
 }
 
 /// The rows, counters, timers and clock of one run. A checkpoint keeps all of it but the

@@ -14,7 +14,8 @@ use saggriac_core::high_level::teachers::alp_gmm::AlpGmmConfig;
 use saggriac_core::high_level::teachers::covar_gmm::CovarGmmConfig;
 use saggriac_core::high_level::teachers::discrete_lp::DiscreteLpConfig;
 use saggriac_core::high_level::teachers::riac::RiacConfig;
-use saggriac_core::high_level::teachers::TeacherSpec;
+use saggriac_core::config::teachers::{RandomConfig, SaggRiacConfig};
+use saggriac_core::high_level::teachers::{Teacher, TeacherSpec};
 use saggriac_core::rng::{rng_from_seed, uniform};
 
 fn spec() -> impl Strategy<Value = TeacherSpec> {
@@ -40,12 +41,12 @@ fn spec() -> impl Strategy<Value = TeacherSpec> {
         bootstrap,
     });
     (bounds, tree, riac, lp, mixture, any::<bool>(), any::<u64>(), 0usize..6).prop_map(|((low, high), tree, riac, lp, mixture, absolute_lp, seed, kind)| match kind {
-        0 => TeacherSpec::SaggRiac { low, high, tree, modes: ModeProbabilities::default(), seed },
-        1 => TeacherSpec::Random { low, high, seed },
-        2 => TeacherSpec::Riac { low, high, cfg: riac, seed },
-        3 => TeacherSpec::DiscreteLp { cfg: lp, seed },
-        4 => TeacherSpec::AlpGmm { low, high, cfg: mixture, seed },
-        _ => TeacherSpec::CovarGmm { low, high, cfg: CovarGmmConfig { mixture, absolute_lp }, seed },
+        0 => TeacherSpec { teacher: Teacher::SaggRiac(SaggRiacConfig { tree, modes: ModeProbabilities::default() }), low, high, seed },
+        1 => TeacherSpec { teacher: Teacher::Random(RandomConfig {}), low, high, seed },
+        2 => TeacherSpec { teacher: Teacher::Riac(riac), low, high, seed },
+        3 => TeacherSpec { teacher: Teacher::DiscreteLp(lp), low: Vec::new(), high: Vec::new(), seed },
+        4 => TeacherSpec { teacher: Teacher::AlpGmm(mixture), low, high, seed },
+        _ => TeacherSpec { teacher: Teacher::CovarGmm(CovarGmmConfig { mixture, absolute_lp }), low, high, seed },
     })
 }
 
@@ -64,7 +65,7 @@ fn run_case(spec: TeacherSpec, before: usize, after: usize, batch: bool, seed: u
     let mut a = AskTell::new(spec.clone()).map_err(|e| TestCaseError::fail(e.to_string()))?;
     let mut rng = rng_from_seed(seed);
     let d = a.dim();
-    let success = matches!(spec, TeacherSpec::DiscreteLp { .. });
+    let success = matches!(spec.teacher, Teacher::DiscreteLp(_));
     let (low, high) = (a.selector().low().to_vec(), a.selector().high().to_vec());
     let step = |t: &mut AskTell, rng: &mut saggriac_core::rng::CoreRng| -> Vec<f64> {
         let g = t.sample().goal;

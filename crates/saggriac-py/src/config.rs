@@ -7,14 +7,14 @@ use saggriac_core::body::arm::{ArmConfig, ArmKind};
 use saggriac_core::body::chain::{Chain, ChainSpec};
 use saggriac_core::config::body::{DEFAULT_ARM_LENGTH, MAX_JOINTS};
 use saggriac_core::config::evaluation::TestConfigs;
-use saggriac_core::config::high_level::{CompetenceKind, InterestDivisor, Teacher};
-use saggriac_core::config::teachers::{AlpGmmConfig, CovarGmmConfig, RiacConfig};
+use saggriac_core::config::high_level::{CompetenceKind, InterestDivisor};
+use saggriac_core::config::teachers::Teacher;
 use saggriac_core::config::Paradigm;
 use saggriac_core::error::invalid;
 use saggriac_core::model::memory::IndexKind;
 use saggriac_core::{Condition, Error, RunConfig};
 
-use crate::errors::to_py;
+use crate::errors::{to_py, wrap};
 
 /// The keys `run_config_from_dict` understands (kept in the order of the parameters page).
 #[rustfmt::skip]
@@ -36,7 +36,7 @@ pub fn in_config_terms(e: Error) -> Error {
                 // An argument of saggriac.run, not a Config key.
                 return Error::InvalidParameter { owner: "run", param, rule, value };
             }
-            if matches!(owner, "RiacSelector" | "AlpGmmSelector" | "CovarGmmSelector") {
+            if owner.ends_with("Selector") {
                 // A rule of the teacher chosen by `teacher`, set through `teacher_params`.
                 return Error::InvalidParameter { owner: "Config", param: format!("teacher_params.{param}"), rule, value };
             }
@@ -136,12 +136,29 @@ pub fn parse_config(d: &Bound<'_, PyDict>) -> PyResult<RunConfig> {
     c.local.bandwidth = get(d, "bandwidth", c.local.bandwidth, "a float")?;
     c.competence.min_c = get(d, "min_c", c.competence.min_c, "a float")?;
     c.competence.eps_c = get(d, "eps_c", c.competence.eps_c, "a float")?;
-    let teacher: String = get(d, "teacher", c.teacher.name().to_string(), "a str")?;
-    c.teacher = Teacher::parse(&teacher).map_err(|e| to_py(py, in_config_terms(e)))?;
-    if let Some(params) = d.get_item("teacher_params")?.filter(|p| !p.is_none()) {
-        let params = params.cast::<PyDict>().map_err(|_| to_py(py, invalid("Config", "teacher_params", "a dict of the teacher's parameters", "not a dict")))?;
-        c.teacher = teacher_with(c.teacher, params)?;
-    }
+    let teacher: String = get(d, "teacher", "own".to_string(), "a str")?;
+    let params = match d.get_item("teacher_params")?.filter(|p| !p.is_none()) {
+        Some(p) => Some(p.cast_into::<PyDict>().map_err(|_| to_py(py, invalid("Config", "teacher_params", "a dict of the teacher's parameters", "not a dict")))?),
+        None => None,
+    };
+    c.teacher = match teacher.as_str() {
+        "own" => match params.filter(|p| !p.is_empty()) {
+            None => None,
+            Some(p) => {
+                let own: Vec<String> = crate::teachers::params(py, &Teacher::SaggRiac(Default::default()))?.keys().iter().map(|k| k.to_string()).collect();
+                let rule = format!("empty with teacher 'own' (SAGG-RIAC's own high level is set by {})", own.join(", "));
+                let key = p.keys().get_item(0).map(|k| k.to_string()).unwrap_or_default();
+                return Err(to_py(py, invalid("Config", "teacher_params", rule, format!("a dict with key '{key}'"))));
+            }
+        },
+        kind => {
+            let default = Teacher::parse("Config", "teacher", kind).map_err(|e| match e {
+                Error::InvalidParameter { owner, param, rule, value } => Error::InvalidParameter { owner, param, rule: rule.replacen("one of ", "one of 'own', ", 1), value },
+                other => other,
+            });
+            Some(crate::teachers::teacher(py, wrap(py, default)?, params.as_ref(), "Config", "teacher_params", "teacher_params.")?)
+        }
+    };
     let kind: String = get(d, "competence", c.competence.kind.name().to_string(), "a str")?;
     c.competence.kind = CompetenceKind::parse(&kind).ok_or_else(|| to_py(py, invalid("Config", "competence", "one of 'relative', 'absolute'", format!("'{kind}'"))))?;
     c.tree.g_max = get(d, "g_max", c.tree.g_max, "an int >= 2")?;
@@ -174,53 +191,6 @@ pub fn parse_config(d: &Bound<'_, PyDict>) -> PyResult<RunConfig> {
     c.episodic.refine = get(d, "episodic_refine", c.episodic.refine, "a bool")?;
     c.episodic.k_refine = get(d, "episodic_k", c.episodic.k_refine, "an int >= 1")?;
     Ok(c)
-}
-
-/// `teacher` with the parameters `params` names (the others keep their papers' defaults).
-fn teacher_with(teacher: Teacher, params: &Bound<'_, PyDict>) -> PyResult<Teacher> {
-    let py = params.py();
-    let names: &[&str] = match teacher {
-        Teacher::Own => &[],
-        Teacher::Riac(_) => &["max_region_size", "split_attempts", "min_child_share", "min_dims_range_ratio", "p_alp", "p_random"],
-        Teacher::AlpGmm(_) => &["fit_rate", "max_components", "random_task_ratio", "bootstrap"],
-        Teacher::CovarGmm(_) => &["fit_rate", "max_components", "random_task_ratio", "bootstrap", "absolute_lp"],
-    };
-    let mut t = teacher;
-    for (k, v) in params.iter() {
-        let key: String = k.extract().map_err(|_| to_py(py, invalid("Config", "teacher_params", "a dict with str keys", "a key that is not a str")))?;
-        if !names.contains(&key.as_str()) {
-            let rule = match teacher {
-                Teacher::Own => "empty with teacher 'own' (SAGG-RIAC's own high level is set by g_max, zeta, min_child, interest_divisor, p_interest, p_global, p_lowest)".to_string(),
-                _ => format!("a dict of the '{}' teacher's parameters (those of saggriac.{}: {})", teacher.name(), teacher.class(), names.join(", ")),
-            };
-            return Err(to_py(py, invalid("Config", "teacher_params", rule, format!("a dict with key '{key}'"))));
-        }
-        let name = format!("teacher_params.{key}");
-        let shown = || v.repr().map(|r| r.to_string()).unwrap_or_else(|_| "?".into());
-        let wrong = |kind: &str| to_py(py, invalid("Config", &name, kind, shown()));
-        // A bool is an int to Python: refused where a number is meant, the only place it is meant.
-        let is_bool = v.is_instance_of::<pyo3::types::PyBool>();
-        let int = || if is_bool { Err(wrong("an int")) } else { v.extract::<usize>().map_err(|_| wrong("an int >= 0")) };
-        let float = || if is_bool { Err(wrong("a float")) } else { v.extract::<f64>().map_err(|_| wrong("a float")) };
-        match (&mut t, key.as_str()) {
-            (Teacher::Riac(c), "max_region_size") => c.max_region_size = int()?,
-            (Teacher::Riac(c), "split_attempts") => c.split_attempts = int()?,
-            (Teacher::Riac(c), "min_child_share") => c.min_child_share = float()?,
-            (Teacher::Riac(c), "min_dims_range_ratio") => c.min_dims_range_ratio = float()?,
-            (Teacher::Riac(c), "p_alp") => c.p_alp = float()?,
-            (Teacher::Riac(c), "p_random") => c.p_random = float()?,
-            (Teacher::CovarGmm(c), "absolute_lp") => c.absolute_lp = if is_bool { v.extract()? } else { return Err(wrong("a bool")) },
-            (Teacher::AlpGmm(m) | Teacher::CovarGmm(CovarGmmConfig { mixture: m, .. }), key) => match key {
-                "fit_rate" => m.fit_rate = int()?,
-                "max_components" => m.max_components = int()?,
-                "random_task_ratio" => m.random_task_ratio = float()?,
-                "bootstrap" => m.bootstrap = int()?,
-                _ => unreachable!("absolute_lp is set above"),
-            },
-            _ => unreachable!("every name of `names` is set above"),
-        }
-    }
-    Ok(t)
 }
 
 /// The core's default configuration in `Config`'s flat terms: the one declaration of every
@@ -267,7 +237,7 @@ pub fn defaults(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
     d.set_item("p_global", c.modes.p_global)?;
     d.set_item("p_lowest", c.modes.p_lowest)?;
     d.set_item("reset_every", c.reset_every)?;
-    d.set_item("teacher", c.teacher.name())?;
+    d.set_item("teacher", c.teacher.map(|t| t.kind()).unwrap_or("own"))?;
     d.set_item("teacher_params", PyDict::new(py))?;
     let e = &c.eval;
     d.set_item("n_test_goals", e.n_test_goals)?;
@@ -288,33 +258,4 @@ pub fn defaults(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
     d.set_item("episodic_refine", c.episodic.refine)?;
     d.set_item("episodic_k", c.episodic.k_refine)?;
     Ok(d)
-}
-
-/// The default parameters of the teachers a run can take (`teacher_params`), by teacher: the
-/// defaults of saggriac.RiacSelector, AlpGmmSelector and CovarGmmSelector.
-pub fn teacher_defaults(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
-    let out = PyDict::new(py);
-    let r = RiacConfig::default();
-    let d = PyDict::new(py);
-    d.set_item("max_region_size", r.max_region_size)?;
-    d.set_item("split_attempts", r.split_attempts)?;
-    d.set_item("min_child_share", r.min_child_share)?;
-    d.set_item("min_dims_range_ratio", r.min_dims_range_ratio)?;
-    d.set_item("p_alp", r.p_alp)?;
-    d.set_item("p_random", r.p_random)?;
-    out.set_item("riac", d)?;
-    let mixture = |m: AlpGmmConfig| -> PyResult<Bound<'_, PyDict>> {
-        let d = PyDict::new(py);
-        d.set_item("fit_rate", m.fit_rate)?;
-        d.set_item("max_components", m.max_components)?;
-        d.set_item("random_task_ratio", m.random_task_ratio)?;
-        d.set_item("bootstrap", m.bootstrap)?;
-        Ok(d)
-    };
-    out.set_item("alp_gmm", mixture(AlpGmmConfig::default())?)?;
-    let c = CovarGmmConfig::default();
-    let d = mixture(c.mixture)?;
-    d.set_item("absolute_lp", c.absolute_lp)?;
-    out.set_item("covar_gmm", d)?;
-    Ok(out)
 }

@@ -17,6 +17,7 @@ mod gmm;
 mod goal_selection;
 mod recorder;
 mod run_loop;
+mod teachers;
 mod values;
 
 /// validate_config(config: dict) -> None: raise ParameterError if any parameter breaks a rule.
@@ -41,7 +42,7 @@ fn config_defaults(py: Python<'_>) -> PyResult<Bound<'_, pyo3::types::PyDict>> {
 /// teacher_defaults() -> dict: the default parameters of each teacher a run can take.
 #[pyfunction]
 fn teacher_defaults(py: Python<'_>) -> PyResult<Bound<'_, pyo3::types::PyDict>> {
-    config::teacher_defaults(py)
+    teachers::defaults(py)
 }
 
 /// child_seed(parent, stream) -> int: the core's seed of one component (SplitMix64 mixing; stream

@@ -26,10 +26,10 @@ from ..files import MAX_TEACHER_BYTES, as_path, check_flag, read_bounded, starts
 from ..values import as_numbers as _numbers
 from . import ownership
 
-# Every default below is the core's (one declaration): SAGG-RIAC's are the run's, the others'
-# those of the teachers a run can take.
-_RUN = _core.config_defaults()
-_RIAC, _ALP, _COVAR = (_core.teacher_defaults()[k] for k in ("riac", "alp_gmm", "covar_gmm"))
+# Every teacher's parameters and defaults are the core's (one declaration): each class below
+# takes exactly those of its kind, with those defaults (tests/core/test_stub.py checks it).
+_DEFAULTS: dict[str, dict[str, Any]] = _core.teacher_defaults()
+_SAGG, _RIAC, _DLP, _ALP, _COVAR = (_DEFAULTS[k] for k in ("sagg_riac", "riac", "discrete_lp", "alp_gmm", "covar_gmm"))
 
 #: The first bytes of a teacher saved by ``save(path)``.
 MAGIC = b"saggriac-teacher\n"
@@ -74,6 +74,20 @@ def _float_param(owner: str, name: str, value: Any) -> float:
     return float(value)
 
 
+def _typed(owner: str, name: str, value: Any, default: Any) -> Any:
+    """``value`` as the type of the parameter's default: numpy scalars taken, floats and bools
+    never taken for ints (the core checks each parameter's own rule)."""
+    if isinstance(default, bool):
+        return check_flag(value, name, owner)
+    if isinstance(default, int):
+        return _int_param(owner, name, value, 0, 2**63)
+    if isinstance(default, float):
+        return _float_param(owner, name, value)
+    if not isinstance(value, str):
+        raise ParameterError(f"The '{name}' parameter of {owner} must be a str. Got {value!r} instead.", name, repr(value))
+    return value
+
+
 class _AskTellSelector:
     _kind = ""
     #: The competences the teacher takes (saggriac.testing.check_goal_selector tells these).
@@ -81,18 +95,9 @@ class _AskTellSelector:
 
     def __init__(self, low: Any, high: Any, seed: int, **params: Any) -> None:
         owner = type(self).__name__
-        lo = _vector("low", low)
-        hi = _vector("high", high)
+        lo, hi = _vector("low", low), _vector("high", high)
         seed = _int_param(owner, "seed", seed, 0, 2**64)
-        for name, value in params.items():
-            if name == "interest_divisor":
-                if not isinstance(value, str):
-                    raise ParameterError(f"The 'interest_divisor' parameter of {owner} must be one of 'zeta', 'window'. Got {value!r} instead.", name, repr(value))
-            elif name.startswith("p_"):
-                params[name] = _float_param(owner, name, value)
-            else:
-                params[name] = _int_param(owner, name, value, 0, 2**63)
-        self._inner = _core.AskTell(self._kind, lo.tolist(), hi.tolist(), seed, **params)
+        self._inner = _core.AskTell(self._kind, lo.tolist(), hi.tolist(), seed, {k: _typed(owner, k, v, _DEFAULTS[self._kind][k]) for k, v in params.items()})
         self.last_mode: str | None = None
         self.last_region: int | None = None
 
@@ -237,7 +242,7 @@ class SaggRiacSelector(_AskTellSelector):
 
     _kind = "sagg_riac"
 
-    def __init__(self, low: Any, high: Any, seed: int = 0, *, g_max: int = _RUN["g_max"], zeta: int = _RUN["zeta"], min_child: int = _RUN["min_child"], interest_divisor: str = _RUN["interest_divisor"], p_interest: float = _RUN["p_interest"], p_global: float = _RUN["p_global"], p_lowest: float = _RUN["p_lowest"]) -> None:
+    def __init__(self, low: Any, high: Any, seed: int = 0, *, g_max: int = _SAGG["g_max"], zeta: int = _SAGG["zeta"], min_child: int = _SAGG["min_child"], interest_divisor: str = _SAGG["interest_divisor"], p_interest: float = _SAGG["p_interest"], p_global: float = _SAGG["p_global"], p_lowest: float = _SAGG["p_lowest"]) -> None:
         super().__init__(low, high, seed, g_max=g_max, zeta=zeta, min_child=min_child, interest_divisor=interest_divisor, p_interest=p_interest, p_global=p_global, p_lowest=p_lowest)
 
 
@@ -266,12 +271,7 @@ class RiacSelector(_AskTellSelector):
     _kind = "riac"
 
     def __init__(self, low: Any, high: Any, seed: int = 0, *, max_region_size: int = _RIAC["max_region_size"], split_attempts: int = _RIAC["split_attempts"], min_child_share: float = _RIAC["min_child_share"], min_dims_range_ratio: float = _RIAC["min_dims_range_ratio"], p_alp: float = _RIAC["p_alp"], p_random: float = _RIAC["p_random"]) -> None:
-        owner = type(self).__name__
-        lo, hi = _vector("low", low), _vector("high", high)
-        ints = {k: _int_param(owner, k, v, 0, 2**63) for k, v in (("max_region_size", max_region_size), ("split_attempts", split_attempts))}
-        floats = {k: _float_param(owner, k, v) for k, v in (("min_child_share", min_child_share), ("min_dims_range_ratio", min_dims_range_ratio), ("p_alp", p_alp), ("p_random", p_random))}
-        self._inner = _core.AskTell.riac(lo.tolist(), hi.tolist(), _int_param(owner, "seed", seed, 0, 2**64), **ints, **floats)
-        self.last_mode, self.last_region = None, None
+        super().__init__(low, high, seed, max_region_size=max_region_size, split_attempts=split_attempts, min_child_share=min_child_share, min_dims_range_ratio=min_dims_range_ratio, p_alp=p_alp, p_random=p_random)
 
 
 class DiscreteLpSelector(_AskTellSelector):
@@ -289,11 +289,9 @@ class DiscreteLpSelector(_AskTellSelector):
     _kind = "discrete_lp"
     competence_range = (0.0, 1.0)
 
-    def __init__(self, n_tasks: int, seed: int = 0, *, alpha: float = 0.1, theta: float = 0.1) -> None:
-        owner = type(self).__name__
-        n = _int_param(owner, "n_tasks", n_tasks, 0, 2**32)
-        self._inner = _core.AskTell.discrete_lp(n, _int_param(owner, "seed", seed, 0, 2**64), _float_param(owner, "alpha", alpha), _float_param(owner, "theta", theta))
-        self.last_mode, self.last_region = None, None
+    def __init__(self, n_tasks: int, seed: int = 0, *, alpha: float = _DLP["alpha"], theta: float = _DLP["theta"]) -> None:
+        # The goals are task indices: no box.
+        super().__init__([], [], seed, n_tasks=n_tasks, alpha=alpha, theta=theta)
 
     def sample_task(self) -> int:
         """The next task's index."""
@@ -304,24 +302,7 @@ class DiscreteLpSelector(_AskTellSelector):
         return super().update(np.atleast_1d(_numbers("goal", goal)), competence)
 
 
-class _MixtureSelector(_AskTellSelector):
-    _make = ""
-
-    def __init__(self, low: Any, high: Any, seed: int, **params: Any) -> None:
-        owner = type(self).__name__
-        lo, hi = _vector("low", low), _vector("high", high)
-        for k, v in params.items():
-            if k in ("fit_rate", "max_components", "bootstrap"):
-                params[k] = _int_param(owner, k, v, 0, 2**63)
-            elif k == "absolute_lp":
-                params[k] = check_flag(v, k, owner)
-            else:
-                params[k] = _float_param(owner, k, v)
-        self._inner = getattr(_core.AskTell, self._make)(lo.tolist(), hi.tolist(), _int_param(owner, "seed", seed, 0, 2**64), **params)
-        self.last_mode, self.last_region = None, None
-
-
-class AlpGmmSelector(_MixtureSelector):
+class AlpGmmSelector(_AskTellSelector):
     """ALP-GMM (Portelas, Colas, Hofmann & Oudeyer, CoRL 2019) over the box [low, high].
 
     A told task's absolute learning progress (ALP) is |competence - competence of the nearest
@@ -332,13 +313,13 @@ class AlpGmmSelector(_MixtureSelector):
     Tasks are scaled to [0, 1] per dimension inside the teacher.
     """
 
-    _kind, _make = "alp_gmm", "alp_gmm"
+    _kind = "alp_gmm"
 
     def __init__(self, low: Any, high: Any, seed: int = 0, *, fit_rate: int = _ALP["fit_rate"], max_components: int = _ALP["max_components"], random_task_ratio: float = _ALP["random_task_ratio"], bootstrap: int = _ALP["bootstrap"]) -> None:
         super().__init__(low, high, seed, fit_rate=fit_rate, max_components=max_components, random_task_ratio=random_task_ratio, bootstrap=bootstrap)
 
 
-class CovarGmmSelector(_MixtureSelector):
+class CovarGmmSelector(_AskTellSelector):
     """Covar-GMM (Moulin-Frier, Nguyen & Oudeyer, 2014) over the box [low, high].
 
     Gaussian mixtures over (time, task, competence) of the last ``fit_rate`` tasks, refitted
@@ -348,10 +329,11 @@ class CovarGmmSelector(_MixtureSelector):
     bootstrap and random share of :class:`AlpGmmSelector`.
     """
 
-    _kind, _make = "covar_gmm", "covar_gmm"
+    _kind = "covar_gmm"
 
     def __init__(self, low: Any, high: Any, seed: int = 0, *, fit_rate: int = _COVAR["fit_rate"], max_components: int = _COVAR["max_components"], random_task_ratio: float = _COVAR["random_task_ratio"], bootstrap: int = _COVAR["bootstrap"], absolute_lp: bool = _COVAR["absolute_lp"]) -> None:
         super().__init__(low, high, seed, fit_rate=fit_rate, max_components=max_components, random_task_ratio=random_task_ratio, bootstrap=bootstrap, absolute_lp=absolute_lp)
 
 
-_CLASSES: dict[str, type[_AskTellSelector]] = {"sagg_riac": SaggRiacSelector, "random": RandomSelector, "riac": RiacSelector, "discrete_lp": DiscreteLpSelector, "alp_gmm": AlpGmmSelector, "covar_gmm": CovarGmmSelector}
+#: Each teacher's class, by kind: the classes above (a new teacher is one more class).
+_CLASSES: dict[str, type[_AskTellSelector]] = {c._kind: c for c in _AskTellSelector.__subclasses__()}

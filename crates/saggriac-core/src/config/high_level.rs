@@ -1,7 +1,6 @@
 //! The high level's parameters: competence, the region tree, the goal selection modes, and the
 //! rule every box of a goal space obeys.
 
-use crate::config::teachers::{AlpGmmConfig, CovarGmmConfig, RiacConfig};
 use crate::error::{invalid, Check, Result, MAX_COUNT};
 
 /// What an attempt's final distance to its goal is measured against.
@@ -62,6 +61,7 @@ impl CompetenceConfig {
 /// The denominator of eq. 2 for a region holding fewer than zeta measurements (for a full window
 /// both readings divide by zeta). The paper prints zeta and says nothing of young regions.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
 pub enum InterestDivisor {
     /// Eq. 2 as printed: every region's half-sums are divided by zeta, so a young region's
     /// progress counts in proportion to the measurements behind it (saggriac >= 0.3).
@@ -103,6 +103,7 @@ pub struct RegionTreeConfig {
     /// Fewest measurements each child of a split must receive.
     pub min_child: usize,
     /// Eq. 2's denominator for regions younger than zeta measurements.
+    #[serde(rename = "interest_divisor")]
     pub divisor: InterestDivisor,
 }
 
@@ -149,59 +150,6 @@ impl ModeProbabilities {
             return Err(invalid("SaggRiac", "p_lowest", format!("such that p_interest + p_global + p_lowest = 1 (p_interest = {}, p_global = {})", self.p_interest, self.p_global), self.p_lowest));
         }
         Ok(())
-    }
-}
-
-/// Which teacher chooses the goals of the goal-babbling condition (beyond the paper), with its
-/// parameters. `Own` is the condition's own high level: SAGG-RIAC's (the paper's, set by the
-/// region tree's and the modes' parameters), or uniform goals for SAGG-Random. The others replace
-/// SAGG-RIAC's high level (`crate::high_level::teachers`).
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub enum Teacher {
-    #[default]
-    Own,
-    Riac(RiacConfig),
-    AlpGmm(AlpGmmConfig),
-    CovarGmm(CovarGmmConfig),
-}
-
-impl Teacher {
-    pub const NAMES: [&'static str; 4] = ["own", "riac", "alp_gmm", "covar_gmm"];
-
-    /// The teacher `s` with its paper's parameters.
-    pub fn parse(s: &str) -> Result<Self> {
-        match s {
-            "own" => Ok(Teacher::Own),
-            "riac" => Ok(Teacher::Riac(RiacConfig::default())),
-            "alp_gmm" => Ok(Teacher::AlpGmm(AlpGmmConfig::default())),
-            "covar_gmm" => Ok(Teacher::CovarGmm(CovarGmmConfig::default())),
-            _ => Err(invalid("Run", "teacher", "one of 'own', 'riac', 'alp_gmm', 'covar_gmm'", format!("'{s}'"))),
-        }
-    }
-    pub fn name(&self) -> &'static str {
-        match self {
-            Teacher::Own => "own",
-            Teacher::Riac(_) => "riac",
-            Teacher::AlpGmm(_) => "alp_gmm",
-            Teacher::CovarGmm(_) => "covar_gmm",
-        }
-    }
-    /// The Python class of the teacher on its own (ask/tell), whose parameters are the same.
-    pub fn class(&self) -> &'static str {
-        match self {
-            Teacher::Own => "SaggRiacSelector",
-            Teacher::Riac(_) => "RiacSelector",
-            Teacher::AlpGmm(_) => "AlpGmmSelector",
-            Teacher::CovarGmm(_) => "CovarGmmSelector",
-        }
-    }
-    pub fn validate(&self) -> Result<()> {
-        match self {
-            Teacher::Own => Ok(()),
-            Teacher::Riac(c) => c.validate(),
-            Teacher::AlpGmm(c) => c.validate("AlpGmmSelector"),
-            Teacher::CovarGmm(c) => c.validate(),
-        }
     }
 }
 

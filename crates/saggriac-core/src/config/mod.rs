@@ -11,7 +11,8 @@ pub mod teachers;
 
 pub use body::{ArmConfig, ArmKind, BodyChange};
 pub use evaluation::EvalConfig;
-pub use high_level::{check_bounds, CompetenceConfig, InterestDivisor, ModeProbabilities, RegionTreeConfig, Teacher};
+pub use high_level::{check_bounds, CompetenceConfig, InterestDivisor, ModeProbabilities, RegionTreeConfig};
+pub use teachers::{SaggRiacConfig, Teacher};
 pub use low_level::{EpisodicConfig, ExplorationConfig, ReachingConfig};
 pub use model::{IndexKind, LocalModelConfig, MIN_RCOND};
 
@@ -96,8 +97,9 @@ pub struct RunConfig {
     pub competence: CompetenceConfig,
     pub tree: RegionTreeConfig,
     pub modes: ModeProbabilities,
-    /// Who chooses the goals of the goal-babbling condition (`Teacher::Own`: the paper's).
-    pub teacher: Teacher,
+    /// Who chooses the goals of the goal-babbling condition in place of its own high level
+    /// (None, `Config`'s "own": SAGG-RIAC's, set by `tree` and `modes`).
+    pub teacher: Option<Teacher>,
     /// The arm returns to rest every `reset_every` goal attempts (paper: r = 2).
     pub reset_every: usize,
     pub eval: EvalConfig,
@@ -132,7 +134,7 @@ impl Default for RunConfig {
             competence: CompetenceConfig::default(),
             tree: RegionTreeConfig::default(),
             modes: ModeProbabilities::default(),
-            teacher: Teacher::Own,
+            teacher: None,
             reset_every: 2,
             eval: EvalConfig::default(),
             index: IndexKind::Blocks,
@@ -167,37 +169,8 @@ impl RunConfig {
         self.tree.validate()?;
         self.modes.validate()?;
         c.at_least("reset_every", self.reset_every, 1)?;
-        if self.teacher != Teacher::Own && self.condition != Condition::SaggRiac {
-            return Err(invalid(
-                "Run",
-                "teacher",
-                format!("'own' unless condition is 'sagg_riac' (the goal-babbling condition a teacher replaces the high level of; condition is '{}')", self.condition.name()),
-                format!("'{}'", self.teacher.name()),
-            ));
-        }
-        self.teacher.validate()?;
-        if self.teacher != Teacher::Own {
-            // Another teacher replaces SAGG-RIAC's high level: a SAGG-RIAC parameter set here
-            // would be ignored without a word.
-            let (t, d) = (self.tree, high_level::RegionTreeConfig::default());
-            let (m, dm) = (self.modes, high_level::ModeProbabilities::default());
-            let changed = [
-                ("g_max", t.g_max != d.g_max, t.g_max.to_string()),
-                ("zeta", t.zeta != d.zeta, t.zeta.to_string()),
-                ("min_child", t.min_child != d.min_child, t.min_child.to_string()),
-                ("interest_divisor", t.divisor != d.divisor, format!("'{}'", t.divisor.name())),
-                ("p_interest", m.p_interest != dm.p_interest, m.p_interest.to_string()),
-                ("p_global", m.p_global != dm.p_global, m.p_global.to_string()),
-                ("p_lowest", m.p_lowest != dm.p_lowest, m.p_lowest.to_string()),
-            ];
-            if let Some((name, _, value)) = changed.iter().find(|(_, c, _)| *c) {
-                return Err(invalid(
-                    "Run",
-                    name,
-                    format!("left at its default with teacher '{}' (it sets SAGG-RIAC's own high level, which that teacher replaces; set that teacher's parameters with teacher_params, those of saggriac.{})", self.teacher.name(), self.teacher.class()),
-                    value,
-                ));
-            }
+        if let Some(t) = &self.teacher {
+            self.validate_teacher(t)?;
         }
         c.positive("babble_step", self.babble_step)?;
         self.eval.validate(self.n_steps)?;
@@ -214,6 +187,35 @@ impl RunConfig {
             if b.step == 0 || b.step > self.n_steps {
                 return Err(invalid("Run", "body_change_step", format!("an int in [1, n_steps] (n_steps = {})", self.n_steps), b.step));
             }
+        }
+        Ok(())
+    }
+
+    /// A teacher replacing the high level of the goal-babbling condition: its rules, and
+    /// SAGG-RIAC's own parameters left at their defaults (they would be ignored without a word).
+    fn validate_teacher(&self, t: &Teacher) -> Result<()> {
+        if self.condition != Condition::SaggRiac {
+            return Err(invalid(
+                "Run",
+                "teacher",
+                format!("'own' unless condition is 'sagg_riac' (the goal-babbling condition a teacher replaces the high level of; condition is '{}')", self.condition.name()),
+                format!("'{}'", t.kind()),
+            ));
+        }
+        if !t.has_box() {
+            return Err(invalid("Run", "teacher", "'own' or a teacher of goals in a box (a run's goals are points of the goal space)", format!("'{}'", t.kind())));
+        }
+        t.validate()?;
+        // The whole parameter set, by name: a parameter added to SAGG-RIAC's is checked too.
+        let flat = |c: SaggRiacConfig| teachers::flat_params(&c);
+        let (own, default) = (flat(SaggRiacConfig { tree: self.tree, modes: self.modes }), flat(SaggRiacConfig::default()));
+        if let Some((name, value)) = own.iter().zip(&default).find(|(a, b)| a != b).map(|(a, _)| a) {
+            return Err(invalid(
+                "Run",
+                name,
+                format!("left at its default with teacher '{}' (it sets SAGG-RIAC's own high level, which that teacher replaces; set that teacher's parameters with teacher_params, those of saggriac.{})", t.kind(), t.class()),
+                value,
+            ));
         }
         Ok(())
     }

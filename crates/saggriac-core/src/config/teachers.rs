@@ -1,8 +1,10 @@
-//! The parameters of the teachers that can choose a run's goals in place of SAGG-RIAC's high
-//! level (`crate::high_level::teachers`), with their papers' defaults and their rules.
+//! The teachers (`crate::high_level::teachers`) as data: one enum naming each teacher with its
+//! parameters, with their papers' defaults and their rules. Python's classes, `Config`'s
+//! `teacher_params` and the ask/tell constructor all go through this one declaration.
 
 use serde::{Deserialize, Serialize};
 
+use crate::config::high_level::{ModeProbabilities, RegionTreeConfig};
 use crate::error::{invalid, Check, Result, MAX_COUNT};
 
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -100,4 +102,145 @@ impl Default for CovarGmmConfig {
     fn default() -> Self {
         CovarGmmConfig { mixture: AlpGmmConfig::default(), absolute_lp: true }
     }
+}
+
+/// Parameters of the discrete learning-progress teacher.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct DiscreteLpConfig {
+    pub n_tasks: usize,
+    /// Step of both moving averages (the paper's and Syllabus's 0.1).
+    pub alpha: f64,
+    /// theta of the reweighting (0.1 in the paper); 0.5 makes r the identity.
+    pub theta: f64,
+}
+
+impl Default for DiscreteLpConfig {
+    /// The paper's alpha and theta; `n_tasks` has no default worth the name (the Python class
+    /// requires it), 1 is the least valid.
+    fn default() -> Self {
+        DiscreteLpConfig { n_tasks: 1, alpha: 0.1, theta: 0.1 }
+    }
+}
+
+impl DiscreteLpConfig {
+    pub fn validate(&self) -> Result<()> {
+        let c = Check { owner: "DiscreteLpSelector" };
+        c.within("n_tasks", self.n_tasks, 1, MAX_COUNT)?;
+        c.in_open_closed("alpha", self.alpha, 0.0, 1.0)?;
+        if !(self.theta.is_finite() && self.theta > 0.0 && self.theta < 1.0) {
+            return Err(invalid("DiscreteLpSelector", "theta", "a float in (0, 1)", self.theta));
+        }
+        Ok(())
+    }
+}
+
+/// SAGG-RIAC's high level: the region tree's and the goal modes' parameters (by their names in
+/// `Config`, which sets them for a run's own high level).
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct SaggRiacConfig {
+    pub tree: RegionTreeConfig,
+    pub modes: ModeProbabilities,
+}
+
+/// Goals uniform in the box: no parameter.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct RandomConfig {}
+
+/// A teacher and its parameters: one variant per teacher, named as the ask/tell constructor,
+/// `Config(teacher=...)` and the saved teachers name it.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Teacher {
+    /// SAGG-RIAC's high level (Baranes & Oudeyer, IROS 2010).
+    SaggRiac(SaggRiacConfig),
+    /// Goals uniform in the box (SAGG-Random).
+    Random(RandomConfig),
+    /// RIAC as the baseline of Portelas et al. (CoRL 2019).
+    Riac(RiacConfig),
+    /// Learning progress over a task list (Kanitscheider et al., 2021); goals are task indices.
+    DiscreteLp(DiscreteLpConfig),
+    /// ALP-GMM (Portelas et al., CoRL 2019).
+    AlpGmm(AlpGmmConfig),
+    /// Covar-GMM (Moulin-Frier, Nguyen & Oudeyer, 2014).
+    CovarGmm(CovarGmmConfig),
+}
+
+impl Teacher {
+    /// Every teacher with its papers' parameters (`_core.teacher_defaults()` shows them).
+    pub fn all() -> [Teacher; 6] {
+        [
+            Teacher::SaggRiac(SaggRiacConfig::default()),
+            Teacher::Random(RandomConfig::default()),
+            Teacher::Riac(RiacConfig::default()),
+            Teacher::DiscreteLp(DiscreteLpConfig::default()),
+            Teacher::AlpGmm(AlpGmmConfig::default()),
+            Teacher::CovarGmm(CovarGmmConfig::default()),
+        ]
+    }
+
+    /// The teacher `kind` with its papers' parameters.
+    pub fn parse(owner: &'static str, param: &str, kind: &str) -> Result<Self> {
+        Self::all().into_iter().find(|t| t.kind() == kind).ok_or_else(|| {
+            let names: Vec<String> = Self::all().iter().map(|t| format!("'{}'", t.kind())).collect();
+            invalid(owner, param, format!("one of {}", names.join(", ")), format!("'{kind}'"))
+        })
+    }
+
+    /// The teacher's name, as the Python classes, the CLI and saved teachers know it.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Teacher::SaggRiac(_) => "sagg_riac",
+            Teacher::Random(_) => "random",
+            Teacher::Riac(_) => "riac",
+            Teacher::DiscreteLp(_) => "discrete_lp",
+            Teacher::AlpGmm(_) => "alp_gmm",
+            Teacher::CovarGmm(_) => "covar_gmm",
+        }
+    }
+
+    /// The Python class of the teacher (its messages' owner).
+    pub fn class(&self) -> &'static str {
+        match self {
+            Teacher::SaggRiac(_) => "SaggRiacSelector",
+            Teacher::Random(_) => "RandomSelector",
+            Teacher::Riac(_) => "RiacSelector",
+            Teacher::DiscreteLp(_) => "DiscreteLpSelector",
+            Teacher::AlpGmm(_) => "AlpGmmSelector",
+            Teacher::CovarGmm(_) => "CovarGmmSelector",
+        }
+    }
+
+    /// Whether the teacher chooses goals in a box (all but the task-list teacher), so that it
+    /// can choose a run's goals.
+    pub fn has_box(&self) -> bool {
+        !matches!(self, Teacher::DiscreteLp(_))
+    }
+
+    /// The parameters' rules (the box is checked by the teacher).
+    pub fn validate(&self) -> Result<()> {
+        match self {
+            Teacher::SaggRiac(c) => c.tree.validate().and_then(|_| c.modes.validate()),
+            Teacher::Random(_) => Ok(()),
+            Teacher::Riac(c) => c.validate(),
+            Teacher::DiscreteLp(c) => c.validate(),
+            Teacher::AlpGmm(c) => c.validate("AlpGmmSelector"),
+            Teacher::CovarGmm(c) => c.validate(),
+        }
+    }
+}
+
+/// A parameter struct's fields by their serde names, with their values as text, in order
+/// (fields of nested structs in their place): a set of parameters compared and named without a
+/// list of names.
+pub fn flat_params<T: Serialize>(params: &T) -> Vec<(String, String)> {
+    fn walk(prefix: Option<&str>, v: serde_json::Value, out: &mut Vec<(String, String)>) {
+        match v {
+            serde_json::Value::Object(m) => m.into_iter().for_each(|(k, v)| walk(Some(&k), v, out)),
+            serde_json::Value::String(s) => out.push((prefix.unwrap_or_default().to_string(), format!("'{s}'"))),
+            other => out.push((prefix.unwrap_or_default().to_string(), other.to_string())),
+        }
+    }
+    let mut out = Vec::new();
+    walk(None, serde_json::to_value(params).unwrap_or_default(), &mut out);
+    out
 }
