@@ -6,7 +6,7 @@ mod common;
 use proptest::prelude::*;
 
 use common::{cases, TestResult};
-use saggriac_core::config::teachers::{RandomConfig, SaggRiacConfig, Teacher};
+use saggriac_core::config::teachers::{AdrConfig, PlrConfig, PlrScore, RandomConfig, ReplaySchedule, SaggRiacConfig, Teacher};
 use saggriac_core::high_level::ask_tell::AskTell;
 use saggriac_core::high_level::goal_selection::ModeProbabilities;
 use saggriac_core::high_level::interest::InterestDivisor;
@@ -44,6 +44,26 @@ fn spec() -> impl Strategy<Value = TeacherSpec> {
             bootstrap,
         })
     };
+    // Thresholds inside the told competences' range [-1, 0], so that bounds both grow and shrink.
+    let adr = (0.0..=1.0f64, 1usize..=12, -1.0..-0.5f64, -0.5..0.0f64, 0.01..0.5f64, 0.0..=1.0f64, 0.0..=1.0f64).prop_map(|(boundary_prob, buffer_size, t_low, t_high, step, initial, initial_width)| AdrConfig {
+        boundary_prob,
+        buffer_size,
+        t_low,
+        t_high,
+        step,
+        initial,
+        initial_width,
+    });
+    let schedule = prop_oneof![Just(ReplaySchedule::Proportionate), Just(ReplaySchedule::Fixed)];
+    let score = prop_oneof![Just(PlrScore::Progress), Just(PlrScore::Told)];
+    let plr = (1usize..=12, 0.01..2.0f64, 0.0..=1.0f64, schedule, 0.0..=1.0f64, score).prop_map(|(n_tasks, temperature, staleness_coef, replay_schedule, replay_prob, score)| PlrConfig {
+        n_tasks,
+        temperature,
+        staleness_coef,
+        replay_schedule,
+        replay_prob,
+        score,
+    });
     let teacher = prop_oneof![
         tree.prop_map(|tree| Teacher::SaggRiac(SaggRiacConfig { tree, modes: ModeProbabilities::default() })),
         Just(Teacher::Random(RandomConfig {})),
@@ -51,6 +71,8 @@ fn spec() -> impl Strategy<Value = TeacherSpec> {
         lp.prop_map(Teacher::DiscreteLp),
         mixture().prop_map(Teacher::AlpGmm),
         (mixture(), any::<bool>()).prop_map(|(mixture, absolute_lp)| Teacher::CovarGmm(CovarGmmConfig { mixture, absolute_lp })),
+        adr.prop_map(Teacher::Adr),
+        plr.prop_map(Teacher::Plr),
     ];
     (bounds, teacher, any::<u64>()).prop_map(|((low, high), teacher, seed)| {
         let (low, high) = if teacher.has_box() { (low, high) } else { (Vec::new(), Vec::new()) };

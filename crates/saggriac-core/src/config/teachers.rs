@@ -134,6 +134,110 @@ impl DiscreteLpConfig {
     }
 }
 
+/// Parameters of Automatic Domain Randomization (Akkaya et al., 2019, Algorithm 1).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct AdrConfig {
+    /// p_b: the share of goals with one dimension set to one of its bounds (the paper's 0.5).
+    pub boundary_prob: f64,
+    /// m: the boundary performances averaged before a bound moves (TeachMyAgent's 10; the paper
+    /// sets it per experiment).
+    pub buffer_size: usize,
+    /// t_L: a mean competence at a bound <= t_low moves it inwards. Competence units.
+    pub t_low: f64,
+    /// t_H: a mean competence at a bound >= t_high moves it outwards. Competence units.
+    pub t_high: f64,
+    /// Delta: how far a bound moves, as a share of its dimension's width.
+    pub step: f64,
+    /// Where the initial region sits in each dimension, as a share of its width from low: 0.5
+    /// is the box's centre, 0 its low corner.
+    pub initial: f64,
+    /// The initial region's width, as a share of each dimension's width: 0 (the default) is the
+    /// paper's single initial value.
+    pub initial_width: f64,
+}
+
+impl Default for AdrConfig {
+    fn default() -> Self {
+        AdrConfig { boundary_prob: 0.5, buffer_size: 10, t_low: 0.2, t_high: 0.8, step: 0.05, initial: 0.5, initial_width: 0.0 }
+    }
+}
+
+impl AdrConfig {
+    pub fn validate(&self) -> Result<()> {
+        let c = Check { owner: "AdrSelector" };
+        c.probability("boundary_prob", self.boundary_prob)?;
+        c.within("buffer_size", self.buffer_size, 1, MAX_COUNT)?;
+        for (name, v) in [("t_low", self.t_low), ("t_high", self.t_high)] {
+            if !(v.is_finite() && v.abs() <= 1e100) {
+                return Err(invalid("AdrSelector", name, "a finite float with |value| <= 1e100", v));
+            }
+        }
+        if self.t_low >= self.t_high {
+            return Err(invalid("AdrSelector", "t_low", format!("a float < t_high (t_high = {})", self.t_high), self.t_low));
+        }
+        c.in_open_closed("step", self.step, 0.0, 1.0)?;
+        c.probability("initial", self.initial)?;
+        c.probability("initial_width", self.initial_width)?;
+        Ok(())
+    }
+}
+
+/// How PLR decides between a new level and a replay (P_D).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ReplaySchedule {
+    /// Replay with probability |seen| / n.
+    Proportionate,
+    /// Replay with probability `replay_prob` once a level is seen, always once all are.
+    Fixed,
+}
+
+/// What PLR makes of the value `update` is told.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum PlrScore {
+    /// A competence: the level's score is |competence - its previous competence|.
+    Progress,
+    /// The score itself (the paper's value loss, computed by the learner).
+    Told,
+}
+
+/// Parameters of Prioritized Level Replay (Jiang, Grefenstette & Rocktäschel, ICML 2021).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct PlrConfig {
+    pub n_tasks: usize,
+    /// beta, the rank prioritisation's temperature (0.1 in the paper).
+    pub temperature: f64,
+    /// rho, the staleness share of the replay distribution (0.1 in the paper).
+    pub staleness_coef: f64,
+    pub replay_schedule: ReplaySchedule,
+    /// The replay probability of the `fixed` schedule (0.5, Syllabus's and Robust PLR's).
+    pub replay_prob: f64,
+    pub score: PlrScore,
+}
+
+impl Default for PlrConfig {
+    /// The paper's beta, rho and schedule; `n_tasks` has no default worth the name (the Python
+    /// class requires it), 1 is the least valid.
+    fn default() -> Self {
+        PlrConfig { n_tasks: 1, temperature: 0.1, staleness_coef: 0.1, replay_schedule: ReplaySchedule::Proportionate, replay_prob: 0.5, score: PlrScore::Progress }
+    }
+}
+
+impl PlrConfig {
+    pub fn validate(&self) -> Result<()> {
+        let c = Check { owner: "PlrSelector" };
+        c.within("n_tasks", self.n_tasks, 1, MAX_COUNT)?;
+        // rank^(-1/beta) must not underflow to 0 for every rank > 1 too soon: beta >= 0.01.
+        if !(self.temperature.is_finite() && self.temperature >= 0.01) {
+            return Err(invalid("PlrSelector", "temperature", "a finite float >= 0.01", self.temperature));
+        }
+        c.probability("staleness_coef", self.staleness_coef)?;
+        c.probability("replay_prob", self.replay_prob)?;
+        Ok(())
+    }
+}
+
 /// SAGG-RIAC's high level: the region tree's and the goal modes' parameters (by their names in
 /// `Config`, which sets them for a run's own high level).
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
@@ -163,11 +267,15 @@ pub enum Teacher {
     AlpGmm(AlpGmmConfig),
     /// Covar-GMM (Moulin-Frier, Nguyen & Oudeyer, 2014).
     CovarGmm(CovarGmmConfig),
+    /// Automatic Domain Randomization (Akkaya et al., 2019).
+    Adr(AdrConfig),
+    /// Prioritized Level Replay (Jiang et al., ICML 2021); goals are task indices.
+    Plr(PlrConfig),
 }
 
 impl Teacher {
     /// Every teacher with its papers' parameters (`_core.teacher_defaults()` shows them).
-    pub fn all() -> [Teacher; 6] {
+    pub fn all() -> [Teacher; 8] {
         [
             Teacher::SaggRiac(SaggRiacConfig::default()),
             Teacher::Random(RandomConfig::default()),
@@ -175,6 +283,8 @@ impl Teacher {
             Teacher::DiscreteLp(DiscreteLpConfig::default()),
             Teacher::AlpGmm(AlpGmmConfig::default()),
             Teacher::CovarGmm(CovarGmmConfig::default()),
+            Teacher::Adr(AdrConfig::default()),
+            Teacher::Plr(PlrConfig::default()),
         ]
     }
 
@@ -195,6 +305,8 @@ impl Teacher {
             Teacher::DiscreteLp(_) => "discrete_lp",
             Teacher::AlpGmm(_) => "alp_gmm",
             Teacher::CovarGmm(_) => "covar_gmm",
+            Teacher::Adr(_) => "adr",
+            Teacher::Plr(_) => "plr",
         }
     }
 
@@ -207,13 +319,15 @@ impl Teacher {
             Teacher::DiscreteLp(_) => "DiscreteLpSelector",
             Teacher::AlpGmm(_) => "AlpGmmSelector",
             Teacher::CovarGmm(_) => "CovarGmmSelector",
+            Teacher::Adr(_) => "AdrSelector",
+            Teacher::Plr(_) => "PlrSelector",
         }
     }
 
     /// Whether the teacher chooses goals in a box (all but the task-list teacher), so that it
     /// can choose a run's goals.
     pub fn has_box(&self) -> bool {
-        !matches!(self, Teacher::DiscreteLp(_))
+        !matches!(self, Teacher::DiscreteLp(_) | Teacher::Plr(_))
     }
 
     /// The parameters' rules (the box is checked by the teacher).
@@ -225,6 +339,8 @@ impl Teacher {
             Teacher::DiscreteLp(c) => c.validate(),
             Teacher::AlpGmm(c) => c.validate("AlpGmmSelector"),
             Teacher::CovarGmm(c) => c.validate(),
+            Teacher::Adr(c) => c.validate(),
+            Teacher::Plr(c) => c.validate(),
         }
     }
 }
