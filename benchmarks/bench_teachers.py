@@ -34,7 +34,12 @@ def make(name: str, d: int, seed: int):
         "alp_gmm": lambda: sg.AlpGmmSelector(low, high, seed=seed),
         "covar_gmm": lambda: sg.CovarGmmSelector(low, high, seed=seed),
         "discrete_lp": lambda: sg.DiscreteLpSelector(8, seed=seed),
+        "adr": lambda: sg.AdrSelector(low, high, seed=seed),
+        "plr": lambda: sg.PlrSelector(8, seed=seed),
     }[name]()
+
+
+TASK_LISTS = ("discrete_lp", "plr")  # goals are task indices (8 tasks)
 
 
 def competence(goals: np.ndarray, discrete: bool) -> np.ndarray:
@@ -45,7 +50,7 @@ def competence(goals: np.ndarray, discrete: bool) -> np.ndarray:
 
 def timed(name: str, d: int, n: int, batch: int) -> float:
     t = make(name, d, 0)
-    discrete = name == "discrete_lp"
+    discrete = name in TASK_LISTS
     spent = 0.0
     done = 0
     while done < n:
@@ -74,11 +79,11 @@ def main() -> None:
     p.add_argument("--single-cap", type=int, default=100_000)
     p.add_argument("--batch", type=int, default=4096)
     p.add_argument("--dims", type=int, nargs="+", default=[2, 10])
-    p.add_argument("--teachers", nargs="+", default=["sagg_riac", "random", "riac", "alp_gmm", "covar_gmm", "discrete_lp"])
+    p.add_argument("--teachers", nargs="+", default=["sagg_riac", "random", "riac", "alp_gmm", "covar_gmm", "discrete_lp", "adr", "plr"])
     a = p.parse_args()
     print(f"{'teacher':12} {'dim':>4} {'mode':>8} {'updates':>9} {'us/update':>10} {'updates/s':>11}")
     for name in a.teachers:
-        for d in a.dims if name != "discrete_lp" else [1]:
+        for d in a.dims if name not in TASK_LISTS else [1]:
             for batch, n in ((1, min(a.updates, a.single_cap)), (a.batch, a.updates)):
                 per = timed(name, d, n, batch)
                 mode = "single" if batch == 1 else f"x{batch}"
