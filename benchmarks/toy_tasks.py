@@ -79,7 +79,7 @@ class HypercubeUnlock:
 
 
 SPACES = {"2d": dict(relevant=2, bins=10, irrelevant=0), "5d": dict(relevant=5, bins=3, irrelevant=0), "2d+3": dict(relevant=2, bins=10, irrelevant=3)}
-BUDGET = {"2d": 20_000, "5d": 30_000, "2d+3": 20_000}
+BUDGET = {"2d": 10_000, "5d": 15_000, "2d+3": 10_000}
 
 # name -> (factory(task, seed), whether its goals are cell indices)
 TEACHERS: dict[str, tuple[Callable[[HypercubeUnlock, int], object], bool]] = {
