@@ -17,7 +17,7 @@ from . import _core, environments, testing  # noqa: F401 (saggriac.environments 
 from .competence import competence
 from .config import PRESETS, Config
 from .errors import ConformanceError, InputError, ParameterError, SaggriacError, StorageError
-from .teachers import AlpGmmSelector, CovarGmmSelector, DiscreteLpSelector, RandomSelector, RiacSelector, SaggRiacSelector, load_selector
+from .teachers import AlpGmmSelector, CovarGmmSelector, DiscreteLpSelector, RandomSelector, RiacSelector, SaggRiacSelector, SpdlSelector, GoalGanSelector, load_selector
 
 __version__ = _core.__version__
 
@@ -79,6 +79,8 @@ __all__ = [
     "DiscreteLpSelector",
     "AlpGmmSelector",
     "CovarGmmSelector",
+    "SpdlSelector",
+    "GoalGanSelector",
     "load_selector",
     "Study",
     "run_study",

@@ -8,8 +8,11 @@ pub mod alp_gmm;
 pub mod covar_gmm;
 pub mod discrete_lp;
 pub mod gmm;
+pub mod goal_gan;
 pub(crate) mod mixture;
+pub mod mlp;
 pub mod riac;
+pub mod spdl;
 
 use serde::{Deserialize, Serialize};
 
@@ -19,7 +22,9 @@ use crate::high_level::goal_selection::{GoalSelector, RandomGoals, SaggRiac};
 use alp_gmm::AlpGmm;
 use covar_gmm::CovarGmm;
 use discrete_lp::DiscreteLp;
+use goal_gan::GoalGan;
 use riac::Riac;
+use spdl::Spdl;
 
 /// A teacher built over a goal space: which teacher with which parameters (`Teacher`, the one
 /// declaration), its box [low, high] (empty for the task-list teacher, whose goals are task
@@ -53,6 +58,8 @@ impl TeacherSpec {
             Teacher::DiscreteLp(c) => Box::new(DiscreteLp::new(c, seed)?),
             Teacher::AlpGmm(c) => Box::new(AlpGmm::new(low, high, c, seed)?),
             Teacher::CovarGmm(c) => Box::new(CovarGmm::new(low, high, c, seed)?),
+            Teacher::Spdl(c) => Box::new(Spdl::new(low, high, c, seed)?),
+            Teacher::GoalGan(c) => Box::new(GoalGan::new(low, high, c, seed)?),
         })
     }
 }
