@@ -17,7 +17,7 @@ from . import _core, environments, testing  # noqa: F401 (saggriac.environments 
 from .competence import competence
 from .config import PRESETS, Config
 from .errors import ConformanceError, InputError, ParameterError, SaggriacError, StorageError
-from .teachers import AdrSelector, AlpGmmSelector, CovarGmmSelector, DiscreteLpSelector, PlrSelector, RandomSelector, RiacSelector, SaggRiacSelector, TaskListSelector, load_selector
+from .teachers import AdrSelector, AlpGmmSelector, CovarGmmSelector, DiscreteLpSelector, GoalGanSelector, PlrSelector, RandomSelector, RiacSelector, SaggRiacSelector, SpdlSelector, TaskListSelector, load_selector
 
 __version__ = _core.__version__
 
@@ -82,6 +82,8 @@ __all__ = [
     "AdrSelector",
     "PlrSelector",
     "TaskListSelector",
+    "SpdlSelector",
+    "GoalGanSelector",
     "load_selector",
     "Study",
     "run_study",

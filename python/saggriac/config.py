@@ -114,10 +114,10 @@ class Config:
     p_lowest: float = _CORE["p_lowest"]
     reset_every: int = _CORE["reset_every"]
     # Beyond the paper: the teacher choosing sagg_riac's goals. "own" is SAGG-RIAC's high level;
-    # "riac", "alp_gmm", "covar_gmm" replace it, with their papers' defaults (docs/teachers.md)
-    # except those teacher_params sets: a dict of the parameters of saggriac.RiacSelector,
-    # AlpGmmSelector or CovarGmmSelector (kept as sorted (name, value) pairs, so that a Config
-    # stays hashable; dict(cfg.teacher_params) gives the dict back).
+    # any teacher of goals in a box ("riac", "alp_gmm", "covar_gmm", "adr", "spdl", "goal_gan")
+    # replaces it, with its paper's defaults (docs/teachers.md) except those teacher_params sets:
+    # a dict of the parameters of that teacher's class (kept as sorted (name, value) pairs, so
+    # that a Config stays hashable; dict(cfg.teacher_params) gives the dict back).
     teacher: str = _CORE["teacher"]
     teacher_params: tuple[tuple[str, Any], ...] = ()
     # Evaluation (docs/reproduction.md, "What is measured").

@@ -8,7 +8,7 @@ chosen by a saggriac selector:
 
 * over a ``BoxTaskSpace`` (a 1-D ``gymnasium.spaces.Box``), by any box teacher whose bounds are
   the box's: :class:`saggriac.SaggRiacSelector`, ``RiacSelector``, ``AlpGmmSelector``,
-  ``CovarGmmSelector``, ``AdrSelector``, ``RandomSelector``;
+  ``CovarGmmSelector``, ``AdrSelector``, ``SpdlSelector``, ``GoalGanSelector``, ``RandomSelector``;
 * over a ``DiscreteTaskSpace`` of n tasks, by a task-list teacher with n tasks
   (:class:`saggriac.DiscreteLpSelector`, :class:`saggriac.PlrSelector`).
 

@@ -6,7 +6,7 @@ mod common;
 use proptest::prelude::*;
 
 use common::{cases, TestResult};
-use saggriac_core::config::teachers::{AdrConfig, PlrConfig, PlrScore, RandomConfig, ReplaySchedule, SaggRiacConfig, Teacher};
+use saggriac_core::config::teachers::{AdrConfig, GoalGanConfig, PlrConfig, PlrScore, RandomConfig, ReplaySchedule, SaggRiacConfig, SpdlConfig, Teacher};
 use saggriac_core::high_level::ask_tell::AskTell;
 use saggriac_core::high_level::goal_selection::ModeProbabilities;
 use saggriac_core::high_level::interest::InterestDivisor;
@@ -64,6 +64,30 @@ fn spec() -> impl Strategy<Value = TeacherSpec> {
         replay_prob,
         score,
     });
+    // Updates often, so that the distribution moves (delta inside [-1, 0]) within a case.
+    let spdl = (0.0..=1.0f64, 0.01..0.5f64, 0.0..=1.0f64, 0.05..1.0f64, 0.01..0.5f64, -1.0..0.0f64, 5usize..=50, 0usize..=50).prop_map(|(init_mean, init_std, target_mean, target_std, epsilon, delta, update_every, warmup)| SpdlConfig {
+        init_mean,
+        init_std,
+        target_mean,
+        target_std,
+        epsilon,
+        delta,
+        update_every,
+        warmup,
+    });
+    // Small networks and trainings, so that a case trains the GAN a few times quickly.
+    let goal_gan = (-1.0..0.0f64, 0.0..0.5f64, 0.5..=1.0f64, 1usize..=3, 2usize..=30, 0usize..=10, 0.0..=1.0f64, 1usize..=4, 1usize..=8).prop_map(|(success_threshold, r_min, r_max, n_rollouts, update_size, gan_iterations, p_old, noise_dim, hidden)| GoalGanConfig {
+        success_threshold,
+        r_min,
+        r_max,
+        n_rollouts,
+        update_size,
+        gan_iterations,
+        p_old,
+        noise_dim,
+        hidden,
+        ..GoalGanConfig::default()
+    });
     let teacher = prop_oneof![
         tree.prop_map(|tree| Teacher::SaggRiac(SaggRiacConfig { tree, modes: ModeProbabilities::default() })),
         Just(Teacher::Random(RandomConfig {})),
@@ -73,6 +97,8 @@ fn spec() -> impl Strategy<Value = TeacherSpec> {
         (mixture(), any::<bool>()).prop_map(|(mixture, absolute_lp)| Teacher::CovarGmm(CovarGmmConfig { mixture, absolute_lp })),
         adr.prop_map(Teacher::Adr),
         plr.prop_map(Teacher::Plr),
+        spdl.prop_map(Teacher::Spdl),
+        goal_gan.prop_map(Teacher::GoalGan),
     ];
     (bounds, teacher, any::<u64>()).prop_map(|((low, high), teacher, seed)| {
         let (low, high) = if teacher.has_box() { (low, high) } else { (Vec::new(), Vec::new()) };

@@ -30,6 +30,7 @@ from . import ownership
 # takes exactly those of its kind, with those defaults (tests/core/test_stub.py checks it).
 _DEFAULTS: dict[str, dict[str, Any]] = _core.teacher_defaults()
 _SAGG, _RIAC, _DLP, _ALP, _COVAR, _ADR, _PLR = (_DEFAULTS[k] for k in ("sagg_riac", "riac", "discrete_lp", "alp_gmm", "covar_gmm", "adr", "plr"))
+_SPDL, _GAN = _DEFAULTS["spdl"], _DEFAULTS["goal_gan"]
 
 #: The first bytes of a teacher saved by ``save(path)``.
 MAGIC = b"saggriac-teacher\n"
@@ -400,6 +401,48 @@ class PlrSelector(TaskListSelector):
 
     def __init__(self, n_tasks: int, seed: int = 0, *, temperature: float = _PLR["temperature"], staleness_coef: float = _PLR["staleness_coef"], replay_schedule: str = _PLR["replay_schedule"], replay_prob: float = _PLR["replay_prob"], score: str = _PLR["score"]) -> None:
         super().__init__(n_tasks, seed, temperature=temperature, staleness_coef=staleness_coef, replay_schedule=replay_schedule, replay_prob=replay_prob, score=score)
+
+
+class SpdlSelector(_AskTellSelector):
+    """SPDL, self-paced deep RL (Klink et al., NeurIPS 2020), in its form with a performance
+    threshold (Klink et al., JMLR 2021), over the box [low, high].
+
+    Goals are drawn from a Gaussian context distribution p (diagonal covariance, in the box
+    scaled to [0, 1]) and clipped to the box. Every ``update_every`` told goals, once ``warmup``
+    were told, p moves toward the target mu: it minimises KL(p || mu) subject to an expected
+    competence >= ``delta`` (importance-weighted from the goals told since the last update) and
+    KL(p || p_old) <= ``epsilon``. While the mean competence told is below ``delta``, p stays.
+    Both Gaussians have one mean (``init_mean``, ``target_mean``: a position in [0, 1]) and
+    one standard deviation (``init_std``, ``target_std``: box widths) for every dimension.
+    ``regions()`` gives p as one row: mean +- one standard deviation, its KL to mu as interest.
+    """
+
+    _kind = "spdl"
+    competence_range = (0.0, 1.0)
+
+    def __init__(self, low: Any, high: Any, seed: int = 0, *, init_mean: float = _SPDL["init_mean"], init_std: float = _SPDL["init_std"], target_mean: float = _SPDL["target_mean"], target_std: float = _SPDL["target_std"], epsilon: float = _SPDL["epsilon"], delta: float = _SPDL["delta"], update_every: int = _SPDL["update_every"], warmup: int = _SPDL["warmup"]) -> None:
+        super().__init__(low, high, seed, init_mean=init_mean, init_std=init_std, target_mean=target_mean, target_std=target_std, epsilon=epsilon, delta=delta, update_every=update_every, warmup=warmup)
+
+
+class GoalGanSelector(_AskTellSelector):
+    """Goal GAN (Florensa, Held, Geng & Abbeel, ICML 2018) over the box [low, high].
+
+    Each proposed goal is asked ``n_rollouts`` times in a row; a told competence >=
+    ``success_threshold`` is a success, and the goal's success rate labels it good when it lies
+    in [``r_min``, ``r_max``] (intermediate difficulty). Every ``update_size`` labelled goals
+    holding a good one, a least-squares GAN with goal labels is trained (``gan_iterations``
+    steps, Adam with ``learning_rate``): the discriminator scores good goals high, bad and
+    generated goals low. Goals come from the generator (noise of dimension ``noise_dim``, two
+    hidden layers of ``hidden`` ReLU units) and, with probability ``p_old``, from the goals
+    labelled so far; until the first training they are uniform in the box. The networks are
+    saggriac's own (no deep-learning framework).
+    """
+
+    _kind = "goal_gan"
+    competence_range = (0.0, 1.0)
+
+    def __init__(self, low: Any, high: Any, seed: int = 0, *, success_threshold: float = _GAN["success_threshold"], r_min: float = _GAN["r_min"], r_max: float = _GAN["r_max"], n_rollouts: int = _GAN["n_rollouts"], update_size: int = _GAN["update_size"], gan_iterations: int = _GAN["gan_iterations"], p_old: float = _GAN["p_old"], noise_dim: int = _GAN["noise_dim"], hidden: int = _GAN["hidden"], learning_rate: float = _GAN["learning_rate"]) -> None:
+        super().__init__(low, high, seed, success_threshold=success_threshold, r_min=r_min, r_max=r_max, n_rollouts=n_rollouts, update_size=update_size, gan_iterations=gan_iterations, p_old=p_old, noise_dim=noise_dim, hidden=hidden, learning_rate=learning_rate)
 
 
 def _subclasses(cls: type) -> list[type]:

@@ -238,6 +238,109 @@ impl PlrConfig {
     }
 }
 
+/// SPDL's parameters (Klink et al., NeurIPS 2020 / JMLR 2021), in the box scaled to [0, 1]:
+/// both Gaussians are diagonal, with one mean and one standard deviation for every dimension.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct SpdlConfig {
+    /// Mean of the initial distribution in every scaled dimension (0.5: the box's centre).
+    pub init_mean: f64,
+    /// Its standard deviation, in box widths (0.1, TeachMyAgent's initial distribution).
+    pub init_std: f64,
+    /// Mean of the target distribution mu in every scaled dimension (0.5).
+    pub target_mean: f64,
+    /// Its standard deviation, in box widths (0.25: TeachMyAgent's Gaussian for a uniform box).
+    pub target_std: f64,
+    /// Bound on KL(p_new || p_old) at each update (0.05).
+    pub epsilon: f64,
+    /// Least expected competence of a new distribution (0.5, for competences in [0, 1]).
+    pub delta: f64,
+    /// Told goals between updates (100).
+    pub update_every: usize,
+    /// Told goals before the first update (200, TeachMyAgent's offset of two periods).
+    pub warmup: usize,
+}
+
+impl Default for SpdlConfig {
+    fn default() -> Self {
+        SpdlConfig { init_mean: 0.5, init_std: 0.1, target_mean: 0.5, target_std: 0.25, epsilon: 0.05, delta: 0.5, update_every: 100, warmup: 200 }
+    }
+}
+
+impl SpdlConfig {
+    pub fn validate(&self) -> Result<()> {
+        let c = Check { owner: "SpdlSelector" };
+        for (name, v) in [("init_mean", self.init_mean), ("target_mean", self.target_mean)] {
+            if !(v.is_finite() && (0.0..=1.0).contains(&v)) {
+                return Err(invalid("SpdlSelector", name, "a float in [0, 1] (a position in the box scaled to [0, 1])", v));
+            }
+        }
+        for (name, v) in [("init_std", self.init_std), ("target_std", self.target_std)] {
+            if !(v.is_finite() && (1e-4..=10.0).contains(&v)) {
+                return Err(invalid("SpdlSelector", name, "a float in [1e-4, 10] (box widths)", v));
+            }
+        }
+        c.positive("epsilon", self.epsilon)?;
+        if !(self.delta.is_finite() && self.delta.abs() <= 1e100) {
+            return Err(invalid("SpdlSelector", "delta", "a finite float of absolute value <= 1e100", self.delta));
+        }
+        c.within("update_every", self.update_every, 1, MAX_COUNT)?;
+        c.within("warmup", self.warmup, 0, MAX_COUNT)?;
+        Ok(())
+    }
+}
+
+/// Goal GAN's parameters (Florensa et al., ICML 2018).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct GoalGanConfig {
+    /// A told competence of at least this is a success (0.5, for competences in [0, 1]).
+    pub success_threshold: f64,
+    /// A goal of intermediate difficulty has a success rate in [r_min, r_max] (0.1, 0.9).
+    pub r_min: f64,
+    pub r_max: f64,
+    /// Times each proposed goal is asked in a row, its success rate being theirs (2).
+    pub n_rollouts: usize,
+    /// Labelled goals between trainings of the GAN (100).
+    pub update_size: usize,
+    /// Steps of each training: one of the discriminator, one of the generator (250).
+    pub gan_iterations: usize,
+    /// Share of goals replayed from those labelled so far (1/3).
+    pub p_old: f64,
+    /// Dimension of the generator's noise (4).
+    pub noise_dim: usize,
+    /// Units of each of the two hidden layers of both networks (32; the paper's 128).
+    pub hidden: usize,
+    /// Adam's step size for both networks (0.001).
+    pub learning_rate: f64,
+}
+
+impl Default for GoalGanConfig {
+    fn default() -> Self {
+        GoalGanConfig { success_threshold: 0.5, r_min: 0.1, r_max: 0.9, n_rollouts: 2, update_size: 100, gan_iterations: 250, p_old: 1.0 / 3.0, noise_dim: 4, hidden: 32, learning_rate: 0.001 }
+    }
+}
+
+impl GoalGanConfig {
+    pub fn validate(&self) -> Result<()> {
+        let c = Check { owner: "GoalGanSelector" };
+        if !(self.success_threshold.is_finite() && self.success_threshold.abs() <= 1e100) {
+            return Err(invalid("GoalGanSelector", "success_threshold", "a finite float of absolute value <= 1e100", self.success_threshold));
+        }
+        c.probability("r_min", self.r_min)?;
+        c.probability("r_max", self.r_max)?;
+        if self.r_min > self.r_max {
+            return Err(invalid("GoalGanSelector", "r_max", format!("a float >= r_min (r_min = {})", self.r_min), self.r_max));
+        }
+        c.within("n_rollouts", self.n_rollouts, 1, 255)?;
+        c.within("update_size", self.update_size, 1, 100_000)?;
+        c.within("gan_iterations", self.gan_iterations, 0, 100_000)?;
+        c.probability("p_old", self.p_old)?;
+        c.within("noise_dim", self.noise_dim, 1, 1024)?;
+        c.within("hidden", self.hidden, 1, 1024)?;
+        c.in_open_closed("learning_rate", self.learning_rate, 0.0, 1.0)?;
+        Ok(())
+    }
+}
+
 /// SAGG-RIAC's high level: the region tree's and the goal modes' parameters (by their names in
 /// `Config`, which sets them for a run's own high level).
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
@@ -271,11 +374,15 @@ pub enum Teacher {
     Adr(AdrConfig),
     /// Prioritized Level Replay (Jiang et al., ICML 2021); goals are task indices.
     Plr(PlrConfig),
+    /// SPDL (Klink et al., NeurIPS 2020; JMLR 2021).
+    Spdl(SpdlConfig),
+    /// Goal GAN (Florensa et al., ICML 2018).
+    GoalGan(GoalGanConfig),
 }
 
 impl Teacher {
     /// Every teacher with its papers' parameters (`_core.teacher_defaults()` shows them).
-    pub fn all() -> [Teacher; 8] {
+    pub fn all() -> [Teacher; 10] {
         [
             Teacher::SaggRiac(SaggRiacConfig::default()),
             Teacher::Random(RandomConfig::default()),
@@ -285,6 +392,8 @@ impl Teacher {
             Teacher::CovarGmm(CovarGmmConfig::default()),
             Teacher::Adr(AdrConfig::default()),
             Teacher::Plr(PlrConfig::default()),
+            Teacher::Spdl(SpdlConfig::default()),
+            Teacher::GoalGan(GoalGanConfig::default()),
         ]
     }
 
@@ -307,6 +416,8 @@ impl Teacher {
             Teacher::CovarGmm(_) => "covar_gmm",
             Teacher::Adr(_) => "adr",
             Teacher::Plr(_) => "plr",
+            Teacher::Spdl(_) => "spdl",
+            Teacher::GoalGan(_) => "goal_gan",
         }
     }
 
@@ -321,6 +432,8 @@ impl Teacher {
             Teacher::CovarGmm(_) => "CovarGmmSelector",
             Teacher::Adr(_) => "AdrSelector",
             Teacher::Plr(_) => "PlrSelector",
+            Teacher::Spdl(_) => "SpdlSelector",
+            Teacher::GoalGan(_) => "GoalGanSelector",
         }
     }
 
@@ -341,6 +454,8 @@ impl Teacher {
             Teacher::CovarGmm(c) => c.validate(),
             Teacher::Adr(c) => c.validate(),
             Teacher::Plr(c) => c.validate(),
+            Teacher::Spdl(c) => c.validate(),
+            Teacher::GoalGan(c) => c.validate(),
         }
     }
 }

@@ -9,9 +9,12 @@ pub mod alp_gmm;
 pub mod covar_gmm;
 pub mod discrete_lp;
 pub mod gmm;
+pub mod goal_gan;
 pub(crate) mod mixture;
+pub mod mlp;
 pub mod plr;
 pub mod riac;
+pub mod spdl;
 
 use serde::{Deserialize, Serialize};
 
@@ -22,8 +25,10 @@ use adr::Adr;
 use alp_gmm::AlpGmm;
 use covar_gmm::CovarGmm;
 use discrete_lp::DiscreteLp;
+use goal_gan::GoalGan;
 use plr::Plr;
 use riac::Riac;
+use spdl::Spdl;
 
 /// A teacher built over a goal space: which teacher with which parameters (`Teacher`, the one
 /// declaration), its box [low, high] (empty for the task-list teacher, whose goals are task
@@ -59,6 +64,8 @@ impl TeacherSpec {
             Teacher::CovarGmm(c) => Box::new(CovarGmm::new(low, high, c, seed)?),
             Teacher::Adr(c) => Box::new(Adr::new(low, high, c, seed)?),
             Teacher::Plr(c) => Box::new(Plr::new(c, seed)?),
+            Teacher::Spdl(c) => Box::new(Spdl::new(low, high, c, seed)?),
+            Teacher::GoalGan(c) => Box::new(GoalGan::new(low, high, c, seed)?),
         })
     }
 }
