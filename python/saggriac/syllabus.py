@@ -93,6 +93,8 @@ class SelectorCurriculum(Curriculum):
             raise ConformanceError(f"SelectorCurriculum needs a Syllabus BoxTaskSpace or DiscreteTaskSpace; got {type(task_space).__name__}.")
         if not (callable(competence) or competence in COMPETENCES):
             raise ParameterError(f"The 'competence' parameter of SelectorCurriculum must be one of {', '.join(map(repr, COMPETENCES))} or a function; got {competence!r}.", "competence", repr(competence))
+        if competence == "progress" and callable(getattr(selector, "check_competences", None)):
+            selector.check_competences(0.0, 1.0, "SelectorCurriculum(competence='progress') tells")
         if curriculum_kwargs.get("random_start_tasks", 0):
             raise ParameterError(
                 "The 'random_start_tasks' parameter of SelectorCurriculum must be 0: Syllabus draws start tasks from numpy's global generator; "

@@ -156,7 +156,9 @@ pub fn parse_config(d: &Bound<'_, PyDict>) -> PyResult<RunConfig> {
                 Error::InvalidParameter { owner, param, rule, value } => Error::InvalidParameter { owner, param, rule: rule.replacen("one of ", "one of 'own', ", 1), value },
                 other => other,
             });
-            Some(crate::teachers::teacher(py, wrap(py, default)?, params.as_ref(), "Config", "teacher_params", "teacher_params.")?)
+            // The paper's thresholds are for competences in [0, 1]; a run's lie in [min_c, 0].
+            let default = wrap(py, default)?.scaled_to_competences(c.competence.min_c, 0.0);
+            Some(crate::teachers::teacher(py, default, params.as_ref(), "Config", "teacher_params", "teacher_params.")?)
         }
     };
     let kind: String = get(d, "competence", c.competence.kind.name().to_string(), "a str")?;

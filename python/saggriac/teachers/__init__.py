@@ -102,6 +102,13 @@ class _AskTellSelector:
         self.last_mode: str | None = None
         self.last_region: int | None = None
 
+    def check_competences(self, lo: float, hi: float, whence: str) -> None:
+        """Refuse (ParameterError) a threshold that competences in [lo, hi], told by ``whence``,
+        can never meet, or always meet: ADR's ``t_low`` / ``t_high``, SPDL's ``delta``, Goal
+        GAN's ``success_threshold``. A run, ``TeacherCallback`` and ``SelectorCurriculum`` call
+        it with the competences they tell, so that a teacher never sits still without a word."""
+        self._inner.check_competences(float(lo), float(hi), whence)
+
     @property
     def seed(self) -> int:
         """The seed of the teacher's generator."""
@@ -363,9 +370,10 @@ class AdrSelector(_AskTellSelector):
     <= ``t_low`` (never past the other bound), and the buffer is cleared.
 
     ``t_low`` and ``t_high`` are in the units of the competence told: the defaults suit a success
-    rate or task progress in [0, 1] (SB3's ``TeacherCallback``, Syllabus); a run's own competence
-    lies in [-1, 0], so set e.g. ``t_low=-0.8, t_high=-0.2`` there. ``bounds`` gives the current
-    ranges.
+    rate or task progress in [0, 1] (SB3's ``TeacherCallback``, Syllabus). A run's competence
+    lies in [min_c, 0]: ``Config(teacher="adr")`` moves the defaults there (-0.8, -0.2 for
+    min_c = -1); a run, ``TeacherCallback`` and ``SelectorCurriculum`` refuse thresholds their
+    competences cannot meet (:meth:`check_competences`). ``bounds`` gives the current ranges.
     """
 
     _kind = "adr"
@@ -415,6 +423,8 @@ class SpdlSelector(_AskTellSelector):
     Both Gaussians have one mean (``init_mean``, ``target_mean``: a position in [0, 1]) and
     one standard deviation (``init_std``, ``target_std``: box widths) for every dimension.
     ``regions()`` gives p as one row: mean +- one standard deviation, its KL to mu as interest.
+    ``delta`` is in the units of the competence told (the default for [0, 1]; through
+    ``Config(teacher="spdl")`` it is moved to the run's [min_c, 0], and one outside is refused).
     """
 
     _kind = "spdl"
@@ -435,7 +445,9 @@ class GoalGanSelector(_AskTellSelector):
     generated goals low. Goals come from the generator (noise of dimension ``noise_dim``, two
     hidden layers of ``hidden`` ReLU units) and, with probability ``p_old``, from the goals
     labelled so far; until the first training they are uniform in the box. The networks are
-    saggriac's own (no deep-learning framework).
+    saggriac's own (no deep-learning framework). ``success_threshold`` is in the units of the
+    competence told (the default for [0, 1]; through ``Config(teacher="goal_gan")`` it is moved to
+    the run's [min_c, 0], and one every attempt would fail or pass is refused).
     """
 
     _kind = "goal_gan"

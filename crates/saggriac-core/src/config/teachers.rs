@@ -331,6 +331,12 @@ impl GoalGanConfig {
             return Err(invalid("GoalGanSelector", "r_max", format!("a float >= r_min (r_min = {})", self.r_min), self.r_max));
         }
         c.within("n_rollouts", self.n_rollouts, 1, 255)?;
+        // A goal's success rate is k / n_rollouts: none in [r_min, r_max] and no goal is ever
+        // good, so the GAN would never train.
+        let n = self.n_rollouts as f64;
+        if !(0..=self.n_rollouts).any(|k| (self.r_min..=self.r_max).contains(&(k as f64 / n))) {
+            return Err(invalid("GoalGanSelector", "r_max", format!("a float such that [r_min, r_max] holds a success rate k / n_rollouts (r_min = {}, n_rollouts = {})", self.r_min, self.n_rollouts), self.r_max));
+        }
         c.within("update_size", self.update_size, 1, 100_000)?;
         c.within("gan_iterations", self.gan_iterations, 0, 100_000)?;
         c.probability("p_old", self.p_old)?;
