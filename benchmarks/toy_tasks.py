@@ -89,11 +89,14 @@ TEACHERS: dict[str, tuple[Callable[[HypercubeUnlock, int], object], bool]] = {
     "covar_gmm": (lambda e, s: sg.CovarGmmSelector(e.low, e.high, seed=s), False),
     "adr": (lambda e, s: sg.AdrSelector(e.low, e.high, seed=s), False),
     "adr_corner": (lambda e, s: sg.AdrSelector(e.low, e.high, seed=s, initial=0.0), False),
+    "spdl": (lambda e, s: sg.SpdlSelector(e.low, e.high, seed=s), False),
+    "spdl_corner": (lambda e, s: sg.SpdlSelector(e.low, e.high, seed=s, init_mean=0.05), False),
+    "goal_gan": (lambda e, s: sg.GoalGanSelector(e.low, e.high, seed=s), False),
     "random": (lambda e, s: sg.RandomSelector(e.low, e.high, seed=s), False),
     "discrete_lp": (lambda e, s: sg.DiscreteLpSelector(e.n_cells, seed=s), True),
     "plr": (lambda e, s: sg.PlrSelector(e.n_cells, seed=s), True),
 }
-NAMES = {"sagg_riac": "SAGG-RIAC", "riac": "RIAC", "alp_gmm": "ALP-GMM", "covar_gmm": "Covar-GMM", "adr": "ADR", "adr_corner": "ADR (from the origin)", "random": "random", "discrete_lp": "discrete LP (cells given)", "plr": "PLR (cells given)"}
+NAMES = {"sagg_riac": "SAGG-RIAC", "riac": "RIAC", "alp_gmm": "ALP-GMM", "covar_gmm": "Covar-GMM", "adr": "ADR", "adr_corner": "ADR (from the origin)", "spdl": "SPDL", "spdl_corner": "SPDL (from the origin)", "goal_gan": "Goal GAN", "random": "random", "discrete_lp": "discrete LP (cells given)", "plr": "PLR (cells given)"}
 
 
 def one_run(job: tuple[str, str, int, int]) -> tuple[dict, list[dict]]:
