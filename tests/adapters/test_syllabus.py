@@ -41,6 +41,8 @@ BOX_TEACHERS = {
     "covar_gmm": lambda s: sg.CovarGmmSelector(LOW, HIGH, seed=s, fit_rate=40, bootstrap=40),
     "random": lambda s: sg.RandomSelector(LOW, HIGH, seed=s),
     "adr": lambda s: sg.AdrSelector(LOW, HIGH, seed=s, buffer_size=3, t_low=0.2, t_high=0.4),
+    "spdl": lambda s: sg.SpdlSelector(LOW, HIGH, seed=s, update_every=20, warmup=20),
+    "goal_gan": lambda s: sg.GoalGanSelector(LOW, HIGH, seed=s, update_size=10, gan_iterations=10, hidden=8),
 }
 
 

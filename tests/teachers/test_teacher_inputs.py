@@ -23,6 +23,8 @@ TEACHERS = {
     "discrete_lp": lambda: saggriac.DiscreteLpSelector(4, seed=1),
     "adr": lambda: saggriac.AdrSelector([0.0, 0.0], [1.0, 1.0], seed=1),
     "plr": lambda: saggriac.PlrSelector(4, seed=1),
+    "spdl": lambda: saggriac.SpdlSelector([0.0, 0.0], [1.0, 1.0], seed=1),
+    "goal_gan": lambda: saggriac.GoalGanSelector([0.0, 0.0], [1.0, 1.0], seed=1),
 }
 
 

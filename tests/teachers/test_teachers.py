@@ -18,6 +18,8 @@ TEACHERS = [
     lambda: sg.AdrSelector([0.0, -1.0], [1.0, 1.0], seed=8, buffer_size=3, t_low=0.3, t_high=0.6),
     lambda: sg.PlrSelector(7, seed=10),
     lambda: sg.PlrSelector(5, seed=11, score="told", replay_schedule="fixed", staleness_coef=0.3),
+    lambda: sg.SpdlSelector([0.0, -1.0], [1.0, 1.0], seed=12, update_every=20, warmup=20, delta=-0.6),
+    lambda: sg.GoalGanSelector([0.0, -1.0], [1.0, 1.0], seed=13, update_size=10, gan_iterations=10, hidden=8, success_threshold=-0.5),
 ]
 
 
