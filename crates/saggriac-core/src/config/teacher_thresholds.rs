@@ -21,9 +21,9 @@ impl Teacher {
     }
 
     /// Every threshold a told competence is compared with must be one that competences in
-    /// [lo, hi] (`whence`: who tells them, "a run tells") can both meet and miss: otherwise the teacher would sit
-    /// still without a word (ADR's bounds never grow, SPDL never moves, Goal GAN never finds a
-    /// goal of intermediate difficulty).
+    /// [lo, hi] (`whence`: who tells them, "a run tells") can both meet and miss: otherwise the
+    /// teacher would sit still without a word (ADR's bounds never grow, SPDL never moves, Goal
+    /// GAN never finds a goal of intermediate difficulty).
     pub fn check_competences(&self, lo: f64, hi: f64, whence: &str) -> Result<()> {
         let told = format!("the competences {whence} lie in [{lo}, {hi}]");
         let owner = self.class();
