@@ -21,7 +21,7 @@ from . import _core, bodies, testing  # noqa: F401 (saggriac.bodies and saggriac
 from .config import PRESETS, Config
 from .errors import ConformanceError, InputError, ParameterError, SaggriacError, StorageError
 from .teachers.competence import competence
-from .teachers import AlpGmmSelector, CovarGmmSelector, DiscreteLpSelector, RandomSelector, RiacSelector, SaggRiacSelector, load_selector
+from .teachers import AdrSelector, AlpGmmSelector, CovarGmmSelector, DiscreteLpSelector, GoalGanSelector, PlrSelector, RandomSelector, RiacSelector, SaggRiacSelector, SpdlSelector, TaskListSelector, load_selector
 
 __version__ = _core.__version__
 
@@ -131,6 +131,11 @@ __all__ = [
     "DiscreteLpSelector",
     "AlpGmmSelector",
     "CovarGmmSelector",
+    "AdrSelector",
+    "PlrSelector",
+    "TaskListSelector",
+    "SpdlSelector",
+    "GoalGanSelector",
     "load_selector",
     "Study",
     "run_study",

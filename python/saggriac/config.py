@@ -124,10 +124,10 @@ class Config:
     p_lowest: float = _CORE["p_lowest"]
     reset_every: int = _CORE["reset_every"]
     # Beyond the paper: the teacher choosing sagg_riac's goals. "own" is SAGG-RIAC's high level;
-    # "riac", "alp_gmm", "covar_gmm" replace it, with their papers' defaults (docs/teachers.md)
-    # except those teacher_params sets: a dict of the parameters of saggriac.RiacSelector,
-    # AlpGmmSelector or CovarGmmSelector (kept as a read-only TeacherParams mapping, so that a
-    # Config stays hashable).
+    # any teacher of goals in a box ("riac", "alp_gmm", "covar_gmm", "adr", "spdl", "goal_gan")
+    # replaces it, with its paper's defaults (docs/teachers.md) except those teacher_params sets:
+    # a dict of the parameters of that teacher's class (kept as a read-only TeacherParams mapping,
+    # so that a Config stays hashable).
     teacher: str = _CORE["teacher"]
     teacher_params: Mapping[str, Any] = dataclasses.field(default_factory=lambda: TeacherParams({}))
     # Evaluation (docs/reproduction.md, "What is measured").

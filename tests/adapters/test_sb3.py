@@ -57,6 +57,23 @@ def test_one_teacher_in_the_main_process_is_told_every_episode(vec_cls):
     assert all(c <= 0 for _, c in cb.history)
 
 
+def test_adr_chooses_the_goals_of_sb3_training_and_its_ranges_follow_what_it_is_told():
+    """ADR in the main process behind SB3's PPO: every finished episode is told, and the
+    boundary goals' competences reach ADR's buffers (thresholds that any distance passes, so
+    the ranges must grow)."""
+    teacher = sg.AdrSelector([0.0, -50.0], [50.0, 50.0], seed=0, boundary_prob=1.0, buffer_size=2, t_low=-2e6, t_high=-1e6)
+    venv = make_vec_env(lambda: gymnasium.make(ENV, max_episode_steps=20), n_envs=2, seed=0)
+    cb = TeacherCallback(teacher, competence="distance")
+    model = PPO("MultiInputPolicy", venv, n_steps=64, batch_size=64, n_epochs=1, seed=0, device="cpu")
+    model.learn(total_timesteps=640, callback=cb)
+    venv.close()
+    h = teacher.history()
+    assert len(h["told_competence"]) == len(cb.history) == 32 - 2
+    np.testing.assert_array_equal(h["told_goal"], np.array([g for g, _ in cb.history]))
+    lo, hi = teacher.bounds
+    assert np.all(hi - lo > 0) and np.all(lo >= [0.0, -50.0]) and np.all(hi <= [50.0, 50.0])
+
+
 def test_a_goal_env_that_ignores_next_goal_is_refused():
     class Deaf(gymnasium.Wrapper):
         def set_next_goal(self, goal):  # takes the goal and forgets it

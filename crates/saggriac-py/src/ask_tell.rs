@@ -42,6 +42,12 @@ impl PyAskTell {
         Ok(PyAskTell { inner: wrap(py, named(AskTell::new(TeacherSpec { teacher, low, high, seed }), owner))? })
     }
 
+    /// check_competences(lo, hi, whence): refuses thresholds no competence in [lo, hi] (told by
+    /// `whence`) can meet, or every one meets.
+    fn check_competences(&self, py: Python<'_>, lo: f64, hi: f64, whence: &str) -> PyResult<()> {
+        wrap(py, self.inner.spec().teacher.check_competences(lo, hi, whence))
+    }
+
     /// save() -> bytes: parameters, state and history (AskTell.restore rebuilds the teacher).
     fn save<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyBytes>> {
         let bytes = wrap(py, self.inner.save())?;

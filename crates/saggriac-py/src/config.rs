@@ -82,7 +82,7 @@ pub fn parse_config(d: &Bound<'_, PyDict>) -> PyResult<RunConfig> {
     let mut c: RunConfig = typed(d, |c: &RunConfig| c.validate())?;
     let body: BodyParams = typed(d, |b: &BodyParams| b.clone().build().map(|_| ()))?;
     (c.arm, c.body_change) = body.build().map_err(|e| to_py(py, in_config_terms(e)))?;
-    c.teacher = crate::teachers::of_config(d)?;
+    c.teacher = crate::teachers::of_config(d, c.competence.min_c)?;
     Ok(c)
 }
 

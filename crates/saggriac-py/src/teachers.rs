@@ -117,7 +117,9 @@ pub fn serde_rule(e: &str) -> String {
 }
 
 /// The teacher of `Config`'s `teacher` and `teacher_params` (None: "own").
-pub fn of_config(d: &Bound<'_, PyDict>) -> PyResult<Option<Teacher>> {
+/// `min_c` is the run's: the papers' thresholds are for competences in [0, 1], a run's lie in
+/// [min_c, 0], and the defaults move there (`Teacher::scaled_to_competences`).
+pub fn of_config(d: &Bound<'_, PyDict>, min_c: f64) -> PyResult<Option<Teacher>> {
     let py = d.py();
     let kind: String = match d.get_item("teacher")?.filter(|t| !t.is_none()) {
         Some(t) => t.extract().map_err(|_| to_py(py, invalid("Config", "teacher", "a str", t.repr().map(|r| r.to_string()).unwrap_or_default())))?,
@@ -142,7 +144,8 @@ pub fn of_config(d: &Bound<'_, PyDict>) -> PyResult<Option<Teacher>> {
                 Error::InvalidParameter { owner, param, rule, value } => Error::InvalidParameter { owner, param, rule: rule.replacen("one of ", "one of 'own', ", 1), value },
                 other => other,
             });
-            Some(teacher(py, wrap(py, default)?, given.as_ref(), "Config", "teacher_params", "teacher_params.")?)
+            let default = wrap(py, default)?.scaled_to_competences(min_c, 0.0);
+            Some(teacher(py, default, given.as_ref(), "Config", "teacher_params", "teacher_params.")?)
         }
     })
 }

@@ -39,6 +39,8 @@ except ImportError as e:  # pragma: no cover - exercised without the extra
     raise ImportError(f'saggriac.adapters.sb3 needs Stable-Baselines3, which is not installed ({e}). Install it with: pip install "saggriac[sb3]"') from e
 
 COMPETENCES = ("success", "distance")
+#: The range of what each competence tells: a teacher's thresholds are checked against it.
+TOLD = {"success": (0.0, 1.0), "distance": (-float("inf"), 0.0)}
 
 #: Modes in which a teacher draws a goal from its whole box rather than from what it learnt.
 _UNIFORM_MODES = ("initial", "global", "random")
@@ -89,6 +91,8 @@ class TeacherCallback(BaseCallback):
         if not (callable(getattr(teacher, "sample", None)) and callable(getattr(teacher, "update", None))):
             raise ConformanceError(f"TeacherCallback needs a teacher with sample() and update(goal, competence); got {teacher!r}.")
         check_flag(allow_copy, "allow_copy", "TeacherCallback")
+        if isinstance(competence, str) and competence in TOLD and callable(getattr(teacher, "check_competences", None)):
+            teacher.check_competences(*TOLD[competence], f"TeacherCallback(competence={competence!r}) tells")
         ownership.claim(teacher, "TeacherCallback", allow_copy)
         if save_with is not None:
             if not isinstance(save_with, CheckpointCallback):

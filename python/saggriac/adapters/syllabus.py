@@ -8,8 +8,9 @@ chosen by a saggriac selector:
 
 * over a ``BoxTaskSpace`` (a 1-D ``gymnasium.spaces.Box``), by any box teacher whose bounds are
   the box's: :class:`saggriac.SaggRiacSelector`, ``RiacSelector``, ``AlpGmmSelector``,
-  ``CovarGmmSelector``, ``RandomSelector``;
-* over a ``DiscreteTaskSpace`` of n tasks, by :class:`saggriac.DiscreteLpSelector` with n tasks.
+  ``CovarGmmSelector``, ``AdrSelector``, ``SpdlSelector``, ``GoalGanSelector``, ``RandomSelector``;
+* over a ``DiscreteTaskSpace`` of n tasks, by a task-list teacher with n tasks
+  (:class:`saggriac.DiscreteLpSelector`, :class:`saggriac.PlrSelector`).
 
 At each episode's end the teacher is told a competence: the episode's task progress
 (``competence="progress"``, Syllabus's ``info["task_completion"]``, the default), its return
@@ -40,7 +41,7 @@ import numpy as np
 
 from ..teachers.competence import competence as _competence
 from ..errors import ConformanceError, InputError, ParameterError
-from ..teachers import DiscreteLpSelector
+from ..teachers import TaskListSelector
 from .gym.goals import check_goal_taken, sample_batch
 
 COMPETENCES = ("progress", "return")
@@ -50,8 +51,8 @@ def _check_box(task_space: BoxTaskSpace, selector: Any) -> None:
     space = task_space.gym_space
     if not isinstance(space, gymnasium.spaces.Box) or len(space.shape) != 1:
         raise ConformanceError(f"SelectorCurriculum needs a BoxTaskSpace over a 1-D gymnasium Box; got {space}.")
-    if isinstance(selector, DiscreteLpSelector):
-        raise ConformanceError("SelectorCurriculum: a DiscreteLpSelector chooses among a task list; use it with a DiscreteTaskSpace.")
+    if isinstance(selector, TaskListSelector):
+        raise ConformanceError(f"SelectorCurriculum: a {type(selector).__name__} chooses among a task list; use it with a DiscreteTaskSpace.")
     low, high = np.asarray(space.low, dtype=np.float64), np.asarray(space.high, dtype=np.float64)
     dim = getattr(selector, "dim", None)
     if dim != space.shape[0]:
@@ -67,9 +68,9 @@ def _check_box(task_space: BoxTaskSpace, selector: Any) -> None:
 
 
 def _check_discrete(task_space: DiscreteTaskSpace, selector: Any) -> None:
-    if not isinstance(selector, DiscreteLpSelector):
-        raise ConformanceError(f"SelectorCurriculum over a DiscreteTaskSpace needs a saggriac.DiscreteLpSelector; got {type(selector).__name__}.")
-    n = int(round(float(selector.high[0]))) + 1
+    if not isinstance(selector, TaskListSelector):
+        raise ConformanceError(f"SelectorCurriculum over a DiscreteTaskSpace needs a task-list teacher (saggriac.DiscreteLpSelector, saggriac.PlrSelector); got {type(selector).__name__}.")
+    n = selector.n_tasks
     if n != task_space.num_tasks:
         raise ParameterError(f"The 'selector' parameter of SelectorCurriculum must have the task space's {task_space.num_tasks} tasks; it has {n}.", "selector", repr(selector))
 
@@ -92,6 +93,8 @@ class SelectorCurriculum(Curriculum):
             raise ConformanceError(f"SelectorCurriculum needs a Syllabus BoxTaskSpace or DiscreteTaskSpace; got {type(task_space).__name__}.")
         if not (callable(competence) or competence in COMPETENCES):
             raise ParameterError(f"The 'competence' parameter of SelectorCurriculum must be one of {', '.join(map(repr, COMPETENCES))} or a function; got {competence!r}.", "competence", repr(competence))
+        if competence == "progress" and callable(getattr(selector, "check_competences", None)):
+            selector.check_competences(0.0, 1.0, "SelectorCurriculum(competence='progress') tells")
         if curriculum_kwargs.get("random_start_tasks", 0):
             raise ParameterError(
                 "The 'random_start_tasks' parameter of SelectorCurriculum must be 0: Syllabus draws start tasks from numpy's global generator; "

@@ -235,6 +235,8 @@ def _build(config: Config, seed: int, threads: int, environment: Any, goal_selec
         from ..testing import check_goal_selector_interface
 
         check_goal_selector_interface(goal_selector, config)
+        if callable(getattr(goal_selector, "check_competences", None)):
+            goal_selector.check_competences(config.min_c, 0.0, "a run tells (min_c to 0)")
         extra["goal_selector"] = goal_selector
         extras["goal_selector"] = f"{type(goal_selector).__module__}.{type(goal_selector).__qualname__}"
     learner = _core.Learner(core, learner_seed, eval_seed, env_seed=environment_seed(seed), **extra)

@@ -8,6 +8,7 @@ pub mod high_level;
 pub mod low_level;
 pub mod model;
 pub mod rules;
+pub mod teacher_thresholds;
 pub mod teachers;
 
 pub use body::{ArmConfig, ArmKind, BodyChange};
@@ -253,6 +254,7 @@ impl RunConfig {
             return Err(invalid("Run", "teacher", "'own' or a teacher of goals in a box (a run's goals are points of the goal space)", format!("'{}'", t.kind())));
         }
         t.validate()?;
+        t.check_competences(self.competence.min_c, 0.0, "a run tells (min_c to 0)")?;
         // The whole parameter set, by name: a parameter added to SAGG-RIAC's is checked too.
         let flat = |c: SaggRiacConfig| teachers::flat_params(&c);
         let (own, default) = (flat(SaggRiacConfig { tree: self.tree, modes: self.modes }), flat(SaggRiacConfig::default()));

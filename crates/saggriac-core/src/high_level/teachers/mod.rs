@@ -4,22 +4,31 @@
 //! where it stopped. Adding a teacher: its file here, its parameters and one variant in
 //! `crate::config::teachers::Teacher`, one line in `TeacherSpec::build` (docs/teachers.md).
 
+pub mod adr;
 pub mod alp_gmm;
 pub mod covar_gmm;
 pub mod discrete_lp;
 pub mod gmm;
+pub mod goal_gan;
 pub(crate) mod mixture;
+pub mod mlp;
+pub mod plr;
 pub mod riac;
+pub mod spdl;
 
 use serde::{Deserialize, Serialize};
 
 pub use crate::config::teachers::Teacher;
 use crate::error::Result;
 use crate::high_level::goal_selection::{GoalSelector, RandomGoals, SaggRiac};
+use adr::Adr;
 use alp_gmm::AlpGmm;
 use covar_gmm::CovarGmm;
 use discrete_lp::DiscreteLp;
+use goal_gan::GoalGan;
+use plr::Plr;
 use riac::Riac;
+use spdl::Spdl;
 
 /// A teacher built over a goal space: which teacher with which parameters (`Teacher`, the one
 /// declaration), its box [low, high] (empty for the task-list teacher, whose goals are task
@@ -53,6 +62,10 @@ impl TeacherSpec {
             Teacher::DiscreteLp(c) => Box::new(DiscreteLp::new(c, seed)?),
             Teacher::AlpGmm(c) => Box::new(AlpGmm::new(low, high, c, seed)?),
             Teacher::CovarGmm(c) => Box::new(CovarGmm::new(low, high, c, seed)?),
+            Teacher::Adr(c) => Box::new(Adr::new(low, high, c, seed)?),
+            Teacher::Plr(c) => Box::new(Plr::new(c, seed)?),
+            Teacher::Spdl(c) => Box::new(Spdl::new(low, high, c, seed)?),
+            Teacher::GoalGan(c) => Box::new(GoalGan::new(low, high, c, seed)?),
         })
     }
 }
