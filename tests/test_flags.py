@@ -89,7 +89,7 @@ CALLS = {
     "saggriac.runs.learner.Learner.run.progress": lambda v, t: sg.Learner(_cfg(), 0).run(until=0, progress=v),
     "saggriac.runs.learner.Learner.save_checkpoint.overwrite": lambda v, t: sg.Learner(_cfg(), 0).save_checkpoint(t / "r", 100, overwrite=v),
     "saggriac.runs.result.RunResult.save.overwrite": lambda v, t: sg.RunResult.load(t / "r").save(t / "r", overwrite=v),
-    "saggriac.teachers._AskTellSelector.save.overwrite": lambda v, t: sg.RandomSelector([0.0], [1.0]).save(t / "teacher", overwrite=v),
+    "saggriac.teachers.ask_tell.AskTellSelector.save.overwrite": lambda v, t: sg.RandomSelector([0.0], [1.0]).save(t / "teacher", overwrite=v),
     "saggriac.study.run_study.progress": lambda v, t: sg.run_study(sg.Study(base=_cfg(), conditions=("sagg_random",), seeds=(0,)), t / "st", progress=v),
     "saggriac.study.reproduce.reproduce.progress": lambda v, t: __import__("saggriac.study.reproduce", fromlist=["x"]).reproduce("exp1", t / "st", seeds=1, steps=300, progress=v),
     "saggriac.config.Config.__init__.episodic_refine": lambda v, t: sg.Config(episodic_refine=v),

@@ -69,7 +69,9 @@ def test_each_default_is_declared_once_by_the_core():
     # Each teacher's class takes exactly the core's parameters of its kind, with the core's
     # defaults (a parameter without a default, such as n_tasks, is required), and one class
     # stands for each teacher the core declares.
-    from saggriac.teachers import _CLASSES
+    from saggriac.teachers import classes
+
+    _CLASSES = classes()
 
     teachers = _core.teacher_defaults()
     assert set(_CLASSES) == set(teachers)

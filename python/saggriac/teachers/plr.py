@@ -1,0 +1,32 @@
+"""Prioritized Level Replay (Jiang, Grefenstette & Rocktäschel, ICML 2021)."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from .ask_tell import DEFAULTS
+from .task_list import TaskListSelector
+
+_PLR = DEFAULTS["plr"]
+
+
+class PlrSelector(TaskListSelector):
+    """Prioritized Level Replay (Jiang, Grefenstette & Rocktäschel, ICML 2021) over a list of
+    ``n_tasks`` levels; goals are level indices, as :class:`DiscreteLpSelector`'s.
+
+    Each draw is a new level (uniform among the levels never drawn) or a replay: with
+    ``replay_schedule="proportionate"`` (the paper's) a replay has probability |seen| / n_tasks,
+    with ``"fixed"`` probability ``replay_prob`` (always once every level is seen). A replay draws
+    a seen level from (1 - ``staleness_coef``) P_S + ``staleness_coef`` P_C: P_S ranks the levels'
+    scores (weight rank^(-1/``temperature``)), P_C is proportional to the draws since a level was
+    last drawn. With ``score="progress"`` (the default), ``update`` is told a competence and a
+    level's score is the change of its competence since its previous tell (0 on the first); with
+    ``score="told"``, the value told is the score itself (the paper's: the learner's value loss,
+    mean |GAE|, on the level's last episode).
+    """
+
+    _kind = "plr"
+    competence_range = (0.0, 1.0)
+
+    def __init__(self, n_tasks: int, seed: int = 0, *, temperature: float = _PLR["temperature"], staleness_coef: float = _PLR["staleness_coef"], replay_schedule: str = _PLR["replay_schedule"], replay_prob: float = _PLR["replay_prob"], score: str = _PLR["score"]) -> None:
+        super().__init__(n_tasks, seed, temperature=temperature, staleness_coef=staleness_coef, replay_schedule=replay_schedule, replay_prob=replay_prob, score=score)

@@ -1,0 +1,26 @@
+"""SAGG-RIAC's high level (Baranes & Oudeyer, IROS 2010) as an ask/tell teacher."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from .ask_tell import DEFAULTS, AskTellSelector
+
+_SAGG = DEFAULTS["sagg_riac"]
+
+
+class SaggRiacSelector(AskTellSelector):
+    """SAGG-RIAC's high level over the box [low, high] of any dimension.
+
+    Goals come from a region drawn by interest (``p_interest``), from the whole box
+    (``p_global``) or from the region of lowest mean competence (``p_lowest``). A region holding
+    more than ``g_max`` measurements is split where the interest of its two halves differs most;
+    interest is the competence progress over the last ``zeta`` measurements (eq. 2), divided by
+    ``zeta`` for every region as the paper prints it. ``interest_divisor="window"`` divides a
+    region holding fewer than ``zeta`` measurements by its own count instead (saggriac <= 0.2).
+    """
+
+    _kind = "sagg_riac"
+
+    def __init__(self, low: Any, high: Any, seed: int = 0, *, g_max: int = _SAGG["g_max"], zeta: int = _SAGG["zeta"], min_child: int = _SAGG["min_child"], interest_divisor: str = _SAGG["interest_divisor"], p_interest: float = _SAGG["p_interest"], p_global: float = _SAGG["p_global"], p_lowest: float = _SAGG["p_lowest"]) -> None:
+        super().__init__(low, high, seed, g_max=g_max, zeta=zeta, min_child=min_child, interest_divisor=interest_divisor, p_interest=p_interest, p_global=p_global, p_lowest=p_lowest)
