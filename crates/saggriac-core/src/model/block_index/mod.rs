@@ -28,7 +28,7 @@ mod tests;
 use bounds::{bounds, outward, Query, BATCH, FANOUT};
 
 use crate::model::chunked::Chunked;
-use crate::model::neighbours::{distances, distances_within, Neighbour, NeighbourIndex, PointIndex, TopK};
+use crate::model::neighbours::{distances, distances_within, full_block_distances_within, Neighbour, NeighbourIndex, PointIndex, TopK};
 
 /// Samples per block (the unit whose distances are computed together).
 const BLOCK: usize = 16;
@@ -107,16 +107,20 @@ impl BlockIndex {
     fn visit_block(&self, b: usize, q: &[f64], best: &mut TopK<'_>, acc: &mut [f64; BLOCK]) {
         let first = b * BLOCK;
         let count = (self.len - first).min(BLOCK);
-        let mut bound = best.bound();
-        if !distances_within(q, self.coords.row(b), BLOCK, count, acc, bound) {
-            return;
-        }
-        // Most points are beyond the k-th distance: test them against it before offering.
-        for (j, &d) in acc.iter().enumerate().take(count) {
-            if d <= bound {
-                best.offer((first + j) as u32, d);
-                bound = best.bound();
-            }
+        let bound = best.bound();
+        // The points within the k-th distance as bits (most are beyond it); `offer` tests each
+        // again against the k-th distance as it falls, in id order, as a scan of all would.
+        let mut within = if count == BLOCK {
+            full_block_distances_within(q, self.coords.row(b), acc, bound)
+        } else if distances_within(q, self.coords.row(b), BLOCK, count, acc, bound) {
+            acc.iter().take(count).enumerate().fold(0u32, |m, (j, &d)| m | (u32::from(d <= bound) << j))
+        } else {
+            0
+        };
+        while within != 0 {
+            let j = within.trailing_zeros() as usize;
+            within &= within - 1;
+            best.offer((first + j) as u32, acc[j]);
         }
     }
 
@@ -262,7 +266,11 @@ impl PointIndex for BlockIndex {
         for b in from / BLOCK..self.len.div_ceil(BLOCK) {
             let first = b * BLOCK;
             let count = (self.len - first).min(BLOCK);
-            distances(query, self.coords.row(b), BLOCK, count, &mut acc);
+            if count == BLOCK {
+                full_block_distances_within(query, self.coords.row(b), &mut acc, f64::INFINITY);
+            } else {
+                distances(query, self.coords.row(b), BLOCK, count, &mut acc);
+            }
             for (j, &d) in acc.iter().enumerate().take(count) {
                 if first + j >= from {
                     visit(first + j, d);

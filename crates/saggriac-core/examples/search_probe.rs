@@ -1,0 +1,134 @@
+//! What an exact search of the evaluation must visit, by brute force: the memory's identical
+//! points, and for the queries of the first 20 test reaches (warm-started, as the evaluation
+//! asks them) the points within the final k-th distance T, the blocks of 16 holding them, the
+//! blocks and groups of 128 whose exact boxes reach within T (no box search can skip those).
+//!
+//!     cargo run --release -p saggriac-core --example search_probe -- exp1|exp2 CONDITION
+#[path = "probe_setup/mod.rs"]
+mod probe_setup;
+use saggriac_core::body::arm::Arm;
+use saggriac_core::config::Condition;
+use saggriac_core::model::local_model::LocalModel;
+use saggriac_core::model::neighbours::{dist_sq, Neighbour, WarmStart};
+use saggriac_core::task_space::desired_step;
+use saggriac_core::{Learner, RunConfig};
+use std::collections::HashMap;
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    let exp = args[1].as_str();
+    let cond = Condition::parse(&args[2]).unwrap();
+    let (cfg, l) = if exp == "exp2" {
+        probe_setup::exp2_learner(200_000, cond)
+    } else {
+        let mut cfg = RunConfig { condition: cond, ..RunConfig::default() };
+        cfg.eval.schedule = vec![cfg.n_steps];
+        cfg.eval.n_test_goals = 1;
+        cfg.eval.n_test_configs = 1;
+        let mut l = Learner::new(cfg.clone(), 0, 1).unwrap();
+        l.run(&mut |_| true);
+        (cfg, l)
+    };
+    let mem = l.memory();
+    let n = mem.n_joints();
+    let k = cfg.local.k_neighbours;
+    let [thetas, ..] = mem.arrays();
+    let npts = thetas.len() / n;
+    let mut seen: HashMap<Vec<u64>, usize> = HashMap::new();
+    let mut dup = vec![false; npts];
+    for (i, p) in thetas.chunks_exact(n).enumerate() {
+        let key: Vec<u64> = p.iter().map(|v| v.to_bits()).collect();
+        let c = seen.entry(key).or_insert(0);
+        if *c > 0 {
+            dup[i] = true;
+        }
+        *c += 1;
+    }
+    let maxm = seen.values().max().unwrap();
+    let ndup = dup.iter().filter(|&&d| d).count();
+    println!("{exp} {}: {npts} points, {} distinct, {ndup} duplicates, largest multiplicity {maxm}", cond.name(), seen.len());
+    let tests = probe_setup::test_goals(&cfg);
+    let mut arm = Arm::new(cfg.arm.clone()).unwrap();
+    let mut model = LocalModel::new(n, 2, cfg.local.clone());
+    let mut ws = WarmStart::new(cfg.warm_start_recent);
+    let mut nb: Vec<Neighbour> = Vec::new();
+    let mut dtheta = vec![0.0; n];
+    let (mut nq, mut in_t, mut in_t_dup, mut blocks_pts, mut blocks_box, mut l1_box, mut blocks_dup_only) = (0usize, 0usize, 0usize, 0usize, 0usize, 0usize, 0usize);
+    let mut d = vec![0.0; npts];
+    for (i, g) in tests.goals.iter().enumerate() {
+        if i % 2 == 0 {
+            arm.reset();
+        }
+        ws.clear();
+        for _ in 0..(2.0 * saggriac_core::task_space::distance(g, &arm.position()) / 0.5).ceil() as usize + 20 {
+            let x = arm.position();
+            if saggriac_core::task_space::distance(g, &x) <= 0.01 {
+                break;
+            }
+            let th = arm.theta().to_vec();
+            mem.knn_warm(&mut ws, &th, k, &mut nb);
+            let t = nb.last().unwrap().dist_sq;
+            nq += 1;
+            // Every distance, then what each block and group of 128 holds and reaches.
+            {
+                for (j, p) in thetas.chunks_exact(n).enumerate() {
+                    d[j] = dist_sq(&th, p);
+                }
+                for b in 0..npts.div_ceil(16) {
+                    let r = b * 16..((b + 1) * 16).min(npts);
+                    let c = r.clone().filter(|&j| d[j] <= t).count();
+                    let cd = r.clone().filter(|&j| d[j] <= t && dup[j]).count();
+                    in_t += c;
+                    in_t_dup += cd;
+                    if c > 0 {
+                        blocks_pts += 1;
+                        if c == cd {
+                            blocks_dup_only += 1;
+                        }
+                    }
+                    if box_dist_sq(&thetas, n, r, &th) <= t {
+                        blocks_box += 1;
+                    }
+                }
+                for b in 0..npts.div_ceil(128) {
+                    let r = b * 128..((b + 1) * 128).min(npts);
+                    if box_dist_sq(&thetas, n, r, &th) <= t {
+                        l1_box += 1;
+                    }
+                }
+            }
+            let dx = desired_step(&x, g, 0.5);
+            if model.fit(mem, &nb).and_then(|_| model.inverse(&dx[..2], &mut dtheta)).is_err() {
+                break;
+            }
+            arm.step(&mut dtheta);
+        }
+        if i >= 19 {
+            break;
+        }
+    }
+    let f = |x: usize| x as f64 / nq as f64;
+    println!(
+        "{nq} queries (first 20 test reaches): per query points within T {:.1} (dups {:.1}); blocks with such points {:.1} (dup-only {:.1}); blocks whose box is within T {:.1} of {}; level-1 boxes within T {:.1} of {}",
+        f(in_t),
+        f(in_t_dup),
+        f(blocks_pts),
+        f(blocks_dup_only),
+        f(blocks_box),
+        npts.div_ceil(16),
+        f(l1_box),
+        npts.div_ceil(128)
+    );
+}
+
+/// Squared distance from q to the exact bounding box of points `r` (rows of `n` in `thetas`).
+fn box_dist_sq(thetas: &[f64], n: usize, r: std::ops::Range<usize>, q: &[f64]) -> f64 {
+    let mut s = 0.0;
+    for d in 0..n {
+        let lo = r.clone().map(|j| thetas[j * n + d]).fold(f64::INFINITY, f64::min);
+        let hi = r.clone().map(|j| thetas[j * n + d]).fold(f64::NEG_INFINITY, f64::max);
+        let gap = (lo - q[d]).max(0.0) + (q[d] - hi).max(0.0);
+        s += gap * gap;
+    }
+    s
+}
