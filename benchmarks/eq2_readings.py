@@ -1,6 +1,6 @@
 """Eq. 2's two readings for young regions, side by side on seeds 0-14 (a comparison; it picks nothing).
 
-    python benchmarks/eq2_readings.py --repro /work/runs/repro --out /work/runs/eq2 \
+    python benchmarks/eq2_readings.py --repro runs/repro --out runs/eq2 \
         --presets exp2 exp1 explauto arm3d pusher [--seeds 15] [--workers 2] [--md FILE] \
         [--conditions sagg_riac actuator_riac]
 
