@@ -25,7 +25,8 @@ Seed s gives the teacher's generator; the task itself has no randomness. Writes 
 ``toy_tasks_runs.csv`` (one row per run: final score, area, where the goals went, leaves, time),
 ``toy_tasks_curves.csv`` (the score every ``--every`` goals), ``toy_tasks_modes.csv`` (where the
 goals of each of a teacher's modes went), the summary table ``toy_tasks_results.md`` and
-``toy_tasks_results.csv``, and the figure ``toy_tasks.png``.
+``toy_tasks_results.csv``, and the figure ``toy_tasks.png``. ``--report-only`` rebuilds the last
+three from the runs and curves already in --out, without running anything.
 """
 
 from __future__ import annotations
@@ -194,16 +195,17 @@ def report(runs: pd.DataFrame, curves: pd.DataFrame, out: Path, names: list[str]
         lines.append(f"| {r.space} | {NAMES.get(r.teacher, r.teacher)} | {r.final_mean:.3f} ± {r.final_sd:.3f} | {r.auc_mean:.3f} ± {r.auc_sd:.3f} | "
                      f"{r.impossible:.0%} | {r.locked:.0%} | {r.frontier:.0%} | {r.mastered:.0%} | {leaves} | {r.seconds:.2f} |")
     if "sagg_riac" in names:
-        lines += ["", "SAGG-RIAC's final score minus each other teacher's, with Welch's 95 % interval (descriptive; no decision rule was set for this benchmark):", "",
+        lines += ["", "SAGG-RIAC's final score and area minus each other teacher's, with Welch's 95 % interval (descriptive; no decision rule was set for this benchmark):", "",
                   "| teacher | " + " | ".join(spaces) + " |", "|---|" + "---|" * len(spaces)]
         for n in names:
             if n == "sagg_riac":
                 continue
-            cells = []
-            for s in spaces:
-                d, lo, hi = _ci(runs[(runs.teacher == "sagg_riac") & (runs.space == s)].final, runs[(runs.teacher == n) & (runs.space == s)].final)
-                cells.append(f"{d:+.3f} [{lo:+.3f}, {hi:+.3f}]")
-            lines.append(f"| {NAMES.get(n, n)} | " + " | ".join(cells) + " |")
+            for metric, col in (("final", "final"), ("area", "auc")):
+                cells = []
+                for s in spaces:
+                    d, lo, hi = _ci(runs[(runs.teacher == "sagg_riac") & (runs.space == s)][col], runs[(runs.teacher == n) & (runs.space == s)][col])
+                    cells.append(f"{d:+.3f} [{lo:+.3f}, {hi:+.3f}]")
+                lines.append(f"| {NAMES.get(n, n)} {metric} | " + " | ".join(cells) + " |")
     (out / "toy_tasks_results.md").write_text("\n".join(lines) + "\n")
     print("\n".join(lines))
     import matplotlib
@@ -212,7 +214,7 @@ def report(runs: pd.DataFrame, curves: pd.DataFrame, out: Path, names: list[str]
     import matplotlib.pyplot as plt
 
     colours = {n: plt.get_cmap("tab20")(i % 20) for i, n in enumerate(names)}
-    fig, axes = plt.subplots(2, len(spaces), figsize=(4.6 * len(spaces), 8.5), squeeze=False)
+    fig, axes = plt.subplots(2, len(spaces), figsize=(4.6 * len(spaces), 9), squeeze=False)
     for ax, s in zip(axes[0], spaces):
         for n in names:
             c = curves[(curves.teacher == n) & (curves.space == s)].groupby("goals").score
@@ -225,7 +227,6 @@ def report(runs: pd.DataFrame, curves: pd.DataFrame, out: Path, names: list[str]
         ax.set_xlabel("goals")
         ax.set_ylim(0, 1.02)
     axes[0][0].set_ylabel("share of cells mastered (mean ± sd)")
-    axes[0][-1].legend(fontsize=7, loc="lower right")
     place_colours = {"impossible": "0.25", "locked": "0.6", "frontier": "tab:green", "mastered": "tab:blue"}
     for ax, s in zip(axes[1], spaces):
         t = table[table.space == s].set_index("teacher").loc[names]
@@ -238,8 +239,10 @@ def report(runs: pd.DataFrame, curves: pd.DataFrame, out: Path, names: list[str]
         ax.invert_yaxis()
         ax.set_xlim(0, 1)
         ax.set_xlabel("share of goals tried in ...")
-    axes[1][-1].legend(fontsize=7, loc="lower right")
-    fig.tight_layout()
+    # Legends below the panels, where they hide no curve and no bar.
+    fig.legend(*axes[0][0].get_legend_handles_labels(), loc="lower left", ncol=6, fontsize=8, frameon=False)
+    fig.legend(*axes[1][0].get_legend_handles_labels(), loc="lower right", ncol=4, fontsize=8, frameon=False)
+    fig.tight_layout(rect=(0, 0.06, 1, 1))
     fig.savefig(out / "toy_tasks.png", dpi=100)
 
 
@@ -251,7 +254,13 @@ def main() -> None:
     p.add_argument("--teachers", nargs="+", default=list(TEACHERS), choices=list(TEACHERS))
     p.add_argument("--every", type=int, default=500)
     p.add_argument("--workers", type=int, default=2)
+    p.add_argument("--report-only", action="store_true", help="rebuild the table and the figure from the runs and curves already in --out")
     a = p.parse_args()
+    if a.report_only:
+        runs_df = pd.read_csv(a.out / "toy_tasks_runs.csv")
+        names = [n for n in TEACHERS if n in set(runs_df.teacher)]
+        report(runs_df, pd.read_csv(a.out / "toy_tasks_curves.csv"), a.out, names)
+        return
     a.out.mkdir(parents=True, exist_ok=True)
     jobs = list(itertools.product(a.teachers, a.spaces, range(a.seeds), [a.every]))
     # The slowest (mixture teachers in 5-D) first, so the pool ends together.
@@ -266,7 +275,7 @@ def main() -> None:
             print(f"\r{i}/{len(jobs)} runs, {time.perf_counter() - start:.0f} s", end="", flush=True)
     print()
     runs_df, curves_df = pd.DataFrame(runs).sort_values(["space", "teacher", "seed"]), pd.DataFrame(curves)
-    runs_df.to_csv(a.out / "toy_tasks_runs.csv", index=False, float_format="%.6g")
+    runs_df.to_csv(a.out / "toy_tasks_runs.csv", index=False, float_format="%.10g")
     curves_df.sort_values(["space", "teacher", "seed", "goals"]).to_csv(a.out / "toy_tasks_curves.csv", index=False, float_format="%.6g")
     pd.DataFrame(modes).sort_values(["space", "teacher", "seed", "mode"]).to_csv(a.out / "toy_tasks_modes.csv", index=False)
     report(runs_df, curves_df, a.out, a.teachers)
