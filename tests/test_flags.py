@@ -94,7 +94,7 @@ CALLS = {
     "saggriac.study.reproduce.reproduce.progress": lambda v, t: __import__("saggriac.study.reproduce", fromlist=["x"]).reproduce("exp1", t / "st", seeds=1, steps=300, progress=v),
     "saggriac.config.Config.__init__.episodic_refine": lambda v, t: sg.Config(episodic_refine=v),
     "saggriac.config.Config.__init__.timeout_in_exploration": lambda v, t: sg.Config.from_preset("exp1", timeout_in_exploration=v),
-    "saggriac.teachers.CovarGmmSelector.__init__.absolute_lp": lambda v, t: sg.CovarGmmSelector([0.0], [1.0], absolute_lp=v),
+    "saggriac.teachers.covar_gmm.CovarGmmSelector.__init__.absolute_lp": lambda v, t: sg.CovarGmmSelector([0.0], [1.0], absolute_lp=v),
     "saggriac.bodies.mujoco_arm.MujocoArm.chain.at_origin": lambda v, t: _mujoco_arm().chain(at_origin=v),
     "saggriac.adapters.gym.goals.SelectorGoals.__init__.allow_copy": lambda v, t: _gym().SelectorGoals(_gym().GoalArmEnv(), _teacher(), allow_copy=v),
     "saggriac.adapters.gym.goals.VectorSelectorGoals.__init__.allow_copy": lambda v, t: _gym().VectorSelectorGoals(__import__("gymnasium").vector.SyncVectorEnv([_gym().GoalArmEnv]), _teacher(), allow_copy=v),
