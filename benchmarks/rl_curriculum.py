@@ -414,6 +414,24 @@ def power_table(family: int = EXPECTED_TEACHERS - 1) -> str:
     return "\n".join(lines)
 
 
+def pilot_rules(curves: pd.DataFrame) -> str:
+    """The protocol's two pilot rules, applied to the pilot's curves (random, tuning seeds, dense
+    and sparse, 200,000 steps): the budget from the cost, the sparse threshold from learning."""
+    runs = runs_table(curves)
+    per_k = float((runs["seconds"] / runs["budget"] * 1000).mean())
+    n_runs = EXPECTED_TEACHERS * (len(REPORT_SEEDS["dense"]) + len(REPORT_SEEDS["sparse"]))
+    fits = [b for b in range(100_000, 400_001, 20_000) if n_runs * per_k * b / 1000 <= 0.9 * 8 * 3600]
+    budget = max(fits) if fits else 100_000
+    sparse = runs[runs["reward"] == "sparse"]
+    learnt = float((sparse["final_success"] - sparse["start_success"]).mean())
+    lines = [
+        f"pilot: {len(runs)} runs; {per_k:.3f} wall s per 1,000 steps (CPU {float((runs['cpu_seconds'] / runs['budget'] * 1000).mean()):.3f}); per run: " + ", ".join(f"{r.reward} {r.seed}: {r.seconds:.0f} s" for r in runs.itertuples()),
+        f"rule 1: {n_runs} runs x {per_k:.3f} s x B / 1,000 <= 25,920 s -> B = {budget} ({n_runs * per_k * budget / 3600 / 1000:.2f} core-hours)" + ("" if fits else " (even 100,000 exceeds the allowance)"),
+        f"rule 2: sparse random's final success minus its start: {learnt:+.3f} -> sparse threshold {0.3 if learnt <= 0.02 else 0.2}",
+    ]
+    return "\n".join(lines)
+
+
 # ---------------------------------------------------------------- the command
 
 
@@ -441,9 +459,13 @@ def main(argv: list[str] | None = None) -> None:
     p.add_argument("--workers", type=int, default=1, help="runs at a time, one process and one torch thread each")
     p.add_argument("--analyse", action="store_true", help="only recompute the tables and the figure from --out/curves.csv")
     p.add_argument("--power", action="store_true", help="print the protocol's power table and stop")
+    p.add_argument("--pilot", action="store_true", help="apply the protocol's pilot rules to --out/curves.csv and stop")
     a = p.parse_args(argv)
     if a.power:
         print(power_table())
+        return
+    if a.pilot:
+        print(pilot_rules(pd.read_csv(a.out / "curves.csv")))
         return
     if a.analyse:
         if not (a.out / "curves.csv").exists():
