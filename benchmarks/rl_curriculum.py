@@ -44,10 +44,11 @@ OUT = REPO / "docs" / "figures" / "rl_curriculum"
 REWARDS = ("dense", "sparse")
 # The task, fixed in the protocol before any run.
 TASK = dict(n_joints=3, arm_length=1.0, joint_limit=math.pi, max_joint_step=0.2, goal_low=(-2.0, -2.0), goal_high=(2.0, 2.0))
-# A goal is reached within this distance, per variant (the pilot's rule 2 may move sparse's).
-THRESHOLDS = {"dense": 0.2, "sparse": 0.2}
-# Environment steps per run (the pilot's rule 1 sets it) and scorings per run.
-BUDGET = 200_000
+# A goal is reached within this distance, per variant.
+# The pilot's rule 2 moved sparse's from 0.2 to 0.3 (docs/rl_curriculum.md, "The pilot").
+THRESHOLDS = {"dense": 0.2, "sparse": 0.3}
+# Environment steps per run (the pilot's rule 1 set it) and scorings per run.
+BUDGET = 120_000
 SCORINGS = 10
 REPORT_SEEDS = {"dense": list(range(500, 524)), "sparse": list(range(600, 612))}
 PILOT_SEEDS = [102, 103]
