@@ -5,7 +5,7 @@ a chain body, and on the built-in spatial arm (issue 15, MuJoCo item 4).
 
 All three run the `pusher` preset's configuration (the arm3d preset for the built-in arm) with
 the same seed:
-- "mujoco": `saggriac.mujoco_arm.pusher_arm()` passed as `environment=`; every micro-action,
+- "mujoco": `saggriac.bodies.mujoco_arm.pusher_arm()` passed as `environment=`; every micro-action,
   the evaluation's test reaches included, is a call into Python and `mj_kinematics`. Its
   positions are put in the preset's units (shoulder at the origin, reach 50) by a thin wrapper.
 - "native": `Config.from_preset("pusher")`, the same kinematics read out of the model once
@@ -28,7 +28,7 @@ import numpy as np
 import saggriac
 from saggriac.bodies import PUSHER_SCALE
 from saggriac.config import CONDITIONS
-from saggriac.mujoco_arm import pusher_arm
+from saggriac.bodies.mujoco_arm import pusher_arm
 
 
 class PusherInPresetUnits:
@@ -37,7 +37,7 @@ class PusherInPresetUnits:
     def __init__(self) -> None:
         self.arm = pusher_arm()
         self.joint_space, self.action_space = self.arm.joint_space, self.arm.action_space
-        self.task_space = saggriac.environments.Box(-1e3, 1e3, (3,))
+        self.task_space = saggriac.bodies.environments.Box(-1e3, 1e3, (3,))
         self.shoulder = self.arm.model.body("r_shoulder_pan_link").pos.copy()
 
     def _units(self, x: np.ndarray) -> np.ndarray:

@@ -3,7 +3,7 @@
     python benchmarks/bench_python_env.py [--steps 20000] [--paradigm micro_actions|episodic]
 
 Runs the same configuration and seed with the built-in arm and with
-`saggriac.environments.PlanarArm` (the same arm in pure Python: identical results, checked here),
+`saggriac.bodies.environments.PlanarArm` (the same arm in pure Python: identical results, checked here),
 and prints the extra time per call into Python. A Python environment cannot be copied, so the
 evaluation's test reaches also run on it; the calls counted are the learning steps plus the test
 micro-actions. A benchmark, not a test.
@@ -18,7 +18,7 @@ import time
 import numpy as np
 
 import saggriac
-from saggriac.environments import PlanarArm
+from saggriac.bodies.environments import PlanarArm
 
 
 def main() -> None:

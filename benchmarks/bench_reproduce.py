@@ -1,6 +1,6 @@
 """The full reproduction, timed: `saggriac reproduce` for each experiment at full scale.
 
-    python benchmarks/bench_reproduce.py [--experiments exp1 exp2] [--seeds 15] [--workers N] [--out DIR]
+    python benchmarks/bench_reproduce.py [--experiments exp1 exp2] [--seeds 15] [--first-seed 0] [--workers N] [--out DIR]
 
 Runs `saggriac reproduce EXPERIMENT --seeds N` as a user would (a fresh study folder per
 experiment, in a temporary folder unless --out is given), and prints for each experiment its
@@ -45,6 +45,7 @@ def main() -> int:
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--experiments", nargs="+", default=["exp1", "exp2"])
     p.add_argument("--seeds", type=int, default=15)
+    p.add_argument("--first-seed", type=int, default=0, help="seeds FIRST..FIRST+N-1 (default 0; 15 replicates on a second, independent set)")
     p.add_argument("--workers", type=int, default=None, help="worker processes (default: the CLI's, all cores)")
     p.add_argument("--out", default=None, help="keep the study folders here (default: a temporary folder, removed)")
     a = p.parse_args()
@@ -55,7 +56,7 @@ def main() -> int:
     total_wall = total_cpu = 0.0
     for exp in a.experiments:
         study = base / f"reproduce-{exp}"
-        cmd = [saggriac, "reproduce", exp, "--seeds", str(a.seeds), "--out", str(study), "--no-progress"]
+        cmd = [saggriac, "reproduce", exp, "--seeds", str(a.seeds), "--first-seed", str(a.first_seed), "--out", str(study), "--no-progress"]
         if a.workers is not None:
             cmd += ["--workers", str(a.workers)]
         c0, t0 = cpu_seconds(), time.perf_counter()

@@ -34,7 +34,15 @@ def make(name: str, d: int, seed: int):
         "alp_gmm": lambda: sg.AlpGmmSelector(low, high, seed=seed),
         "covar_gmm": lambda: sg.CovarGmmSelector(low, high, seed=seed),
         "discrete_lp": lambda: sg.DiscreteLpSelector(8, seed=seed),
+        "adr": lambda: sg.AdrSelector(low, high, seed=seed),
+        "plr": lambda: sg.PlrSelector(8, seed=seed),
+        # The competences below lie in [-1, 0]: thresholds on that scale, so that both move.
+        "spdl": lambda: sg.SpdlSelector(low, high, seed=seed, delta=-0.5),
+        "goal_gan": lambda: sg.GoalGanSelector(low, high, seed=seed, success_threshold=-0.5),
     }[name]()
+
+
+TASK_LISTS = ("discrete_lp", "plr")  # goals are task indices (8 tasks)
 
 
 def competence(goals: np.ndarray, discrete: bool) -> np.ndarray:
@@ -45,7 +53,15 @@ def competence(goals: np.ndarray, discrete: bool) -> np.ndarray:
 
 def timed(name: str, d: int, n: int, batch: int) -> float:
     t = make(name, d, 0)
-    discrete = name == "discrete_lp"
+    discrete = name in TASK_LISTS
+    # Goal GAN labels a goal by its success rate over repeated tries: a competence that is a
+    # function of the goal gives rates 0 or 1 only, and its GAN would never train (nor be timed).
+    noise = np.random.default_rng(0) if name == "goal_gan" else None
+
+    def told(g: np.ndarray) -> np.ndarray:
+        c = competence(g, discrete)
+        return c if noise is None else np.clip(c + noise.normal(0.0, 0.3, len(c)), -1.0, 0.0)
+
     spent = 0.0
     done = 0
     while done < n:
@@ -54,13 +70,13 @@ def timed(name: str, d: int, n: int, batch: int) -> float:
         if batch == 1:
             g = t.sample()
             spent += time.perf_counter() - start
-            c = float(competence(g[None, :], discrete)[0])
+            c = float(told(g[None, :])[0])
             start = time.perf_counter()
             t.update(g, c)
         else:
             g = t.sample_batch(b)
             spent += time.perf_counter() - start
-            c = competence(g, discrete)
+            c = told(g)
             start = time.perf_counter()
             t.update_batch(g, c)
         spent += time.perf_counter() - start
@@ -74,11 +90,11 @@ def main() -> None:
     p.add_argument("--single-cap", type=int, default=100_000)
     p.add_argument("--batch", type=int, default=4096)
     p.add_argument("--dims", type=int, nargs="+", default=[2, 10])
-    p.add_argument("--teachers", nargs="+", default=["sagg_riac", "random", "riac", "alp_gmm", "covar_gmm", "discrete_lp"])
+    p.add_argument("--teachers", nargs="+", default=["sagg_riac", "random", "riac", "alp_gmm", "covar_gmm", "discrete_lp", "adr", "plr", "spdl", "goal_gan"])
     a = p.parse_args()
     print(f"{'teacher':12} {'dim':>4} {'mode':>8} {'updates':>9} {'us/update':>10} {'updates/s':>11}")
     for name in a.teachers:
-        for d in a.dims if name != "discrete_lp" else [1]:
+        for d in a.dims if name not in TASK_LISTS else [1]:
             for batch, n in ((1, min(a.updates, a.single_cap)), (a.batch, a.updates)):
                 per = timed(name, d, n, batch)
                 mode = "single" if batch == 1 else f"x{batch}"

@@ -15,7 +15,7 @@ seeds 0..N-1 at full scale, as a saggriac Study in OUT/PRESET (the preset's own 
 n_evals, i.e. the same evaluation schedule as ``saggriac reproduce``; a folder that already holds
 finished runs is resumed, not recomputed). It then pairs each run by seed with the run of the same
 condition in the reproduction folder REPRO/reproduce-PRESET (made by ``bench_reproduce.py`` with
-the new default) and compares, new reading minus old (saggriac.statistics.paired):
+the new default) and compares, new reading minus old (saggriac.analysis.statistics.paired):
 
 - the final reaching error and the final prediction error (both conditions);
 - goals per run and the share of the second-half goals (started at step >= n_steps / 2) that lie
@@ -168,7 +168,7 @@ def markdown(table: pd.DataFrame, command: str) -> str:
             f"{_num(r['new (zeta) mean'], d)} ± {_num(r['new (zeta) sd'], d)} | {_signed(r['new - old'], d)} [{_signed(r['ci_low'], d)}, {_signed(r['ci_high'], d)}] | "
             f"{_p(r['p'])} | {_p(r['p Holm'])} |"
         )
-    out += ["", f"*Mean ± sd over seeds, paired by seed (saggriac.statistics.paired); Holm over the rows of each preset. `{command}`*", ""]
+    out += ["", f"*Mean ± sd over seeds, paired by seed (saggriac.analysis.statistics.paired); Holm over the rows of each preset. `{command}`*", ""]
     return "\n".join(out)
 
 

@@ -7,7 +7,7 @@ tables and writes them as CSV beside the study (``goal_placement.csv``, ``leaf_i
 
 1. Per condition, the share of goals (by count, mean over seeds) in zones of the goal space (2-D
    or 3-D): the reachable disk or ball (|g| <= arm length L; for a chain, its sampled reachable
-   set, saggriac.reachable), the area near the base (|g| < 0.3 L), the band just outside the rim
+   set, saggriac.bodies.reachable), the area near the base (|g| < 0.3 L), the band just outside the rim
    (unreachable, |g| <= 1.1 L), and near the rest position (|g - rest| < 0.2 L); over the
    whole run, its second half and each quarter (by the step a goal started at).
 2. For SAGG-RIAC, the leaves of the final region tree grouped by their mean competence: how many
@@ -28,11 +28,11 @@ import pandas as pd
 import saggriac as sg
 from saggriac.analysis.splits import reachable_shares
 from saggriac.analysis.statistics import paired
-from saggriac.reachable import ReachableSet
+from saggriac.bodies.reachable import ReachableSet
 
 
 def _against_zero(d: np.ndarray) -> str:
-    """Mean of per-seed differences, its 95 % CI and p (saggriac.statistics.paired against 0)."""
+    """Mean of per-seed differences, its 95 % CI and p (saggriac.analysis.statistics.paired against 0)."""
     r = paired(d, np.zeros_like(d))
     return f"{r['mean_diff']:+.3f} [{r['ci_low']:+.3f}, {r['ci_high']:+.3f}], p = {r['p_value']:.2g} (n = {len(d)})"
 

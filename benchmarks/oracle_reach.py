@@ -21,7 +21,7 @@ import numpy as np
 
 import saggriac
 from saggriac import _core
-from saggriac.environments import PlanarArm, SpatialArm
+from saggriac.bodies.environments import PlanarArm, SpatialArm
 
 
 def forward_of(cfg: saggriac.Config):

@@ -11,7 +11,7 @@ joints, reach 1, goals in the box [-2, 2]^2, of which the arm reaches the disc o
 fifth of the box), with a dense reward (minus the distance) or a sparse one (-1 until reached).
 Every ``--every`` steps the deterministic policy is scored on the same 200 test goals, uniform in
 the reachable disc. A teacher chooses the goal of every training episode through
-:class:`saggriac.sb3.TeacherCallback` and is told the episode's closeness
+:class:`saggriac.adapters.sb3.TeacherCallback` and is told the episode's closeness
 ``max(0, 1 - final distance / reach)``. ``--teachers`` takes the names of saggriac's teachers
 of a continuous box (every class of ``saggriac.teachers`` built from ``(low, high, seed)``, by
 its kind: random, sagg_riac, riac, alp_gmm, covar_gmm, ...) and ``oracle``, uniform over the
@@ -89,11 +89,11 @@ def task_config():
 
 class OracleTeacher:
     """Goals uniform over what the body reaches: uniform in the goal box of ``config``, kept if
-    saggriac's reachable set of the body (:class:`saggriac.reachable.ReachableSet`) holds them.
+    saggriac's reachable set of the body (:class:`saggriac.bodies.reachable.ReachableSet`) holds them.
     It is told competences and ignores them: the curriculum of pure focus."""
 
     def __init__(self, config, seed: int) -> None:
-        from saggriac.reachable import ReachableSet
+        from saggriac.bodies.reachable import ReachableSet
 
         self.low, self.high = np.asarray(config.goal_low, float), np.asarray(config.goal_high, float)
         self._contains = ReachableSet(config).contains
@@ -134,7 +134,7 @@ def test_goals(reach: float) -> np.ndarray:
 def make_env(reward: str, threshold: float):
     from gymnasium.wrappers import TimeLimit
 
-    from saggriac.gym import GoalArmEnv
+    from saggriac.adapters.gym import GoalArmEnv
 
     return TimeLimit(GoalArmEnv(**TASK, distance_threshold=threshold, reward_type=reward), EPISODE_STEPS)
 
@@ -173,7 +173,7 @@ def one_run(job: tuple[str, str, int, int, int, float, str]) -> list[dict]:
     from stable_baselines3.common.callbacks import BaseCallback, CallbackList
     from stable_baselines3.common.vec_env import DummyVecEnv
 
-    from saggriac.sb3 import TeacherCallback
+    from saggriac.adapters.sb3 import TeacherCallback
 
     torch.set_num_threads(1)
     model_seed, env_seed, teacher_seed = (int(s.generate_state(1)[0]) for s in np.random.SeedSequence(seed).spawn(3))

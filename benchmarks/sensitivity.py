@@ -519,7 +519,7 @@ def main() -> int:
         p.error(f"--seeds must be between 1 and {len(TUNING_SEEDS)} (the tuning seeds 100-114). Got {a.seeds}.")
     seeds = TUNING_SEEDS[: a.seeds]
     out = Path(a.out)
-    workers = a.workers or sg.study._default_workers()
+    workers = a.workers or sg.study.default_workers()
     command = "python benchmarks/sensitivity.py " + " ".join(sys.argv[1:])
     cells = plan(a.experiments, seeds)
     for line in changed_since(a.experiments):

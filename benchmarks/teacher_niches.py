@@ -2,7 +2,7 @@
 
     python benchmarks/teacher_niches.py --out niches/ [--seeds 20] [--updates 8000] [--distractors 0 4]
 
-The learner is :class:`saggriac.progress_niches.ProgressNiches` (a chain of niches that open one
+The learner is :class:`saggriac.teachers.progress_niches.ProgressNiches` (a chain of niches that open one
 after another, noisy cells, impossible cells, and optional distractor dimensions). For every
 space (number of distractors), teacher and seed, the teacher asks ``--updates`` goals one at a
 time and is told the competence of each. Seed s gives the learner's noise and the teacher's
@@ -33,12 +33,15 @@ from tqdm import tqdm
 
 import saggriac as sg
 from saggriac.analysis.statistics import holm, paired
-from saggriac.progress_niches import KINDS, ProgressNiches
+from saggriac.teachers.progress_niches import KINDS, ProgressNiches
 
 TEACHERS = ("sagg_riac", "riac", "alp_gmm", "covar_gmm", "discrete_lp", "random")
-EXTRA = ("sagg_riac_w",)  # rows for comparison, outside the protocol's family of 15 pairs
-ORDER = ("sagg_riac", "sagg_riac_w", "riac", "alp_gmm", "covar_gmm", "discrete_lp", "random")
-NAMES = {"sagg_riac": "SAGG-RIAC", "sagg_riac_w": "SAGG-RIAC (w divisor, <= 0.2)", "riac": "RIAC", "alp_gmm": "ALP-GMM", "covar_gmm": "Covar-GMM", "discrete_lp": "discrete LP", "random": "random"}
+# Rows for comparison, outside the protocol's family of 15 pairs: saggriac 0.2's SAGG-RIAC, and
+# the teachers added after the protocol was written (issue 36).
+EXTRA = ("sagg_riac_w", "adr", "plr", "spdl", "goal_gan")
+ORDER = ("sagg_riac", "sagg_riac_w", "riac", "alp_gmm", "covar_gmm", "adr", "spdl", "goal_gan", "discrete_lp", "plr", "random")
+NAMES = {"sagg_riac": "SAGG-RIAC", "sagg_riac_w": "SAGG-RIAC (w divisor, <= 0.2)", "riac": "RIAC", "alp_gmm": "ALP-GMM", "covar_gmm": "Covar-GMM", "discrete_lp": "discrete LP", "random": "random", "adr": "ADR", "plr": "PLR", "spdl": "SPDL", "goal_gan": "Goal GAN"}
+TASK_LISTS = ("discrete_lp", "plr")  # given the 16 cells as a task list
 METRICS = ("final", "auc", "share_noisy", "share_impossible")
 SHORT = {"sagg_riac_w": "SAGG-RIAC\n(w, <= 0.2)", "covar_gmm": "Covar-\nGMM", "discrete_lp": "discrete\nLP"}
 
@@ -52,6 +55,10 @@ def make_teacher(name: str, env: ProgressNiches, seed: int):
         "alp_gmm": lambda: sg.AlpGmmSelector(low, high, seed=seed),
         "covar_gmm": lambda: sg.CovarGmmSelector(low, high, seed=seed),
         "discrete_lp": lambda: sg.DiscreteLpSelector(env.n_cells, seed=seed),
+        "adr": lambda: sg.AdrSelector(low, high, seed=seed),
+        "plr": lambda: sg.PlrSelector(env.n_cells, seed=seed),
+        "spdl": lambda: sg.SpdlSelector(low, high, seed=seed),
+        "goal_gan": lambda: sg.GoalGanSelector(low, high, seed=seed),
         "random": lambda: sg.RandomSelector(low, high, seed=seed),
     }[name]()
 
@@ -66,7 +73,7 @@ def one_run(job: tuple[str, int, int, int, int]) -> tuple[dict, list[dict]]:
     curve = []
     start = time.perf_counter()
     for t in range(1, updates + 1):
-        if name == "discrete_lp":
+        if name in TASK_LISTS:
             cell = teacher.sample_task()
             c = env.attempt(env.centre(cell))
             teacher.update(cell, c)

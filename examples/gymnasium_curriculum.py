@@ -8,7 +8,7 @@ its experiment 2, nine times the reachable area. The learner is a nearest-neighb
 it remembers every (end-effector position, joint angles) pair it visits, and for a goal it heads,
 in joint space, for the remembered angles whose position was closest to the goal, with some
 exploration noise. The teacher is either SAGG-RIAC's region tree or uniform goals; both go
-through :class:`saggriac.gym.VectorSelectorGoals`. At the end, each learner is tested on goals
+through :class:`saggriac.adapters.gym.VectorSelectorGoals`. At the end, each learner is tested on goals
 uniform in the reachable half-disk, heading for them the same way without noise.
 """
 
@@ -22,7 +22,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 import saggriac as sg
-import saggriac.gym  # noqa: F401  (registers saggriac/...-v0)
+import saggriac.adapters.gym  # noqa: F401  (registers saggriac/...-v0)
 
 
 class NearestNeighbourReacher:
@@ -63,7 +63,7 @@ def train(teacher: str, n_envs: int, episodes: int, seed: int) -> float:
     venv = gymnasium.make_vec("saggriac/PlanarArmExp2-v0", num_envs=n_envs, vectorization_mode="sync", action_scale="joint")
     low, high = [0.0, -150.0], [150.0, 150.0]
     selector = sg.SaggRiacSelector(low, high, seed=seed) if teacher == "sagg_riac" else sg.RandomSelector(low, high, seed=seed)
-    env = saggriac.gym.VectorSelectorGoals(venv, selector)
+    env = saggriac.adapters.gym.VectorSelectorGoals(venv, selector)
     rng = np.random.default_rng(seed)
     learner = NearestNeighbourReacher(15, 0.05, 0.05, rng)
     obs, _ = env.reset(seed=seed)

@@ -12,7 +12,7 @@ import argparse
 import numpy as np
 
 import saggriac
-from saggriac.environments import PlanarArm
+from saggriac.bodies.environments import PlanarArm
 from saggriac.testing import check_environment
 
 

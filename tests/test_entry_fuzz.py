@@ -172,5 +172,106 @@ def test_any_file_where_saggriac_reads_is_refused_at_once(kind, where, tmp_path_
     assert (stat.S_IFMT(after.st_mode), after.st_ino, after.st_size) == (stat.S_IFMT(before.st_mode), before.st_ino, before.st_size)
 
 
+#: Config parameters with a size bound (issue 33, item 9) and the bound a value must keep.
+SIZES = {
+    "n_evals": lambda v, c: 1 <= v <= max(c.n_steps, 100),
+    "k_neighbours": lambda v, c: 1 <= v <= max(c.n_steps, 1000),
+    "episodic_k": lambda v, c: v <= max(c.n_steps, 1000),
+    "v": lambda v, c: 0 < v <= 2 * c.reach,
+    "eps_max": lambda v, c: 0 < v <= 2 * c.reach,
+    "eval_tolerance": lambda v, c: 0 < v <= 2 * c.reach,
+    "arm_length": lambda v, c: 1e-12 <= v <= 1e12,
+}
+
+
+@FUZZ
+@given(name=st.sampled_from(sorted(SIZES)), value=anything, n_steps=st.sampled_from([1, 300, 50_000]))
+def test_config_sizes_are_bounded_by_what_the_run_can_use(name, value, n_steps):
+    try:
+        cfg = sg.Config(n_steps=n_steps, **{name: value})
+    except ParameterError as e:
+        count(f"{name} refused")
+        assert e.param == name, str(e)
+        # Numbers are printed short: no 300-digit integer for 1e300.
+        assert len(str(e)) < 600, str(e)
+        return
+    count(f"{name} taken")
+    got = getattr(cfg, name)
+    if value is None and name in ("v", "eps_max", "eval_tolerance"):
+        return  # None: follow the body's reach
+    assert not _is_bool(value) and isinstance(got, (int, float)) and SIZES[name](got, cfg)
+
+
+@FUZZ
+@given(name=st.sampled_from(["fit_rate", "max_components", "bootstrap", "random_task_ratio"]), value=anything)
+def test_a_teacher_parameter_is_told_one_rule_whatever_the_value(name, value):
+    from saggriac import _core
+
+    try:
+        sg.Config(teacher="alp_gmm", teacher_params={name: value})
+    except ParameterError as e:
+        count(f"teacher_params.{name} refused")
+        assert f"'teacher_params.{name}' parameter of Config must be {_core.teacher_param_rule(name)}" in str(e) or "<= fit_rate" in str(e), str(e)
+        assert len(str(e)) < 600
+        return
+    count(f"teacher_params.{name} taken")
+    assert not _is_bool(value) and isinstance(value, (int, float, np.integer, np.floating))
+
+
+#: Elements of an action or a placement: numbers of every numpy type, extremes, text, bools.
+elements = st.one_of(floats, st.floats(width=32).map(np.float32), st.sampled_from([np.float32("inf"), np.float16(1.0)]), st.integers(-(2**31), 2**31), st.booleans(), st.sampled_from(["0.01", "", None, np.True_, np.int8(1)]))
+
+
+@FUZZ
+@given(action=st.lists(elements, min_size=14, max_size=16), theta=st.lists(elements, min_size=15, max_size=15))
+def test_gymnasium_actions_and_placements_are_numbers_or_refused(action, theta):
+    from saggriac.errors import InputError
+    from saggriac.adapters.gym import GoalArmEnv
+
+    env = GoalArmEnv()
+    env.reset(seed=0)
+
+    def plain(values):
+        return len(values) == 15 and all(not isinstance(v, (bool, np.bool_, str)) and v is not None and np.isfinite(float(v)) for v in values)
+
+    before = env._theta.copy()
+    try:
+        env.step(action)
+        count("step taken")
+        assert plain(action)
+    except InputError:
+        count("step refused")
+        assert not plain(action)
+        np.testing.assert_array_equal(env._theta, before)
+    try:
+        env.reset(seed=0, options={"theta": theta})
+        count("reset taken")
+        assert plain(theta) and all(abs(float(v)) <= env.arm.joint_limit * (1 + 1e-6) + 1e-12 for v in theta)
+    except InputError:
+        count("reset refused")
+        assert not plain(theta) or any(abs(float(v)) > env.arm.joint_limit for v in theta)
+
+
+@FUZZ
+@given(reach=anything)
+def test_a_declared_reach_is_within_the_length_bounds_or_refused(reach):
+    from saggriac.errors import ConformanceError
+    from saggriac.bodies.scale import declared_reach
+
+    class Body:
+        pass
+
+    body = Body()
+    body.reach = reach
+    try:
+        got = declared_reach(body)
+    except ConformanceError as e:
+        count("reach refused")
+        assert "environment.reach must be a float in [1e-12, 1e+12]" in str(e)
+        return
+    count("reach taken")
+    assert got is None and reach is None or 1e-12 <= got <= 1e12
+
+
 def teardown_module():
     print(f"\n{__name__}: {dict(sorted(COUNTS.items()))}")

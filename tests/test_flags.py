@@ -65,9 +65,9 @@ def _cfg():
 
 def _gym():
     pytest.importorskip("gymnasium")
-    import saggriac.gym
+    import saggriac.adapters.gym
 
-    return saggriac.gym
+    return saggriac.adapters.gym
 
 
 def _teacher():
@@ -76,7 +76,7 @@ def _teacher():
 
 def _mujoco_arm():
     pytest.importorskip("mujoco")
-    from saggriac.mujoco_arm import pusher_arm
+    from saggriac.bodies.mujoco_arm import pusher_arm
 
     return pusher_arm()
 
@@ -95,10 +95,10 @@ CALLS = {
     "saggriac.config.Config.__init__.episodic_refine": lambda v, t: sg.Config(episodic_refine=v),
     "saggriac.config.Config.__init__.timeout_in_exploration": lambda v, t: sg.Config.from_preset("exp1", timeout_in_exploration=v),
     "saggriac.teachers.CovarGmmSelector.__init__.absolute_lp": lambda v, t: sg.CovarGmmSelector([0.0], [1.0], absolute_lp=v),
-    "saggriac.mujoco_arm.MujocoArm.chain.at_origin": lambda v, t: _mujoco_arm().chain(at_origin=v),
-    "saggriac.gym.goals.SelectorGoals.__init__.allow_copy": lambda v, t: _gym().SelectorGoals(_gym().GoalArmEnv(), _teacher(), allow_copy=v),
-    "saggriac.gym.goals.VectorSelectorGoals.__init__.allow_copy": lambda v, t: _gym().VectorSelectorGoals(__import__("gymnasium").vector.SyncVectorEnv([_gym().GoalArmEnv]), _teacher(), allow_copy=v),
-    "saggriac.sb3.TeacherCallback.__init__.allow_copy": lambda v, t: __import__("saggriac.sb3", fromlist=["x"]).TeacherCallback(_teacher(), allow_copy=v),
+    "saggriac.bodies.mujoco_arm.MujocoArm.chain.at_origin": lambda v, t: _mujoco_arm().chain(at_origin=v),
+    "saggriac.adapters.gym.goals.SelectorGoals.__init__.allow_copy": lambda v, t: _gym().SelectorGoals(_gym().GoalArmEnv(), _teacher(), allow_copy=v),
+    "saggriac.adapters.gym.goals.VectorSelectorGoals.__init__.allow_copy": lambda v, t: _gym().VectorSelectorGoals(__import__("gymnasium").vector.SyncVectorEnv([_gym().GoalArmEnv]), _teacher(), allow_copy=v),
+    "saggriac.adapters.sb3.TeacherCallback.__init__.allow_copy": lambda v, t: __import__("saggriac.adapters.sb3", fromlist=["x"]).TeacherCallback(_teacher(), allow_copy=v),
 }
 
 

@@ -1,7 +1,7 @@
-"""The package's import weight and its names (issue 26): a teacher costs numpy and the core, not
-pandas; the former module name ``saggriac.goal_selection`` is the same module as
-``saggriac.teachers``, as each module that moved into a subpackage is the module at its new
-path; run, results and studies load on first use."""
+"""The package's import weight and its names (issues 26 and 34): a teacher costs numpy and the
+core, not pandas; a former module path (``saggriac.goal_selection``, ``saggriac.gym``...) warns
+and gives the module now at its new path, for imports and for old pickles; run, results and
+studies load on first use."""
 
 import pickle
 import subprocess
@@ -32,7 +32,11 @@ def test_run_and_studies_load_on_first_use():
 
 
 def test_the_former_module_name_is_the_same_module():
-    import saggriac.goal_selection as old
+    import pytest
+
+    sys.modules.pop("saggriac.goal_selection", None)
+    with pytest.warns(DeprecationWarning, match="saggriac.goal_selection is now saggriac.teachers"):
+        import saggriac.goal_selection as old
     import saggriac.teachers as new
 
     assert old is new and old.MODES[1] == "interest"
@@ -45,20 +49,39 @@ def test_the_former_module_name_is_the_same_module():
     assert type(back) is saggriac.SaggRiacSelector and back.sample().tolist() == t.sample().tolist()
 
 
-def test_moved_modules_keep_their_former_names():
-    import saggriac.analysis.statistics
+def test_moved_modules_keep_their_former_names_with_a_warning():
+    code = """
+import warnings
+warnings.simplefilter("error", DeprecationWarning)
+import saggriac, saggriac.analysis.statistics
+try:
     import saggriac.statistics
-    from saggriac import plots, reproduce, runner, storage
-
-    assert saggriac.statistics.paired is saggriac.analysis.statistics.paired
-    assert runner.run is saggriac.run and storage.write_run is saggriac.runs.storage.write_run
-    assert plots.plot_curves is saggriac.analysis.plots.plot_curves and reproduce.reproduce is saggriac.study.reproduce.reproduce
-    assert saggriac.result is saggriac.runs.result and saggriac.runner is saggriac.runs.runner
+except DeprecationWarning as e:
+    print(e)
+warnings.simplefilter("ignore", DeprecationWarning)
+from saggriac import plots, reproduce, runner, storage
+import saggriac.statistics
+assert saggriac.statistics.paired is saggriac.analysis.statistics.paired
+assert runner.run is saggriac.run and storage.write_run is saggriac.runs.storage.write_run
+assert plots.plot_curves is saggriac.analysis.plots.plot_curves and reproduce.reproduce is saggriac.study.reproduce.reproduce
+assert saggriac.result is saggriac.runs.result and saggriac.runner is saggriac.runs.runner
+# A Gymnasium entry point written against the former path still resolves.
+import gymnasium
+env = gymnasium.make("saggriac.gym:saggriac/PlanarArm-v0")
+print(type(env.unwrapped).__module__)
+"""
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.splitlines() == ["saggriac.statistics is now saggriac.analysis.statistics: import it from there (the former path will be removed).", "saggriac.adapters.gym.arm_env"]
 
 
 def test_a_result_pickled_under_the_former_module_name_still_loads(small_config):
     res = saggriac.run(small_config.replace(n_steps=500, n_evals=2), seed=1)
     old_pickle = pickle.dumps(res, protocol=0).replace(b"saggriac.runs.result", b"saggriac.result")
     assert b"saggriac.result\n" in old_pickle
-    back = pickle.loads(old_pickle)
+    import pytest
+
+    sys.modules.pop("saggriac.result", None)  # as in a new process: the first import of the former path
+    with pytest.warns(DeprecationWarning, match="saggriac.result is now saggriac.runs.result"):
+        back = pickle.loads(old_pickle)
     assert type(back) is saggriac.RunResult and back.reach_error.tolist() == res.reach_error.tolist()

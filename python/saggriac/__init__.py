@@ -10,14 +10,18 @@ Quick start::
 runs, results and studies, which need pandas and pyarrow, load on first use of their names.
 """
 
+import importlib.abc
+import importlib.util
+import sys
+import warnings
 from importlib import import_module
 from typing import Any
 
-from . import _core, environments, testing  # noqa: F401 (saggriac.environments and saggriac.testing without their own import)
-from .competence import competence
+from . import _core, bodies, testing  # noqa: F401 (saggriac.bodies and saggriac.testing without their own import)
 from .config import PRESETS, Config
 from .errors import ConformanceError, InputError, ParameterError, SaggriacError, StorageError
-from .teachers import AlpGmmSelector, CovarGmmSelector, DiscreteLpSelector, RandomSelector, RiacSelector, SaggRiacSelector, load_selector
+from .teachers.competence import competence
+from .teachers import AdrSelector, AlpGmmSelector, CovarGmmSelector, DiscreteLpSelector, GoalGanSelector, PlrSelector, RandomSelector, RiacSelector, SaggRiacSelector, SpdlSelector, TaskListSelector, load_selector
 
 __version__ = _core.__version__
 
@@ -33,22 +37,68 @@ _LAZY = {
 }
 
 
-# Modules that ``import saggriac`` used to load with everything (so ``saggriac.runner`` worked
-# without its own import), by the path they now have: loaded when first asked for.
-_SUBMODULES = {
-    "goal_selection": "teachers",
-    "learner": "runs.learner",
-    "reachable": "reachable",
-    "resources": "runs.resources",
-    "result": "runs.result",
-    "runner": "runs.runner",
-    "seeding": "seeding",
-    "storage": "runs.storage",
-    "study": "study",
-    "time_budget": "runs.time_budget",
-    "runs": "runs",
-    "analysis": "analysis",
+# Subpackages and modules ``saggriac.<name>`` gives without their own import.
+_SUBMODULES = {"runs": "runs", "analysis": "analysis", "study": "study", "seeding": "seeding", "teachers": "teachers", "adapters": "adapters"}
+
+# Former module paths (saggriac <= 0.5) and where each module is now: the one mapping kept for
+# old imports, old pickles and old Gymnasium entry points. Importing a former path warns
+# (DeprecationWarning) and gives the module itself. ``saggriac.competence`` is not here: that
+# name is the function.
+MOVED = {
+    "saggriac.environments": "saggriac.bodies.environments",
+    "saggriac.mujoco_arm": "saggriac.bodies.mujoco_arm",
+    "saggriac.scale": "saggriac.bodies.scale",
+    "saggriac.reachable": "saggriac.bodies.reachable",
+    "saggriac.gym": "saggriac.adapters.gym",
+    "saggriac.sb3": "saggriac.adapters.sb3",
+    "saggriac.syllabus": "saggriac.adapters.syllabus",
+    "saggriac.progress_niches": "saggriac.teachers.progress_niches",
+    "saggriac.teacher_params": "saggriac.teachers.params",
+    "saggriac.goal_selection": "saggriac.teachers",
+    "saggriac.learner": "saggriac.runs.learner",
+    "saggriac.resources": "saggriac.runs.resources",
+    "saggriac.result": "saggriac.runs.result",
+    "saggriac.runner": "saggriac.runs.runner",
+    "saggriac.storage": "saggriac.runs.storage",
+    "saggriac.time_budget": "saggriac.runs.time_budget",
+    "saggriac.plots": "saggriac.analysis.plots",
+    "saggriac.splits": "saggriac.analysis.splits",
+    "saggriac.statistics": "saggriac.analysis.statistics",
+    "saggriac.reproduce": "saggriac.study.reproduce",
 }
+
+
+def _moved_to(name: str) -> str | None:
+    """The path of the module a former path ``name`` (or a module inside it) names now."""
+    for old, new in MOVED.items():
+        if name == old or name.startswith(old + "."):
+            return new + name[len(old) :]
+    return None
+
+
+class _FormerPaths(importlib.abc.MetaPathFinder, importlib.abc.Loader):
+    """Imports of a former path give the module now at the new one, with a warning."""
+
+    def find_spec(self, fullname: str, path: Any = None, target: Any = None) -> Any:
+        new = _moved_to(fullname) if fullname.startswith("saggriac.") else None
+        return None if new is None else importlib.util.spec_from_loader(fullname, self)
+
+    def create_module(self, spec: Any) -> Any:
+        new = _moved_to(spec.name)
+        warnings.warn(f"{spec.name} is now {new}: import it from there (the former path will be removed).", DeprecationWarning, stacklevel=2)
+        module = import_module(new)
+        self._spec = module.__spec__
+        return module
+
+    def exec_module(self, module: Any) -> None:
+        # The import system set the former path's spec on the module: give it its own back.
+        module.__spec__ = self._spec
+
+
+if not any(isinstance(f, _FormerPaths) for f in sys.meta_path):
+    # First, so that a module inside a former path (saggriac.gym.goals) is not found by the
+    # path finder inside the moved package and loaded a second time under the former name.
+    sys.meta_path.insert(0, _FormerPaths())
 
 
 def __getattr__(name: str) -> Any:
@@ -56,6 +106,8 @@ def __getattr__(name: str) -> Any:
         value = getattr(import_module(f".{_LAZY[name]}", __name__), name)
     elif name in _SUBMODULES:
         value = import_module(f".{_SUBMODULES[name]}", __name__)
+    elif f"{__name__}.{name}" in MOVED:
+        value = import_module(f"{__name__}.{name}")  # warns, as the import of a former path does
     else:
         raise AttributeError(f"module 'saggriac' has no attribute {name!r}")
     globals()[name] = value
@@ -79,6 +131,11 @@ __all__ = [
     "DiscreteLpSelector",
     "AlpGmmSelector",
     "CovarGmmSelector",
+    "AdrSelector",
+    "PlrSelector",
+    "TaskListSelector",
+    "SpdlSelector",
+    "GoalGanSelector",
     "load_selector",
     "Study",
     "run_study",

@@ -92,11 +92,22 @@ def default_run_dir(preset: str, cfg: Config, seed: int) -> Path:
     that runs of other --steps or --set land in folders of their own and say what they are."""
     base = Config.from_preset(preset, condition=cfg.condition).to_dict()
     mine = cfg.to_dict()
-    diffs = [f"{k}={_name_value(mine[k])}" for k in sorted(mine) if mine[k] != base[k]]
-    name = "-".join([f"{preset}-{cfg.condition}-seed{seed}", *diffs])
+    # A dict (teacher_params) is spelled one key at a time: teacher_params.fit_rate=100.
+    mine.update({f"teacher_params.{k}": v for k, v in mine.pop("teacher_params").items()})
+    base.pop("teacher_params")
+    diffs = [f"{k}={_name_value(mine[k])}" for k in sorted(mine) if mine[k] != base.get(k)]
+    head = f"{preset}-{cfg.condition}-seed{seed}"
+    name = "-".join([head, *diffs])
     if len(name) > 120 or not re.fullmatch(r"[A-Za-z0-9_.,=+-]+", name):
+        # Too long or not a plain name: the digest of every difference, after as many of the
+        # plain ones as fit (the teacher first), so that the folder still says what it holds.
         digest = hashlib.sha256(repr(sorted(diffs)).encode()).hexdigest()[:10]
-        name = f"{preset}-{cfg.condition}-seed{seed}-custom-{digest}"
+        plain = [d for d in sorted(diffs, key=lambda d: not d.startswith("teacher")) if re.fullmatch(r"[A-Za-z0-9_.,=+-]+", d)]
+        shown: list[str] = []
+        for d in plain:
+            if len("-".join([head, *shown, d, "custom", digest])) <= 120:
+                shown.append(d)
+        name = "-".join([head, *shown, "custom", digest])
     return Path("runs") / name
 
 
@@ -149,6 +160,7 @@ def _cmd_reproduce(args: argparse.Namespace) -> int:
         args.experiment,
         out_dir=args.out,
         seeds=args.seeds,
+        first_seed=args.first_seed,
         conditions=conditions,
         steps=args.steps,
         backend=args.backend,
@@ -224,7 +236,8 @@ def build_parser() -> argparse.ArgumentParser:
 
     rp = sub.add_parser("reproduce", help="run one of the paper's experiments (4 conditions x seeds) with figures and statistics")
     rp.add_argument("experiment", choices=sorted(PRESETS), help="the preset to study: exp1 or exp2 (the paper's), explauto, arm3d or pusher")
-    rp.add_argument("--seeds", type=int, default=15, help="seeds 0..N-1 (default 15, as the paper)")
+    rp.add_argument("--seeds", type=int, default=15, help="how many seeds (default 15, as the paper)")
+    rp.add_argument("--first-seed", type=int, default=0, help="the first seed: seeds FIRST..FIRST+N-1 (default 0; e.g. 15 for a second, independent set)")
     rp.add_argument("--conditions", help="comma-separated subset of the conditions (default: all four)")
     rp.add_argument("--steps", type=int, help="time steps per run (default: the paper's)")
     rp.add_argument("--out", help="study folder (default reproduce-EXPERIMENT); rerunning resumes it")

@@ -16,14 +16,18 @@ import sys
 import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass
+from fractions import Fraction
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from . import _core
-from .bodies import PUSHER_CHAIN
+from .bodies.pusher import PUSHER_CHAIN
 from .errors import ParameterError, StorageError
+from .teachers.params import TeacherParams
+from .teachers.params import teacher_params as _teacher_params
+from .values import plain as _plain
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -41,7 +45,7 @@ _REMOVED_INDEXES = ("kdtree", "kdtree_crate")
 # own window.
 #: The length parameters that follow the body: left None, each is the reach divided by this (for
 #: the paper's 50-unit arm, exactly the values the paper's runs were tuned with: 0.5, 0.1, 0.01).
-#: The reach is the built-in arm's length, or a user's body's (saggriac.scale). A value given
+#: The reach is the built-in arm's length, or a user's body's (saggriac.bodies.scale). A value given
 #: is used as given.
 LENGTH_DIVISORS = {"v": 100, "eps_max": 500, "eval_tolerance": 5000}
 _LEGACY_VALUES = {"test_configs": "uniform", "actuator_candidates": 0, "interest_divisor": "window"}
@@ -73,7 +77,7 @@ class Config:
     body_change_link: int | None = _CORE["body_change_link"]
     body_change_length: float | None = _CORE["body_change_length"]
     # body="chain": a serial arm of hinges as fixed transforms, read out of a MuJoCo model by
-    # saggriac.mujoco_arm.MujocoArm.chain() (15 numbers per joint, then the tip; see
+    # saggriac.bodies.mujoco_arm.MujocoArm.chain() (15 numbers per joint, then the tip; see
     # docs/mujoco.md). Its joints are in [-1, 1] (each one's range), so joint_limit <= 1.
     chain: tuple[float, ...] | None = _CORE["chain"]
     # Goal space S' (one bound per task-space dimension: 2 for the planar arm, 3 in space).
@@ -90,6 +94,10 @@ class Config:
     timeout_min: int = _CORE["timeout_min"]
     # Also end an exploration phase at the timeout (Algorithm 1 checks it between phases only).
     timeout_in_exploration: bool = _CORE["timeout_in_exploration"]
+    # What the exploration trigger compares the realised displacement with: "executed" (J dtheta
+    # of the command executed, the default) or "desired" (the desired step, the paper's epsilon).
+    # See docs/parameters.md.
+    exploration_trigger: str = _CORE["exploration_trigger"]
     q: int = _CORE["q"]
     explore_step: float = _CORE["explore_step"]
     # Local models (paper III.B).
@@ -106,20 +114,22 @@ class Config:
     g_max: int = _CORE["g_max"]
     zeta: int = _CORE["zeta"]
     min_child: int = _CORE["min_child"]
-    # Eq. 2's denominator for a region holding fewer than zeta measurements: "zeta" as the
-    # paper prints it, or "window" (its own count, saggriac <= 0.2). See docs/parameters.md.
+    # Eq. 2's reading: "zeta" (the default: divided by zeta, the last zeta values), "window"
+    # (a young region divided by its own count, saggriac <= 0.2) or "printed" (the printed index
+    # ranges: a full region compares the last zeta + 1 values, the middle one cancelling).
+    # See docs/parameters.md.
     interest_divisor: str = _CORE["interest_divisor"]
     p_interest: float = _CORE["p_interest"]
     p_global: float = _CORE["p_global"]
     p_lowest: float = _CORE["p_lowest"]
     reset_every: int = _CORE["reset_every"]
     # Beyond the paper: the teacher choosing sagg_riac's goals. "own" is SAGG-RIAC's high level;
-    # "riac", "alp_gmm", "covar_gmm" replace it, with their papers' defaults (docs/teachers.md)
-    # except those teacher_params sets: a dict of the parameters of saggriac.RiacSelector,
-    # AlpGmmSelector or CovarGmmSelector (kept as sorted (name, value) pairs, so that a Config
-    # stays hashable; dict(cfg.teacher_params) gives the dict back).
+    # any teacher of goals in a box ("riac", "alp_gmm", "covar_gmm", "adr", "spdl", "goal_gan")
+    # replaces it, with its paper's defaults (docs/teachers.md) except those teacher_params sets:
+    # a dict of the parameters of that teacher's class (kept as a read-only TeacherParams mapping,
+    # so that a Config stays hashable).
     teacher: str = _CORE["teacher"]
-    teacher_params: tuple[tuple[str, Any], ...] = ()
+    teacher_params: Mapping[str, Any] = dataclasses.field(default_factory=lambda: TeacherParams({}))
     # Evaluation (docs/reproduction.md, "What is measured").
     n_test_goals: int = _CORE["n_test_goals"]
     n_test_configs: int = _CORE["n_test_configs"]
@@ -167,15 +177,19 @@ class Config:
                 object.__setattr__(self, name, tuple(val))
             elif not (isinstance(val, tuple) or (val is None and name in ("link_lengths", "eval_schedule", "chain"))):
                 raise ParameterError(f"The '{name}' parameter of Config must be a list of numbers. Got {val!r} instead.", name, repr(val))
-        object.__setattr__(self, "teacher_params", _pairs(self.teacher_params))
+        object.__setattr__(self, "teacher_params", _teacher_params(self.teacher_params))
         if self.eval_schedule is not None and len(self.eval_schedule) == 0:
             raise ParameterError("The 'eval_schedule' parameter of Config must be a non-empty list of steps (or None for n_evals). Got () instead.", "eval_schedule", "()")
         _check_types(self)
         _check_goal_space(self)
         _check_magnitudes(self)
-        if not isinstance(self.n_evals, int) or isinstance(self.n_evals, bool) or self.n_evals < 1:
+        _check_body_change(self)
+        n_steps = self.n_steps if isinstance(self.n_steps, int) and not isinstance(self.n_steps, bool) and self.n_steps > 0 else 0
+        most = max(n_steps, MIN_EVALS_BOUND)
+        if not isinstance(self.n_evals, int) or isinstance(self.n_evals, bool) or not 1 <= self.n_evals <= most:
             raise ParameterError(
-                f"The 'n_evals' parameter of Config must be an int >= 1. Got {self.n_evals!r} instead.",
+                f"The 'n_evals' parameter of Config must be an int in [1, max(n_steps, {MIN_EVALS_BOUND})] "
+                f"(a run evaluates at most once per time step; n_steps = {self.n_steps!r}). Got {self.n_evals!r} instead.",
                 "n_evals",
                 repr(self.n_evals),
             )
@@ -209,6 +223,9 @@ class Config:
         if self.eval_schedule is not None:
             return [int(s) for s in self.eval_schedule]
         n = self.n_steps
+        if n >= 2**53:
+            # Beyond 2**53 the float quotient is inexact (the last step came out above n_steps).
+            return sorted({round(Fraction(i * n, self.n_evals)) for i in range(self.n_evals + 1)})
         return sorted({round(i * n / self.n_evals) for i in range(self.n_evals + 1)})
 
     def lengths(self, reach: float | None = None) -> dict[str, float]:
@@ -304,7 +321,8 @@ def read_toml(path: Path, preset: str | None = None) -> tuple[str, dict[str, Any
             raw = f.read(MAX_CONFIG_BYTES + 1)
         if len(raw) > MAX_CONFIG_BYTES:
             raise ParameterError(f"Configuration file {path} is larger than {MAX_CONFIG_BYTES // 1000} kB; a saggriac configuration is a few lines.", "config", str(path))
-        text = raw.decode("utf-8")
+        # Editors on Windows may start UTF-8 files with a byte-order mark, which tomllib refuses.
+        text = raw.decode("utf-8").removeprefix("\ufeff")
     except FileNotFoundError:
         raise ParameterError(f"Configuration file {path} does not exist.", "config", str(path)) from None
     except IsADirectoryError:
@@ -324,38 +342,24 @@ def read_toml(path: Path, preset: str | None = None) -> tuple[str, dict[str, Any
     return (named if named is not None else preset if preset is not None else "exp1"), data
 
 
-def _pairs(params: Any) -> tuple[tuple[str, Any], ...]:
-    """``teacher_params`` as sorted (name, value) pairs, from a dict (or the pairs themselves);
-    the core checks the names and values against the chosen teacher."""
-    if isinstance(params, Mapping):
-        items = [(n, _plain(v)) for n, v in params.items()]
-    elif isinstance(params, (tuple, list)) and all(isinstance(p, (tuple, list)) and len(p) == 2 for p in params):
-        items = [(n, _plain(v)) for n, v in params]
-    else:
-        raise ParameterError(f"The 'teacher_params' parameter of Config must be a dict of the teacher's parameters. Got {params!r} instead.", "teacher_params", repr(params))
-    for name, value in items:
-        if not isinstance(name, str) or not isinstance(value, (bool, int, float)):
-            raise ParameterError(f"The 'teacher_params' parameter of Config must map parameter names (str) to numbers or bools. Got {name!r}: {value!r} instead.", "teacher_params", repr(params))
-    if len({n for n, _ in items}) != len(items):
-        raise ParameterError(f"The 'teacher_params' parameter of Config must name each parameter once. Got {params!r} instead.", "teacher_params", repr(params))
-    return tuple(sorted(items))
-
-
-def _plain(value: Any) -> Any:
-    if isinstance(value, np.generic):
-        return value.item()
-    if isinstance(value, np.ndarray):
-        return [_plain(v) for v in value.tolist()]
-    if isinstance(value, (list, tuple)):
-        return type(value)(_plain(v) for v in value)
-    return value
-
-
 #: Parameters whose default is None, with the type of their values.
 _OPTIONAL_KINDS = {"link_lengths": "floats", "chain": "floats", "eval_schedule": "ints", "body_change_step": int, "body_change_link": int, "body_change_length": float, "v": float, "eps_max": float, "eval_tolerance": float}
 #: Lengths and goal bounds beyond this overflow nothing yet, but squared distances and the step
 #: counts derived from them would lose their meaning long before float overflow; refuse them.
 MAX_MAGNITUDE = 1e12
+#: ... and a body's length below this: its squared distances would underflow toward 0 (a reach
+#: of 1e-300 gave v = 1e-302 and no test goal reached).
+MIN_LENGTH = 1e-12
+#: n_evals up to this is taken whatever n_steps is (short runs keep the default 20).
+MIN_EVALS_BOUND = 100
+
+
+#: The rule of a body's length (``arm_length``, a body's reach), the same in every message.
+REACH_RULE = f"a float in [{MIN_LENGTH:g}, {MAX_MAGNITUDE:g}] (lengths in the units of the task space; beyond, squared distances and step counts lose their meaning)"
+
+
+def reach_ok(reach: float) -> bool:
+    return MIN_LENGTH <= reach <= MAX_MAGNITUDE
 
 
 def _number(v: Any, kind: Any) -> bool:
@@ -400,7 +404,26 @@ def _check_goal_space(cfg: Config) -> None:
             )
 
 
+def _check_body_change(cfg: Config) -> None:
+    """A body change needs its step, link and length: one left None would reach the core as a
+    placeholder (link 2**64-1) and be named in place of the one missing."""
+    names = ("body_change_step", "body_change_link", "body_change_length")
+    given = [n for n in names if getattr(cfg, n) is not None]
+    if given and len(given) < 3:
+        missing = next(n for n in names if getattr(cfg, n) is None)
+        raise ParameterError(
+            f"The '{missing}' parameter of Config must be given with {', '.join(given)} (a body change needs its step, link and length). Got None instead.",
+            missing,
+            "None",
+        )
+
+
 def _check_magnitudes(cfg: Config) -> None:
+    # arm_length makes the links: name it, not the link_lengths derived from it.
+    a = cfg.arm_length
+    if not _number(a, float) or (cfg.link_lengths is None and cfg.chain is None and not reach_ok(a)):
+        shown = f"{a:g}" if _number(a, float) else repr(a)
+        raise ParameterError(f"The 'arm_length' parameter of Config must be {REACH_RULE}. Got {shown} instead.", "arm_length", shown)
     values = {"arm_length": [cfg.arm_length], "link_lengths": list(cfg.link_lengths or ()), "chain": list(cfg.chain or ()), "goal_low": list(cfg.goal_low), "goal_high": list(cfg.goal_high)}
     for name, vals in values.items():
         for v in vals:

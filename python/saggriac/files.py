@@ -126,7 +126,7 @@ def write_file(path: Path, write: Callable[[Path], None], *, what: str, overwrit
         os.umask(umask)
         os.chmod(tmp, 0o666 & ~umask)
         write(tmp)
-        _fsync(tmp)
+        fsync_path(tmp)
         os.replace(tmp, path)
     except BaseException as e:
         if tmp is not None:
@@ -151,7 +151,7 @@ def starts_with(prefix: bytes) -> Callable[[Path], bool]:
     return check
 
 
-def _fsync(path: Path) -> None:
+def fsync_path(path: Path) -> None:
     fd = os.open(path, os.O_RDONLY)
     try:
         os.fsync(fd)

@@ -51,7 +51,7 @@ def derive_seeds(seed: int) -> tuple[int, int]:
 FIXED = {
     "min_norm_ik_restarts": 0x1C0F_F1E5,  # evaluation/min_norm_ik.rs: random restarts of the test-set IK
     "actuator_reset_cloud": 0x5EED_C4A1,  # low_level/actuator_babbling.rs: a chain's reachable sample for the reset period
-    "body_measure": 0x5CA1E,  # saggriac.scale: the placements that measure a user's body
+    "body_measure": 0x5CA1E,  # saggriac.bodies.scale: the placements that measure a user's body
     "placement_check": 20101018,  # saggriac.testing: the two configurations of the placement check
 }
 

@@ -52,12 +52,12 @@ def _pair(out: Any, n: int, m: int, call: str) -> tuple[np.ndarray, np.ndarray]:
     return theta, x
 
 
-def _joint_space(env: Any) -> tuple[np.ndarray, np.ndarray]:
+def joint_space_of(env: Any) -> tuple[np.ndarray, np.ndarray]:
     if not hasattr(env, "joint_space"):
-        raise ConformanceError("environment needs a 'joint_space' attribute: a Box of the joint angles (saggriac.environments.Box or gymnasium.spaces.Box).")
+        raise ConformanceError("environment needs a 'joint_space' attribute: a Box of the joint angles (saggriac.bodies.environments.Box or gymnasium.spaces.Box).")
     for method in ("reset", "step"):
         if not callable(getattr(env, method, None)):
-            raise ConformanceError(f"environment needs a '{method}' method (see saggriac.environments).")
+            raise ConformanceError(f"environment needs a '{method}' method (see saggriac.bodies.environments).")
     lo, hi = _bounds(env.joint_space, "environment.joint_space", "low", "high")
     if not np.allclose(lo, -hi, rtol=0, atol=1e-12) or not np.allclose(hi, hi[0], rtol=0, atol=1e-12):
         raise ConformanceError(f"environment.joint_space must have the same symmetric limit on every joint, [-limit, limit]; got low={lo.tolist()}, high={hi.tolist()}.")
@@ -77,7 +77,7 @@ def _task_dim(env: Any) -> int | None:
 def check_environment_interface(env: Any, config: Any) -> None:
     """The cheap checks ``saggriac.run`` makes before a run: the attributes exist and agree with
     the configuration (number of joints, joint limit, task-space dimension)."""
-    lo, hi = _joint_space(env)
+    lo, hi = joint_space_of(env)
     m = _task_dim(env)
     if m is not None and m != len(config.goal_low):
         raise ParameterError(f"The 'goal_low' parameter of Config must have one bound per dimension of the environment's task_space ({m}). Got {list(config.goal_low)} instead.", "goal_low", repr(config.goal_low))
@@ -134,12 +134,12 @@ def check_goal_selector_interface(selector: Any, config: Any) -> None:
 
 
 def check_environment(env: Any, n_steps: int = 50, seed: int = 0) -> None:
-    """Check that ``env`` follows the environment protocol of ``saggriac.environments``.
+    """Check that ``env`` follows the environment protocol of ``saggriac.bodies.environments``.
 
     Resets with a seed (twice: the same pose), places the body at random configurations (twice
     each: the same position; the angles kept), runs ``n_steps`` small micro-actions (finite
     values, angles within the joint space) and a zero micro-action (nothing moves)."""
-    lo, hi = _joint_space(env)
+    lo, hi = joint_space_of(env)
     n = len(hi)
     rng = np.random.default_rng(seed)
     first = env.reset(seed=seed)

@@ -25,4 +25,24 @@ def as_numbers(name: str, value: Any) -> np.ndarray:
     if raw.dtype.kind not in "iuf":
         what = _KINDS.get(raw.dtype.kind, f"values of type {raw.dtype}")
         raise InputError(f"{name} must be an array of floats; got {what}: {value!r}.")
+    if isinstance(value, (list, tuple)) and _holds_bool(value):
+        # numpy makes [0.5, True] a float array: the bool would become 1.0 without a word.
+        raise InputError(f"{name} must be an array of floats; got bools among numbers: {value!r}.")
     return raw.astype(np.float64, copy=False)
+
+
+def _holds_bool(value: Any) -> bool:
+    if isinstance(value, (bool, np.bool_)):
+        return True
+    return isinstance(value, (list, tuple)) and any(map(_holds_bool, value))
+
+
+def plain(value: Any) -> Any:
+    """numpy scalars and arrays as the Python values they stand for (lists keep their type)."""
+    if isinstance(value, np.generic):
+        return value.item()
+    if isinstance(value, np.ndarray):
+        return [plain(v) for v in value.tolist()]
+    if isinstance(value, (list, tuple)):
+        return type(value)(plain(v) for v in value)
+    return value

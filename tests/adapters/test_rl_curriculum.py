@@ -86,7 +86,7 @@ def test_the_oracle_draws_uniformly_from_the_reachable_set():
     # Uniform in the disc: the share within radius r is r^2.
     assert abs(np.mean(radius <= 0.5) - 0.25) < 0.03
     # Every point of the disc is reachable by the arm itself (3 equal links, joints of +-pi).
-    from saggriac.environments import PlanarArm
+    from saggriac.bodies.environments import PlanarArm
 
     arm = PlanarArm(n_joints=3, arm_length=1.0, joint_limit=np.pi)
     tips = np.array([arm.forward(t) for t in np.random.default_rng(0).uniform(-np.pi, np.pi, (4000, 3))])

@@ -1,4 +1,4 @@
-"""saggriac.sb3: one teacher in the main process for Stable-Baselines3's vector environments,
+"""saggriac.adapters.sb3: one teacher in the main process for Stable-Baselines3's vector environments,
 tested with SB3 itself (DummyVecEnv and SubprocVecEnv, PPO). Skipped when SB3 is not installed,
 unless SAGGRIAC_REQUIRE_EXTRAS=1 (CI sets it)."""
 
@@ -18,10 +18,10 @@ from stable_baselines3.common.env_util import make_vec_env
 from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv
 
 import saggriac as sg
-import saggriac.gym as sgym
-from saggriac.sb3 import TeacherCallback
+import saggriac.adapters.gym as sgym
+from saggriac.adapters.sb3 import TeacherCallback
 
-ENV = "saggriac.gym:saggriac/PlanarArm-v0"  # the module prefix registers the ids in spawned workers too
+ENV = "saggriac.adapters.gym:saggriac/PlanarArm-v0"  # the module prefix registers the ids in spawned workers too
 
 
 @pytest.mark.parametrize("env_id", list(sgym.ENVIRONMENTS))
@@ -55,6 +55,23 @@ def test_one_teacher_in_the_main_process_is_told_every_episode(vec_cls):
     assert len(np.unique(goals, axis=0)) == len(goals)  # both workers pursued distinct teacher goals
     np.testing.assert_array_equal(teacher.history()["told_goal"], goals)
     assert all(c <= 0 for _, c in cb.history)
+
+
+def test_adr_chooses_the_goals_of_sb3_training_and_its_ranges_follow_what_it_is_told():
+    """ADR in the main process behind SB3's PPO: every finished episode is told, and the
+    boundary goals' competences reach ADR's buffers (thresholds that any distance passes, so
+    the ranges must grow)."""
+    teacher = sg.AdrSelector([0.0, -50.0], [50.0, 50.0], seed=0, boundary_prob=1.0, buffer_size=2, t_low=-2e6, t_high=-1e6)
+    venv = make_vec_env(lambda: gymnasium.make(ENV, max_episode_steps=20), n_envs=2, seed=0)
+    cb = TeacherCallback(teacher, competence="distance")
+    model = PPO("MultiInputPolicy", venv, n_steps=64, batch_size=64, n_epochs=1, seed=0, device="cpu")
+    model.learn(total_timesteps=640, callback=cb)
+    venv.close()
+    h = teacher.history()
+    assert len(h["told_competence"]) == len(cb.history) == 32 - 2
+    np.testing.assert_array_equal(h["told_goal"], np.array([g for g, _ in cb.history]))
+    lo, hi = teacher.bounds
+    assert np.all(hi - lo > 0) and np.all(lo >= [0.0, -50.0]) and np.all(hi <= [50.0, 50.0])
 
 
 def test_a_goal_env_that_ignores_next_goal_is_refused():
@@ -109,7 +126,7 @@ def test_a_mistaken_goal_under_vecnormalize_names_the_route_used():
 def test_checkpoints_save_the_teacher_and_a_resumed_training_continues_it(tmp_path):
     from stable_baselines3.common.callbacks import CheckpointCallback
 
-    from saggriac.sb3 import teacher_path
+    from saggriac.adapters.sb3 import teacher_path
 
     def make():
         return make_vec_env(lambda: gymnasium.make(ENV, max_episode_steps=20), n_envs=2, seed=0)

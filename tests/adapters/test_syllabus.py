@@ -19,7 +19,7 @@ from syllabus.task_space import BoxTaskSpace, DiscreteTaskSpace, MultiDiscreteTa
 
 import saggriac as sg
 from saggriac.errors import ConformanceError, ParameterError
-from saggriac.syllabus import SelectorCurriculum
+from saggriac.adapters.syllabus import SelectorCurriculum
 
 LOW, HIGH = [0.0, -2.0, 0.5], [1.0, 2.0, 0.75]
 
@@ -40,6 +40,9 @@ BOX_TEACHERS = {
     "alp_gmm": lambda s: sg.AlpGmmSelector(LOW, HIGH, seed=s, fit_rate=40, bootstrap=40),
     "covar_gmm": lambda s: sg.CovarGmmSelector(LOW, HIGH, seed=s, fit_rate=40, bootstrap=40),
     "random": lambda s: sg.RandomSelector(LOW, HIGH, seed=s),
+    "adr": lambda s: sg.AdrSelector(LOW, HIGH, seed=s, buffer_size=3, t_low=0.2, t_high=0.4),
+    "spdl": lambda s: sg.SpdlSelector(LOW, HIGH, seed=s, update_every=20, warmup=20),
+    "goal_gan": lambda s: sg.GoalGanSelector(LOW, HIGH, seed=s, update_size=10, gan_iterations=10, hidden=8),
 }
 
 
@@ -103,6 +106,25 @@ def test_discrete_curriculum_draws_task_indices_by_learning_progress():
         cur.update_on_episode(0.0, 1, task, success[task])
     assert cur.told == 3000
     assert counts[4] == counts.max() and counts[4] > 2 * np.delete(counts, 4).max()
+
+
+def test_plr_over_a_discrete_task_space_asks_the_teachers_levels():
+    """PLR as a Syllabus curriculum: the same levels as the bare teacher told the same
+    competences, every level drawn before replays start to dominate."""
+    space = DiscreteTaskSpace(6)
+    cur = SelectorCurriculum(space, sg.PlrSelector(6, seed=3))
+    bare = sg.PlrSelector(6, seed=3)
+    for i in range(300):
+        (task,) = cur.sample()
+        assert isinstance(task, int) and space.contains(task)
+        assert task == bare.sample_task()
+        p = 0.1 * task + 0.01 * (i % 7)
+        cur.update_on_episode(0.0, 1, task, p)
+        bare.update(task, p)
+    assert sorted(set(cur.selector.history()["asked_goal"][:, 0].astype(int))) == list(range(6))
+    np.testing.assert_array_equal(cur.selector.history()["told_competence"], bare.history()["told_competence"])
+    with pytest.raises(ConformanceError, match="PlrSelector chooses among a task list"):
+        SelectorCurriculum(box_space(), sg.PlrSelector(4))
 
 
 def test_bad_pairings_and_parameters_are_refused_with_the_rule():
@@ -183,11 +205,12 @@ class PointEnv(TaskEnv, Still):
         return np.zeros(3), -1.0, False, done, info
 
 
-def test_through_syllabus_sync_wrappers():
+@pytest.mark.parametrize("make", [lambda: sg.SaggRiacSelector(LOW, HIGH, seed=4), lambda: sg.AdrSelector(LOW, HIGH, seed=4, buffer_size=2, boundary_prob=1.0, t_low=0.1, t_high=0.2)], ids=["sagg_riac", "adr"])
+def test_through_syllabus_sync_wrappers(make):
     """Syllabus's own plumbing: the curriculum behind its update thread, the environment behind
     its sync wrapper; the teacher is told every finished episode of the tasks it chose."""
     space = box_space()
-    cur = make_multiprocessing_curriculum(SelectorCurriculum(space, sg.SaggRiacSelector(LOW, HIGH, seed=4)))
+    cur = make_multiprocessing_curriculum(SelectorCurriculum(space, make()))
     try:
         inner = PointEnv()
         env = GymnasiumSyncWrapper(inner, space, cur.components, buffer_size=1)
@@ -208,13 +231,57 @@ def test_through_syllabus_sync_wrappers():
     np.testing.assert_array_equal(h["told_goal"], received)
     np.testing.assert_array_equal(h["asked_goal"][:60].astype(np.float32), received.astype(np.float32))
     np.testing.assert_allclose(h["told_competence"], [progress_of(t) for t in received])
+    if isinstance(teacher, sg.AdrSelector):
+        # Every goal was a boundary sample told a progress >= 0.2 somewhere: the ranges grew.
+        lo, hi = teacher.bounds
+        assert np.all(hi - lo > 0), (lo, hi)
+
+
+class LevelEnv(TaskEnv, Still):
+    """A Syllabus task environment over a list of levels: progress grows with the level index."""
+
+    def __init__(self):
+        super().__init__()
+        self.received = []
+
+    def change_task(self, new_task):
+        self.received.append(int(new_task))
+
+    def observation(self, observation):
+        return observation
+
+    def step(self, action):
+        self.steps += 1
+        return np.zeros(3), -1.0, False, self.steps == 4, {"task_completion": self.task / 10}
+
+
+def test_plr_through_syllabus_sync_wrappers():
+    space = DiscreteTaskSpace(8)
+    cur = make_multiprocessing_curriculum(SelectorCurriculum(space, sg.PlrSelector(8, seed=1)))
+    try:
+        inner = LevelEnv()
+        env = GymnasiumSyncWrapper(inner, space, cur.components, buffer_size=1)
+        for _ in range(40):
+            env.reset()
+            for _ in range(4):
+                env.step(env.action_space.sample())
+        deadline = time.time() + 30
+        while cur.curriculum.told < 40 and time.time() < deadline:
+            time.sleep(0.01)
+    finally:
+        cur.stop()
+    h = cur.curriculum.selector.history()
+    assert cur.curriculum.told == 40
+    np.testing.assert_array_equal(h["told_goal"][:, 0], inner.received)
+    np.testing.assert_array_equal(h["asked_goal"][:40, 0], inner.received)
+    np.testing.assert_allclose(h["told_competence"], np.array(inner.received) / 10)
 
 
 def test_saggriacs_goal_environments_as_syllabus_task_environments():
     """GoalTaskWrapper, shipped: a saggriac goal environment behind Syllabus's sync wrapper, its
     goals chosen by a SAGG-RIAC curriculum in Syllabus's update thread."""
-    import saggriac.gym  # noqa: F401 (registers the environments)
-    from saggriac.syllabus import GoalTaskWrapper
+    import saggriac.adapters.gym  # noqa: F401 (registers the environments)
+    from saggriac.adapters.syllabus import GoalTaskWrapper
 
     env = GoalTaskWrapper(gymnasium.make("saggriac/PlanarArmExp1-v0", max_episode_steps=5))
     space = env.task_space
@@ -245,9 +312,9 @@ def test_saggriacs_goal_environments_as_syllabus_task_environments():
 
 
 def test_goal_task_wrapper_refuses_tasks_outside_the_goal_box():
-    import saggriac.gym  # noqa: F401
+    import saggriac.adapters.gym  # noqa: F401
     from saggriac.errors import InputError
-    from saggriac.syllabus import GoalTaskWrapper
+    from saggriac.adapters.syllabus import GoalTaskWrapper
 
     env = GoalTaskWrapper(gymnasium.make("saggriac/PlanarArmExp1-v0"))
     with pytest.raises(InputError, match="goal box"):

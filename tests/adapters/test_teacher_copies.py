@@ -12,12 +12,12 @@ import time
 
 import pytest
 
-ENV = "saggriac.gym:saggriac/PlanarArm-v0"  # the module prefix registers the ids in spawned workers too
+ENV = "saggriac.adapters.gym:saggriac/PlanarArm-v0"  # the module prefix registers the ids in spawned workers too
 METHODS = ["default", "fork", "forkserver", "spawn"]
 
 PRELUDE = f"""
 import json, multiprocessing as mp, os, sys
-import numpy as np, gymnasium, saggriac as sg, saggriac.gym as sgym
+import numpy as np, gymnasium, saggriac as sg, saggriac.adapters.gym as sgym
 ENV = {ENV!r}
 method = None if sys.argv[1] == "default" else sys.argv[1]
 def report(**kw):
@@ -75,7 +75,7 @@ if __name__ == "__main__":
 def test_sb3_subproc_workers_sharing_one_teacher_are_refused(tmp_path, method):
     out, err = _run(tmp_path, SB3_SPLIT, method, until="ConformanceError")
     assert out["refused"], out  # before: both workers asked the same first goal, the teacher was told 0
-    assert "ConformanceError" in err and "saggriac.sb3.TeacherCallback" in err and "allow_copy=True" in err, err[-3000:]
+    assert "ConformanceError" in err and "saggriac.adapters.sb3.TeacherCallback" in err and "allow_copy=True" in err, err[-3000:]
 
 
 ASYNC_SPLIT = """

@@ -5,7 +5,7 @@ import pandas as pd
 import pytest
 
 import saggriac
-from saggriac.environments import PlanarArm
+from saggriac.bodies.environments import PlanarArm
 from saggriac.errors import ParameterError
 
 

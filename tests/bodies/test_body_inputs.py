@@ -12,7 +12,7 @@ from saggriac import Config
 from saggriac.errors import InputError, ParameterError
 
 
-@pytest.mark.parametrize("make", [lambda: saggriac.environments.PlanarArm(), lambda: saggriac.environments.SpatialArm(n_joints=6), lambda: saggriac.environments.PlanarArm(link_lengths=[1.0, 2.0])])
+@pytest.mark.parametrize("make", [lambda: saggriac.bodies.environments.PlanarArm(), lambda: saggriac.bodies.environments.SpatialArm(n_joints=6), lambda: saggriac.bodies.environments.PlanarArm(link_lengths=[1.0, 2.0])])
 @pytest.mark.parametrize("action", ["short", "long", "nan", "inf", "strings", "bools"])
 def test_python_arms_refuse_bad_actions_and_keep_their_state(make, action):
     arm = make()
@@ -32,11 +32,11 @@ def test_python_arms_refuse_bad_actions_and_keep_their_state(make, action):
 @pytest.mark.parametrize("kw", [dict(n_joints=0), dict(n_joints=2.5), dict(arm_length=-1.0), dict(arm_length=float("nan")), dict(link_lengths=[]), dict(link_lengths=[1.0, -1.0]), dict(joint_limit=0.0), dict(max_joint_step=float("inf"))])
 def test_python_arms_check_their_parameters(kw):
     with pytest.raises(ParameterError):
-        saggriac.environments.PlanarArm(**kw)
+        saggriac.bodies.environments.PlanarArm(**kw)
 
 
 def test_mujoco_arm_refuses_duplicate_joints_and_bad_actions():
-    mj = pytest.importorskip("saggriac.mujoco_arm")
+    mj = pytest.importorskip("saggriac.bodies.mujoco_arm")
     with pytest.raises(ParameterError, match="more than once"):
         mj.MujocoArm(mj.pusher_model_path(), [mj.PUSHER_JOINTS[0], mj.PUSHER_JOINTS[1], mj.PUSHER_JOINTS[0]], "tips_arm")
     arm = mj.pusher_arm()
@@ -45,12 +45,12 @@ def test_mujoco_arm_refuses_duplicate_joints_and_bad_actions():
     assert arm.step(np.zeros(7))[0].shape == (7,)
 
 
-class _IgnoresPlacement(saggriac.environments.PlanarArm):
+class _IgnoresPlacement(saggriac.bodies.environments.PlanarArm):
     def reset(self, *, seed=None, options=None):
         return super().reset(seed=seed)
 
 
-class _ClaimsPlacement(saggriac.environments.PlanarArm):
+class _ClaimsPlacement(saggriac.bodies.environments.PlanarArm):
     def reset(self, *, seed=None, options=None):
         theta, x = super().reset(seed=seed)
         return (np.asarray(options["theta"], dtype=float) if options else theta), x
@@ -66,7 +66,7 @@ def test_run_refuses_a_body_that_ignores_placement(env, tmp_path):
 
 def test_goal_env_refuses_a_goal_outside_its_box():
     gym = pytest.importorskip("gymnasium")
-    import saggriac.gym  # noqa: F401 (registers the environments)
+    import saggriac.adapters.gym  # noqa: F401 (registers the environments)
 
     env = gym.make("saggriac/PlanarArmExp1-v0")
     with pytest.raises(InputError, match="outside the environment's goal box"):

@@ -8,7 +8,7 @@ import pytest
 
 import saggriac as sg
 from saggriac.bodies import PUSHER_CHAIN
-from saggriac.reachable import ReachableSet
+from saggriac.bodies.reachable import ReachableSet
 
 
 def test_the_pusher_preset_learns_from_one_command(tmp_path):
@@ -78,7 +78,7 @@ def test_chain_runs_are_deterministic_and_checkpoint(tmp_path):
 @pytest.mark.parametrize(
     "kwargs, param, words",
     [
-        (dict(body="chain"), "chain", "saggriac.mujoco_arm"),
+        (dict(body="chain"), "chain", "saggriac.bodies.mujoco_arm"),
         (dict(chain=PUSHER_CHAIN), "chain", "unless body is 'chain'"),
         (dict(body="chain", chain=PUSHER_CHAIN[:20]), "chain", "15 n + 3"),
         (dict(body="chain", chain=PUSHER_CHAIN, joint_limit=1.5, goal_low=(-60.0,) * 3, goal_high=(60.0,) * 3), "joint_limit", "(0, 1]"),

@@ -16,7 +16,7 @@ import gymnasium
 from gymnasium.utils.env_checker import check_env
 
 import saggriac as sg
-import saggriac.gym as sgym
+import saggriac.adapters.gym as sgym
 from saggriac.testing import check_environment
 
 
@@ -31,14 +31,14 @@ def test_registered_environments_pass_gymnasiums_checker(env_id):
 
 
 def test_module_prefixed_make_imports_the_registration_itself():
-    env = gymnasium.make("saggriac.gym:saggriac/PlanarArmExp2-v0")
+    env = gymnasium.make("saggriac.adapters.gym:saggriac/PlanarArmExp2-v0")
     assert env.unwrapped.goal_space.low.tolist() == [0.0, -150.0]
 
 
 def test_an_episode_moves_the_arm_as_a_run_does_and_truncates():
     env = gymnasium.make("saggriac/PlanarArm-v0", action_scale="joint")
     obs, _ = env.reset(seed=1)
-    arm = sg.environments.PlanarArm()
+    arm = sg.bodies.environments.PlanarArm()
     arm.reset()
     rng = np.random.default_rng(0)
     for t in range(sgym.MAX_EPISODE_STEPS):
@@ -196,8 +196,8 @@ def test_a_selector_chooses_each_episodes_goal_and_is_told_its_competence(goal_v
 @pytest.mark.parametrize("vector_cls", ["sync", "async"])
 def test_vector_environments_ask_and_tell_in_batches(vector_cls):
     n, steps = 3, 25
-    # The module prefix imports saggriac.gym (the registration) in AsyncVectorEnv's processes too.
-    make = lambda: gymnasium.make("saggriac.gym:saggriac/PlanarArmExp1-v0", max_episode_steps=steps)  # noqa: E731
+    # The module prefix imports saggriac.adapters.gym (the registration) in AsyncVectorEnv's processes too.
+    make = lambda: gymnasium.make("saggriac.adapters.gym:saggriac/PlanarArmExp1-v0", max_episode_steps=steps)  # noqa: E731
     venv = gymnasium.vector.SyncVectorEnv([make] * n) if vector_cls == "sync" else gymnasium.vector.AsyncVectorEnv([make] * n, context="spawn")
     sel = sg.SaggRiacSelector([0.0, -50.0], [50.0, 50.0], seed=2)
     env = sgym.VectorSelectorGoals(venv, sel)
@@ -337,7 +337,7 @@ def test_a_pickled_teacher_is_refused_only_while_another_process_uses_it(tmp_pat
     f.write_bytes(pickle.dumps(teacher))
     child = tmp_path / "child.py"
     child.write_text(f"""
-import pickle, gymnasium, saggriac.gym as sgym
+import pickle, gymnasium, saggriac.adapters.gym as sgym
 t = pickle.load(open({str(f)!r}, "rb"))
 try:
     sgym.SelectorGoals(gymnasium.make("saggriac/PlanarArm-v0"), t).reset(seed=0)
@@ -354,7 +354,7 @@ except Exception as e:
     assert in_child().startswith("ran")  # nobody else uses it: a restored teacher
     env = sgym.SelectorGoals(gymnasium.make("saggriac/PlanarArm-v0"), teacher)
     said = in_child()
-    assert said.startswith("ConformanceError") and "saggriac.sb3.TeacherCallback" in said and f"pid {os.getpid()}" in said
+    assert said.startswith("ConformanceError") and "saggriac.adapters.sb3.TeacherCallback" in said and f"pid {os.getpid()}" in said
     # In this process, a pickled copy is the same teacher; copy.deepcopy makes another one.
     sgym.SelectorGoals(gymnasium.make("saggriac/PlanarArm-v0"), pickle.loads(pickle.dumps(teacher))).reset(seed=0)
     other = copy.deepcopy(teacher)

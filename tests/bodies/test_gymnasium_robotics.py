@@ -17,7 +17,7 @@ import gymnasium_robotics  # noqa: E402
 
 import saggriac as sg  # noqa: E402
 from saggriac.errors import ConformanceError, ParameterError  # noqa: E402
-from saggriac.gym import GoalArmEnv, GoalSlot, SelectorGoals, VectorSelectorGoals  # noqa: E402
+from saggriac.adapters.gym import GoalArmEnv, GoalSlot, SelectorGoals, VectorSelectorGoals  # noqa: E402
 
 gymnasium.register_envs(gymnasium_robotics)
 MAZE = "PointMaze_UMaze-v3"

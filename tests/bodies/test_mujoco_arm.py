@@ -13,7 +13,7 @@ if os.environ.get("SAGGRIAC_REQUIRE_EXTRAS") != "1":
 import mujoco
 
 import saggriac as sg
-from saggriac.mujoco_arm import PUSHER_JOINTS, MujocoArm, pusher_arm, pusher_model_path
+from saggriac.bodies.mujoco_arm import PUSHER_JOINTS, MujocoArm, pusher_arm, pusher_model_path
 from saggriac.testing import check_environment
 
 
@@ -129,7 +129,7 @@ def test_the_native_chain_moves_as_mujoco_computes(make):
 
 def test_the_pusher_preset_is_the_model_scaled_to_reach_50():
     from saggriac.bodies import PUSHER_CHAIN
-    from saggriac.mujoco_arm import pusher_chain
+    from saggriac.bodies.mujoco_arm import pusher_chain
 
     assert np.allclose(PUSHER_CHAIN, pusher_chain(), rtol=0, atol=1e-12)
     cfg = sg.Config.from_preset("pusher")

@@ -9,7 +9,7 @@ import pandas as pd
 import pytest
 
 import saggriac
-from saggriac.environments import Box, PlanarArm
+from saggriac.bodies.environments import Box, PlanarArm
 from saggriac.errors import ConformanceError, InputError, ParameterError
 from saggriac.testing import check_environment
 
@@ -85,7 +85,7 @@ def test_python_arm_gives_the_builtin_trajectory(condition):
     pd.testing.assert_frame_equal(builtin.metrics, python.metrics, check_exact=True)
     pd.testing.assert_frame_equal(builtin.goals, python.goals, check_exact=True)
     pd.testing.assert_frame_equal(builtin.regions, python.regions, check_exact=True)
-    assert python.manifest["environment"] == "saggriac.environments.PlanarArm"
+    assert python.manifest["environment"] == "saggriac.bodies.environments.PlanarArm"
 
 
 def test_least_norm_test_configurations_through_a_python_body():

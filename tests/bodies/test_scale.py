@@ -9,9 +9,9 @@ import pytest
 import saggriac as sg
 from saggriac import _core
 from saggriac.config import LENGTH_DIVISORS, PRESETS, Config
-from saggriac.environments import PlanarArm
+from saggriac.bodies.environments import PlanarArm
 from saggriac.errors import ConformanceError
-from saggriac.scale import diameter, measure
+from saggriac.bodies.scale import diameter, measure
 
 
 @pytest.mark.parametrize("preset", sorted(PRESETS))
@@ -73,11 +73,11 @@ def test_a_body_away_from_the_origin_is_measured_and_tested_where_it_is():
 
 
 def _test_goals(cfg, env):
-    from saggriac.scale import body_scale
+    from saggriac.bodies.scale import body_scale
     from saggriac.seeding import derive_seeds
-    from saggriac.testing import _joint_space
+    from saggriac.testing import joint_space_of
 
-    body = body_scale(env, *_joint_space(env), 2)
+    body = body_scale(env, *joint_space_of(env), 2)
     learner = _core.Learner(cfg.core_dict(reach=body.reach), *derive_seeds(0), environment=env, test_cloud=(body.configs.tolist(), body.positions.tolist()))
     return learner.test_set()["goals"]
 
@@ -94,7 +94,7 @@ def test_saggriacs_python_arm_declares_its_reach_and_runs_as_the_builtin_arm():
 def test_a_bad_declared_reach_is_refused(reach):
     env = OffsetArm()
     env.reach = reach
-    with pytest.raises(ConformanceError, match="environment.reach must be a finite float > 0"):
+    with pytest.raises(ConformanceError, match=r"environment.reach must be a float in \[1e-12, 1e\+12\]"):
         sg.run(Config(n_joints=3, goal_low=(98.0, 97.0), goal_high=(103.0, 103.0), n_steps=10), environment=env)
 
 

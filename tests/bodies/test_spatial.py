@@ -9,7 +9,7 @@ import pytest
 
 import saggriac
 from saggriac.analysis import plots
-from saggriac.environments import Box, PlanarArm, SpatialArm
+from saggriac.bodies.environments import Box, PlanarArm, SpatialArm
 from saggriac.errors import InputError, ParameterError
 from saggriac.testing import check_environment
 

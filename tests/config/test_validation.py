@@ -14,13 +14,19 @@ from saggriac.errors import ParameterError, SaggriacError, StorageError
     [
         ({"g_max": 1}, "The 'g_max' parameter of Config must be an int in [2, 1000000]. Got 1 instead."),
         ({"eps_c": -2.0}, "The 'eps_c' parameter of Config must be a float with min_c < eps_c < 0 (min_c = -1). Got -2 instead."),
-        ({"v": 0.0}, "The 'v' parameter of Config must be a finite float > 0. Got 0 instead."),
+        ({"v": 0.0}, "The 'v' parameter of Config must be a finite float > 0 and <= 2 * reach, the diameter of the ball the body reaches (reach = 50). Got 0 instead."),
         ({"q": 0}, "The 'q' parameter of Config must be an int >= 1. Got 0 instead."),
         ({"joint_limit": 4.0}, "The 'joint_limit' parameter of Config must be a float in (0, 3.141592653589793]. Got 4 instead."),
         ({"n_joints": "many"}, "The 'n_joints' parameter of Config must be an int >= 1. Got 'many' instead."),
         ({"condition": "best"}, "The 'condition' parameter of Config must be one of 'sagg_riac', 'sagg_random', 'actuator_random', 'actuator_riac'. Got 'best' instead."),
         ({"knn_index": "hnsw"}, "The 'knn_index' parameter of Config must be one of 'blocks', 'brute_force'. Got 'hnsw' instead."),
-        ({"n_evals": 0}, "The 'n_evals' parameter of Config must be an int >= 1. Got 0 instead."),
+        ({"n_evals": 0}, "The 'n_evals' parameter of Config must be an int in [1, max(n_steps, 100)] (a run evaluates at most once per time step; n_steps = 50000). Got 0 instead."),
+        # A value of the wrong type is named with the core's rule for that parameter, read as data.
+        ({"g_max": "many"}, "The 'g_max' parameter of Config must be an int in [2, 1000000]. Got 'many' instead."),
+        ({"eps_max": "far"}, "The 'eps_max' parameter of Config must be a finite float > 0 and <= 2 * reach, the diameter of the ball the body reaches (reach = 50). Got 'far' instead."),
+        ({"competence": "best"}, "The 'competence' parameter of Config must be one of 'relative', 'absolute'. Got 'best' instead."),
+        ({"paradigm": 3}, "The 'paradigm' parameter of Config must be a str. Got 3 instead."),
+        ({"body": "tentacle"}, "The 'body' parameter of Config must be one of 'planar_arm', 'spatial_arm', 'chain'. Got 'tentacle' instead."),
     ],
 )
 def test_bad_parameter_messages(kwargs, message):

@@ -11,9 +11,9 @@ import pytest
 
 import saggriac
 from saggriac import _core
-from saggriac.environments import PlanarArm
+from saggriac.bodies.environments import PlanarArm
 from saggriac.errors import ParameterError, StorageError
-from saggriac.runs.runner import checkpoint_dir
+from saggriac.runs import checkpoint_dir
 
 
 def cfg_for(**kw):
@@ -40,7 +40,7 @@ def test_restore_at_every_evaluation_gives_the_uninterrupted_run(kw):
         restores += 1
     assert restores >= 5
     pd.testing.assert_frame_equal(pd.DataFrame(learner.metrics()), ref.metrics, check_exact=True)
-    got = saggriac.runs.runner._xy_columns(learner.goals())
+    got = saggriac.runs.learner._xy_columns(learner.goals())
     pd.testing.assert_frame_equal(got, ref.goals, check_exact=True)
 
 

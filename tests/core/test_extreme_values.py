@@ -18,7 +18,7 @@ CHILD = textwrap.dedent(
     import numpy as np
     import saggriac
     from saggriac.errors import SaggriacError
-    from saggriac.environments import PlanarArm, SpatialArm
+    from saggriac.bodies.environments import PlanarArm, SpatialArm
 
     INTS = [0, 1, -1, 2**31, 2**40, 2**62, 2**64, 10**30, 2.5, True, "3", None, float("nan")]
     FLOATS = [0.0, -0.0, 1e-320, 1e300, -1e300, float("inf"), float("nan"), True, "0.5", None, [0.5]]

@@ -1,4 +1,4 @@
-"""The forward-model metric at each test goal's least-norm configuration (SPEC "Evaluation")."""
+"""The forward-model metric at each test goal's least-norm configuration (docs/reproduction.md, "What is measured")."""
 
 import numpy as np
 import pytest

@@ -54,8 +54,30 @@ def test_absolute_competence_in_the_episodic_paradigm():
     assert not np.allclose(rel.goals["competence"].to_numpy(), absolute.goals["competence"].to_numpy()[: len(rel.goals)])
 
 
+def test_exploration_trigger_readings():
+    """'executed' (default) compares the realised dx with J dtheta of the executed command,
+    'desired' with the desired step (issue 35). Every run counts where the two would disagree,
+    without changing what it does."""
+    cfg = Config.from_preset("exp2", n_steps=8000, n_evals=1, n_test_goals=5, n_test_configs=5)
+    assert cfg.exploration_trigger == "executed"
+    a = saggriac.run(cfg, seed=104)
+    b = saggriac.run(cfg.replace(exploration_trigger="desired"), seed=104)
+    pa, pb = a.manifest["profile"], b.manifest["profile"]
+    for p in (pa, pb):
+        assert 0 <= p["trigger_only_executed"] + p["trigger_only_desired"] <= p["reaching_steps"]
+        assert p["trigger_gap_sum"] >= 0.0
+    # Near the straight rest pose J+ truncates and J dtheta falls short of the desired step, so
+    # the two readings do part somewhere, and the runs with them differ.
+    assert pa["trigger_gap_sum"] > 0.0 and pa["trigger_only_executed"] + pa["trigger_only_desired"] > 0
+    assert not np.array_equal(a.goals["goal_x"].to_numpy()[:5], b.goals["goal_x"].to_numpy()[:5]) or pa["explorations"] != pb["explorations"]
+    # The key reaches run.json and reads back.
+    assert Config.from_saved(b.manifest["config"]).exploration_trigger == "desired"
+
+
 def test_bad_values_are_refused_with_the_rule():
     with pytest.raises(ParameterError, match=r"'competence' parameter of Config must be one of 'relative', 'absolute'. Got 'eq7'"):
         Config(competence="eq7")
     with pytest.raises(ParameterError, match=r"'timeout_in_exploration'"):
         Config(timeout_in_exploration="yes")
+    with pytest.raises(ParameterError, match=r"The 'exploration_trigger' parameter of Config must be one of 'executed', 'desired'. Got 'planned' instead."):
+        Config(exploration_trigger="planned")

@@ -5,6 +5,7 @@ from pathlib import Path
 import numpy as np
 
 import saggriac as sg
+import saggriac.bodies.scale
 from saggriac import _core
 from saggriac.seeding import FIXED, derive_seeds, environment_seed, seed_tree, selector_seed
 
@@ -33,5 +34,5 @@ def test_the_fixed_streams_are_the_ones_in_the_code():
     for name in ("min_norm_ik_restarts", "actuator_reset_cloud"):
         literal = f"0x{FIXED[name]:x}"
         assert f"{literal[:6]}_{literal[6:]}" in core, name
-    assert sg.scale.CLOUD_SEED == FIXED["body_measure"]
+    assert sg.bodies.scale.CLOUD_SEED == FIXED["body_measure"]
     assert _core.child_seed(seed_tree(1)["learner"], 2) == seed_tree(1)["learning"]

@@ -13,7 +13,7 @@ scipy_optimize = pytest.importorskip("scipy.optimize")
 minimize, least_squares = scipy_optimize.minimize, scipy_optimize.least_squares
 
 class Leg2D:
-    def __init__(self, off=0.0): self.off=off; self.joint_space=sg.environments.Box(-1.0,1.0,(2,)); self.theta=np.zeros(2); self.nan=0
+    def __init__(self, off=0.0): self.off=off; self.joint_space=sg.bodies.environments.Box(-1.0,1.0,(2,)); self.theta=np.zeros(2); self.nan=0
     def f(self, t): a,b=t; r=30+20*np.cos(b+self.off); return np.array([r*np.cos(a), r*np.sin(a)])
     def reset(self,*,seed=None,options=None):
         if options and "theta" in options:
@@ -70,7 +70,7 @@ def test_the_paper_arm_matches_slsqp():
 def test_a_one_joint_body_gets_the_closest_configurations():
     # One joint of length 50: its reach is an arc, so (almost) every test goal is out of reach.
     cfg = sg.Config.from_preset("exp1", n_joints=1, n_test_goals=15, n_test_configs=15)
-    worse, unreached, finite = compare("1 joint", planar(1), cfg.joint_limit, _tests_of(cfg, 0, sg.environments.PlanarArm(n_joints=1)), TOL)
+    worse, unreached, finite = compare("1 joint", planar(1), cfg.joint_limit, _tests_of(cfg, 0, sg.bodies.environments.PlanarArm(n_joints=1)), TOL)
     assert worse == 0 and finite and unreached >= 10
 
 

@@ -26,9 +26,9 @@ def test_the_free_space_check_counts_the_checkpoints(tmp_path, monkeypatch):
 
 
 def test_a_failed_checkpoint_write_warns_and_the_run_finishes(tmp_path, monkeypatch):
-    from saggriac.runs import runner
+    from saggriac.runs import checkpoint
 
-    real = runner._write_checkpoint
+    real = checkpoint.write_checkpoint
     calls = []
 
     def flaky(*a, **k):
@@ -37,10 +37,10 @@ def test_a_failed_checkpoint_write_warns_and_the_run_finishes(tmp_path, monkeypa
             raise StorageError("No space left on device (simulated)")
         real(*a, **k)
 
-    monkeypatch.setattr(runner, "_write_checkpoint", flaky)
+    monkeypatch.setattr(checkpoint, "write_checkpoint", flaky)
     # Checkpoints are written at evaluations, between goal attempts: many evaluations, many chances.
     cfg = Config.from_preset("exp1", n_steps=6000, n_evals=24, n_test_goals=5, n_test_configs=5)
-    with pytest.warns(runner.CheckpointWarning, match=r"last good checkpoint \(step \d+\) is kept"):
+    with pytest.warns(checkpoint.CheckpointWarning, match=r"last good checkpoint \(step \d+\) is kept"):
         res = saggriac.run(cfg, 0, out_dir=tmp_path / "r", checkpoint_every=250)
     plain = saggriac.run(cfg, 0)
     assert res.path is not None and len(calls) >= 3  # and later checkpoints were written again

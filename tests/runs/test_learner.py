@@ -77,7 +77,7 @@ def test_bad_checkpoint_arguments_are_refused(every, tmp_path):
     with pytest.raises(ParameterError, match="'checkpoint_every' parameter of Learner.save_checkpoint"):
         sg.Learner(small(), 0).save_checkpoint(tmp_path / "r", every)
     with pytest.raises(ParameterError, match="not available with a user's environment"):
-        sg.Learner(small(), 0, environment=sg.environments.PlanarArm()).save_checkpoint(tmp_path / "r", 1000)
+        sg.Learner(small(), 0, environment=sg.bodies.environments.PlanarArm()).save_checkpoint(tmp_path / "r", 1000)
     assert not any(tmp_path.iterdir())
 
 

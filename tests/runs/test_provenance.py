@@ -20,12 +20,12 @@ def _checkpointed(tmp_path: Path, seed: int) -> Path:
     out = tmp_path / f"run{seed}"
     code = f"""
 import os, saggriac
-from saggriac.runs import runner
-real = runner._write_checkpoint
+from saggriac.runs import checkpoint
+real = checkpoint.write_checkpoint
 def once(*a, **k):
     real(*a, **k)
     os._exit(9)
-runner._write_checkpoint = once
+checkpoint.write_checkpoint = once
 cfg = saggriac.Config.from_preset("exp1", n_steps=3000, n_evals=3, n_test_goals=5, n_test_configs=5)
 saggriac.run(cfg, seed={seed}, out_dir={str(out)!r}, checkpoint_every=1000)
 """
@@ -36,7 +36,7 @@ saggriac.run(cfg, seed={seed}, out_dir={str(out)!r}, checkpoint_every=1000)
 
 def test_resume_refuses_a_state_from_another_seed(tmp_path):
     a, b = _checkpointed(tmp_path, 0), _checkpointed(tmp_path, 1)
-    ca, cb = saggriac.runs.runner.checkpoint_dir(a), saggriac.runs.runner.checkpoint_dir(b)
+    ca, cb = saggriac.runs.checkpoint_dir(a), saggriac.runs.checkpoint_dir(b)
     (ca / "state.bin").write_bytes((cb / "state.bin").read_bytes())
     with pytest.raises(StorageError, match="other seeds"):
         saggriac.resume(a)
@@ -46,7 +46,7 @@ def test_resume_refuses_a_state_from_another_seed(tmp_path):
 @pytest.mark.parametrize("edit", [{"seed": 1}, {"learner_seed": 7}, {"checkpoint_every": 0}, {"overwrite": True}, {"steps": 5}])
 def test_resume_refuses_an_edited_checkpoint_json(tmp_path, edit):
     out = _checkpointed(tmp_path, 0)
-    f = saggriac.runs.runner.checkpoint_dir(out) / "checkpoint.json"
+    f = saggriac.runs.checkpoint_dir(out) / "checkpoint.json"
     meta = json.loads(f.read_text())
     meta.update(edit)
     f.write_text(json.dumps(meta))

@@ -28,7 +28,7 @@ import saggriac  # noqa: E402
 from saggriac.cli import main  # noqa: E402
 from saggriac.errors import SaggriacError  # noqa: E402
 from saggriac.runs import storage  # noqa: E402
-from saggriac.runs.runner import checkpoint_dir  # noqa: E402
+from saggriac.runs import checkpoint_dir  # noqa: E402
 
 EXAMPLES = max(1, fuzzing.EXAMPLES * 2 // 3)
 FUZZ = fuzzing.fuzz_settings(EXAMPLES)

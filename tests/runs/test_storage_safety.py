@@ -14,7 +14,7 @@ import saggriac
 from saggriac.cli import main
 from saggriac.errors import InputError, ParameterError, StorageError
 from saggriac.runs import runner, storage
-from saggriac.runs.runner import checkpoint_dir
+from saggriac.runs import checkpoint_dir
 
 
 def tiny(**kw):
@@ -335,7 +335,7 @@ def test_non_utf8_toml_is_a_saggriac_error(tmp_path, capsys):
         (dict(explore_step=0.0), "'explore_step' parameter of Config"),
         (dict(goal_low=(10.0, 0.0), goal_high=(0.0, 50.0)), "'goal_low' and 'goal_high' parameters of Config must be finite with goal_low < goal_high"),
         (dict(goal_low=(0.0, 0.0), goal_high=(0.0, 0.0)), "goal_low = [0.0, 0.0] and goal_high = [0.0, 0.0]"),
-        (dict(arm_length=1e300), "'arm_length' parameter of Config must be at most 1e+12"),
+        (dict(arm_length=1e300), "'arm_length' parameter of Config must be a float in [1e-12, 1e+12]"),
         (dict(goal_high=(1e300, 50.0)), "'goal_high' parameter of Config must be at most 1e+12"),
         # A rule of the configuration, the same on every machine (no memory is read).
         (dict(n_joints=10**12), "'n_joints' parameter of Config must be an int in [1, 1000000]. Got 1000000000000"),

@@ -83,3 +83,14 @@ def test_numpy_integers_count_as_the_ints_they_stand_for(tmp_path):
     with pytest.warns(IncompleteStudyWarning, match="No statistics can be computed .* all of sagg_random"):
         reproduce("exp1", out_dir=tmp_path / "st", seeds=np.int64(1), steps=np.int64(300), conditions=("sagg_random",), n_workers=np.int32(1), progress=False)
     assert len(list((tmp_path / "st" / "runs").iterdir())) == 1
+
+
+def test_cli_reproduce_from_a_first_seed(tmp_path, capsys):
+    # A second, independent set of seeds (the replication of docs/reproduction.md): seeds 3 and 4.
+    out = tmp_path / "later"
+    rc = main(["reproduce", "exp1", "--seeds", "2", "--first-seed", "3", "--steps", "300", "--conditions", "sagg_random", "--workers", "1", "--out", str(out), "--no-progress"])
+    assert rc == 0
+    assert sorted(p.name for p in (out / "runs" / "sagg_random").iterdir()) == ["seed3", "seed4"]
+    capsys.readouterr()
+    with pytest.raises(Exception, match=r"The 'first_seed' parameter of reproduce must be an int in \[0, 100000\]. Got -1 instead."):
+        reproduce("exp1", out_dir=tmp_path / "x", seeds=1, first_seed=-1)

@@ -332,14 +332,14 @@ def test_study_killed_with_sigkill_resumes(tmp_path):
 
 
 def test_work_goes_seed_by_seed_costliest_condition_first(tiny):
-    from saggriac.study import _longest_first_by_seed
+    from saggriac.study import longest_first_by_seed
 
     s = Study(tiny, ("sagg_riac", "actuator_random", "sagg_random", "actuator_riac"), (3, 1))
-    order = [(t.seed, t.condition) for t in _longest_first_by_seed(s.tasks())]
+    order = [(t.seed, t.condition) for t in longest_first_by_seed(s.tasks())]
     assert order == [(3, "actuator_riac"), (3, "actuator_random"), (3, "sagg_riac"), (3, "sagg_random"), (1, "actuator_riac"), (1, "actuator_random"), (1, "sagg_riac"), (1, "sagg_random")]
     # Longer runs of the same condition go first too.
     s = Study(tiny, ("sagg_riac",), (0,), grid={"n_steps": [1000, 3000]})
-    assert [t.params["n_steps"] for t in _longest_first_by_seed(s.tasks())] == [3000, 1000]
+    assert [t.params["n_steps"] for t in longest_first_by_seed(s.tasks())] == [3000, 1000]
 
 
 def test_a_lock_left_beside_a_finished_run_is_cleaned_on_resume_but_a_live_one_is_kept(tmp_path):

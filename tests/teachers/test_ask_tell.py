@@ -77,7 +77,7 @@ def test_history_and_leaves_are_consistent():
         s.update(g, -g[0])
     h = s.history()
     assert h["asked_goal"].shape == (200, 2) and h["told_goal"].shape == (200, 2)
-    assert set(np.unique(h["asked_mode"])) <= set(saggriac.goal_selection.MODES)
+    assert set(np.unique(h["asked_mode"])) <= set(saggriac.teachers.MODES)
     leaves = s.leaves()
     assert leaves["n_measurements"].sum() <= 200
     assert s.n_regions == len(leaves["interest"]) > 1

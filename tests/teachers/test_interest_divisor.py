@@ -42,7 +42,28 @@ def test_runs_saved_before_the_key_read_back_as_window():
     assert Config.from_preset("exp2").interest_divisor == "zeta"
 
 
-@pytest.mark.parametrize("divisor", ["zeta", "window"])
+def test_printed_index_ranges_read_zeta_plus_one_values():
+    """'printed': eq. 2's sums over j = |R| - zeta .. |R| - zeta/2 and |R| - zeta/2 .. |R| hold
+    zeta + 1 values, the shared middle one cancelling (issue 35)."""
+    # 21 values: the oldest -1, then 20 zeros. The last 20 show no progress; the printed
+    # ranges reach the -1: |-1 - 0| / 20.
+    values = [-1.0] + [0.0] * 20
+    assert root_interest(values) == 0.0
+    assert root_interest(values, interest_divisor="printed") == pytest.approx(0.05, abs=1e-15)
+    # Random windows: |sum(w[:10]) - sum(w[11:])| / 20 over the last 21, middle dropped.
+    rng = np.random.default_rng(5)
+    for n in (21, 22, 37, 49):
+        v = list(-rng.random(n))
+        w = np.array(v[-21:])
+        assert root_interest(v, interest_divisor="printed") == pytest.approx(abs(w[:10].sum() - w[11:].sum()) / 20, abs=1e-12)
+        assert root_interest(v, interest_divisor="zeta") == pytest.approx(abs(w[1:11].sum() - w[11:].sum()) / 20, abs=1e-12)
+    # Up to zeta values, 'printed' reads like 'zeta', young regions included.
+    for n in range(0, 21):
+        v = list(-rng.random(n))
+        assert root_interest(v, interest_divisor="printed") == root_interest(v)
+
+
+@pytest.mark.parametrize("divisor", ["zeta", "window", "printed"])
 def test_the_run_and_the_selector_read_eq2_alike(divisor):
     """A run's built-in high level and a SaggRiacSelector given the same seed and reading choose
     the same goals."""
@@ -61,9 +82,11 @@ def test_a_run_follows_its_reading():
     cfg = Config.from_preset("exp1", n_steps=20000, n_evals=1, n_test_goals=5, n_test_configs=5)
     a = saggriac.run(cfg, seed=101)
     b = saggriac.run(cfg.replace(interest_divisor="window"), seed=101)
-    n = min(len(a.goals), len(b.goals))
-    assert not np.array_equal(a.goals["goal_x"].to_numpy()[:n], b.goals["goal_x"].to_numpy()[:n])
-    for res, divisor in ((a, "zeta"), (b, "window")):
+    c = saggriac.run(cfg.replace(interest_divisor="printed"), seed=101)
+    for other in (b, c):
+        n = min(len(a.goals), len(other.goals))
+        assert not np.array_equal(a.goals["goal_x"].to_numpy()[:n], other.goals["goal_x"].to_numpy()[:n])
+    for res, divisor in ((a, "zeta"), (b, "window"), (c, "printed")):
         att = res.attempts
         sel = saggriac.SaggRiacSelector(cfg.goal_low, cfg.goal_high, interest_divisor=divisor)
         sel.update_batch(np.clip(att[["target_x", "target_y"]].to_numpy(), cfg.goal_low, cfg.goal_high), att["competence"].to_numpy())

@@ -1,10 +1,10 @@
-"""The progress-niche learner of the teacher benchmark (saggriac.progress_niches)."""
+"""The progress-niche learner of the teacher benchmark (saggriac.teachers.progress_niches)."""
 
 import numpy as np
 import pytest
 
 from saggriac.errors import ParameterError
-from saggriac.progress_niches import LAYOUT, ProgressNiches
+from saggriac.teachers.progress_niches import LAYOUT, ProgressNiches
 
 
 def niche_goal(env, k):

@@ -21,6 +21,10 @@ TEACHERS = {
     "alp_gmm": lambda: saggriac.AlpGmmSelector([0.0, 0.0], [1.0, 1.0], seed=1),
     "covar_gmm": lambda: saggriac.CovarGmmSelector([0.0, 0.0], [1.0, 1.0], seed=1),
     "discrete_lp": lambda: saggriac.DiscreteLpSelector(4, seed=1),
+    "adr": lambda: saggriac.AdrSelector([0.0, 0.0], [1.0, 1.0], seed=1),
+    "plr": lambda: saggriac.PlrSelector(4, seed=1),
+    "spdl": lambda: saggriac.SpdlSelector([0.0, 0.0], [1.0, 1.0], seed=1),
+    "goal_gan": lambda: saggriac.GoalGanSelector([0.0, 0.0], [1.0, 1.0], seed=1),
 }
 
 
@@ -64,6 +68,8 @@ HUGE = [2**40, 2**62, 10**12]
         *(lambda v=v: saggriac.AlpGmmSelector([0.0], [1.0], max_components=v) for v in (101, *HUGE)),
         *(lambda v=v: saggriac.CovarGmmSelector([0.0], [1.0], bootstrap=v) for v in HUGE),
         *(lambda v=v: saggriac.DiscreteLpSelector(v) for v in (2**31, *HUGE)),
+        *(lambda v=v: saggriac.PlrSelector(v) for v in (2**31, *HUGE)),
+        *(lambda v=v: saggriac.AdrSelector([0.0], [1.0], buffer_size=v) for v in HUGE),
         *(lambda v=v: Config(zeta=v) for v in HUGE),
         *(lambda v=v: Config(g_max=v) for v in HUGE),
     ],
@@ -81,7 +87,7 @@ def test_sample_batch_is_bounded(n):
     assert t.sample_batch(3).shape == (3, 2)
 
 
-@pytest.mark.parametrize("kind", ["alp_gmm", "covar_gmm", "riac", "sagg_riac"])
+@pytest.mark.parametrize("kind", ["alp_gmm", "covar_gmm", "riac", "sagg_riac", "adr"])
 @pytest.mark.parametrize("scale", [1e150, 1e300, -1e300])
 def test_extreme_competences_are_refused_or_kept_finite(kind, scale):
     t = TEACHERS[kind]()
@@ -99,7 +105,7 @@ def test_extreme_competences_are_refused_or_kept_finite(kind, scale):
 
 
 
-@pytest.mark.parametrize("kind", sorted(set(TEACHERS) - {"discrete_lp"}))
+@pytest.mark.parametrize("kind", sorted(set(TEACHERS) - {"discrete_lp", "plr"}))
 @pytest.mark.parametrize("goal, competence", [([0.5, 0.5], "0.5"), ([0.5, 0.5], True), (["0.5", "0.5"], -0.5), ([True, False], -0.5), ([0.5, 0.5], [-0.5, -0.5]), ([0.5, 0.5], None)])
 def test_teachers_refuse_strings_and_bools(kind, goal, competence):
     t = TEACHERS[kind]()

@@ -12,6 +12,8 @@ PARAMS = {
     "riac": (sg.RiacSelector, {"max_region_size": 10, "split_attempts": 10, "p_alp": 0.5, "p_random": 0.4}),
     "alp_gmm": (sg.AlpGmmSelector, {"fit_rate": 20, "bootstrap": 20, "max_components": 4, "random_task_ratio": 0.1}),
     "covar_gmm": (sg.CovarGmmSelector, {"fit_rate": 20, "bootstrap": 20, "absolute_lp": False}),
+    # A run's competences lie in [-1, 0]: thresholds there, so that bounds move.
+    "adr": (sg.AdrSelector, {"t_low": -0.9, "t_high": -0.3, "buffer_size": 3, "boundary_prob": 0.8, "initial": 0.2}),
 }
 
 
@@ -75,3 +77,29 @@ def test_a_users_selector_is_told_points_of_its_box():
     # The run's own table keeps the subgoals where they were; some of them left the box.
     assert (r.attempts["target_x"] > 30.0).any()
     assert len(Strict.told) == len(r.attempts) and np.max([t[0] for t in Strict.told]) <= 30.0
+
+
+def test_one_constructor_takes_a_kind_and_its_parameters():
+    """The ask/tell constructor takes any teacher by kind with a dict of its parameters (those of
+    _core.teacher_defaults()); wrong names, types and values are named with the class, the
+    parameter, the value and the rule."""
+    from saggriac import _core
+
+    for kind, params in _core.teacher_defaults().items():
+        low, high = ([], []) if kind == "discrete_lp" else ([0.0, 0.0], [1.0, 1.0])
+        assert _core.AskTell(kind, low, high, 3, params).kind == kind
+    with pytest.raises(sg.ParameterError, match=r"^The 'interest_divisor' parameter of SaggRiacSelector must be one of 'zeta', 'window', 'printed'. Got 'w' instead.$"):
+        _core.AskTell("sagg_riac", [0.0], [1.0], 0, {"interest_divisor": "w"})
+    with pytest.raises(sg.ParameterError, match=r"'params' parameter of AlpGmmSelector must be a dict of the 'alp_gmm' teacher's parameters \(those of saggriac.AlpGmmSelector: fit_rate, max_components, random_task_ratio, bootstrap\). Got a dict with key 'bogus'"):
+        _core.AskTell("alp_gmm", [0.0], [1.0], 0, {"bogus": 1})
+    with pytest.raises(sg.ParameterError, match=r"^The 'fit_rate' parameter of CovarGmmSelector must be an int in \[2, 1000000\]. Got -1 instead.$"):
+        _core.AskTell("covar_gmm", [0.0], [1.0], 0, {"fit_rate": -1})
+    with pytest.raises(sg.ParameterError, match="The 'kind' parameter of GoalSelector must be one of 'sagg_riac', 'random', 'riac', 'discrete_lp', 'alp_gmm', 'covar_gmm', 'adr', 'plr', 'spdl', 'goal_gan'. Got 'foo'"):
+        _core.AskTell("foo", [0.0], [1.0], 0)
+    # A run takes any teacher of goals in a box; the task-list teacher is refused by name.
+    with pytest.raises(sg.ParameterError, match="The 'teacher' parameter of Config must be 'own' or a teacher of goals in a box"):
+        sg.Config(teacher="discrete_lp")
+    with pytest.raises(sg.ParameterError, match="The 'teacher' parameter of Config must be 'own' or a teacher of goals in a box"):
+        sg.Config(teacher="plr")
+    with pytest.raises(sg.ParameterError, match="The 'teacher' parameter of Config must be one of 'own', 'sagg_riac', 'random'"):
+        sg.Config(teacher="foo")

@@ -15,12 +15,17 @@ TEACHERS = [
     lambda: sg.DiscreteLpSelector(6, seed=4),
     lambda: sg.AlpGmmSelector([0.0, -1.0], [1.0, 1.0], seed=5, fit_rate=40, bootstrap=40, max_components=4),
     lambda: sg.CovarGmmSelector([0.0], [3.0], seed=6, fit_rate=40, bootstrap=40, max_components=4),
+    lambda: sg.AdrSelector([0.0, -1.0], [1.0, 1.0], seed=8, buffer_size=3, t_low=0.3, t_high=0.6),
+    lambda: sg.PlrSelector(7, seed=10),
+    lambda: sg.PlrSelector(5, seed=11, score="told", replay_schedule="fixed", staleness_coef=0.3),
+    lambda: sg.SpdlSelector([0.0, -1.0], [1.0, 1.0], seed=12, update_every=20, warmup=20, delta=-0.6),
+    lambda: sg.GoalGanSelector([0.0, -1.0], [1.0, 1.0], seed=13, update_size=10, gan_iterations=10, hidden=8, success_threshold=-0.5),
 ]
 
 
 def competence(g, teacher=None):
     c = float(np.clip(-0.5 + 0.3 * np.sin(4 * g[0]), -1, 0))
-    return c + 1.0 if isinstance(teacher, sg.DiscreteLpSelector) else c
+    return c + 1.0 if teacher is not None and teacher.competence_range[0] == 0.0 else c
 
 
 @pytest.mark.parametrize("make", TEACHERS)
@@ -142,6 +147,14 @@ def test_mixture_teachers_focus_where_competence_progresses(cls):
         (lambda: sg.CovarGmmSelector([0], [1], absolute_lp="yes"), "absolute_lp"),
         (lambda: sg.CovarGmmSelector([1], [0]), "low/high"),
         (lambda: sg.RiacSelector([0], [1], split_attempts=0), "split_attempts"),
+        (lambda: sg.AdrSelector([0], [1], t_low=0.9, t_high=0.5), "t_low"),
+        (lambda: sg.AdrSelector([0], [1], step=0.0), "step"),
+        (lambda: sg.AdrSelector([0], [1], initial=1.5), "initial"),
+        (lambda: sg.AdrSelector([0], [1], boundary_prob=-0.1), "boundary_prob"),
+        (lambda: sg.PlrSelector(4, temperature=0.0), "temperature"),
+        (lambda: sg.PlrSelector(4, staleness_coef=1.5), "staleness_coef"),
+        (lambda: sg.PlrSelector(4, replay_schedule="sometimes"), "replay_schedule"),
+        (lambda: sg.PlrSelector(4, score="value"), "score"),
     ],
 )
 def test_teacher_parameters_are_checked(make, param):
@@ -150,11 +163,14 @@ def test_teacher_parameters_are_checked(make, param):
     assert e.value.param == param
 
 
-@pytest.mark.parametrize("teacher", ["riac", "alp_gmm", "covar_gmm"])
+RUN_PARAMS = {"adr": {"t_low": -0.9, "t_high": -0.3, "buffer_size": 3}}
+
+
+@pytest.mark.parametrize("teacher", ["riac", "alp_gmm", "covar_gmm", "adr"])
 def test_a_teacher_chooses_the_goals_of_a_run(teacher, tmp_path):
-    cfg = sg.Config.from_preset("exp1", teacher=teacher, n_steps=3000, n_evals=2)
+    cfg = sg.Config.from_preset("exp1", teacher=teacher, teacher_params=RUN_PARAMS.get(teacher, {}), n_steps=3000, n_evals=2)
     a = sg.run(cfg, seed=4)
-    own = sg.run(cfg.replace(teacher="own"), seed=4)
+    own = sg.run(cfg.replace(teacher="own", teacher_params={}), seed=4)
     assert not a.goals[["goal_x", "goal_y"]].equals(own.goals[["goal_x", "goal_y"]])
     # Deterministic, and the same when the run is checkpointed as it goes.
     b = sg.run(cfg, seed=4, out_dir=tmp_path / "b", checkpoint_every=1000)
@@ -170,3 +186,40 @@ def test_sagg_riac_parameters_are_refused_under_another_teacher(teacher, kw):
     with pytest.raises(sg.ParameterError, match=f"'{next(iter(kw))}' parameter of Config must be left at its default with teacher '{teacher}'"):
         sg.Config(teacher=teacher, **kw)
     assert sg.Config(teacher=teacher).teacher == teacher
+
+
+def test_plr_refuses_goals_that_are_not_levels_and_changes_nothing():
+    t = sg.PlrSelector(4, seed=0)
+    for bad in (4, -1, 1.5, [0, 1]):
+        with pytest.raises(sg.InputError):
+            t.update(bad, 0.5)
+    with pytest.raises(sg.InputError, match="finite"):
+        t.update(2, float("nan"))
+    assert len(t.history()["told_competence"]) == 0
+
+
+def test_plr_draws_every_level_before_replaying_and_replays_by_score():
+    """New levels first (the proportionate schedule replays with probability |seen| / n); once
+    every level is seen, replays follow the rank of the told scores."""
+    t = sg.PlrSelector(8, seed=3, score="told", staleness_coef=0.0)
+    first = [t.sample_task() for _ in range(3)]
+    assert len(set(first)) == 3  # the first draws are new levels (|seen| / 8 <= 2/8)
+    for k in range(8):
+        t.update(k, 1.0 if k == 5 else 0.1 * k / 8)
+    counts = np.bincount([t.sample_task() for _ in range(2000)], minlength=8)
+    # Rank 1 gets 1 / (1 + 2^-10 + ...) of the replays.
+    assert counts[5] > 0.99 * 2000
+
+
+def test_adr_bounds_grow_where_competence_is_high_and_shrink_where_low():
+    """The paper's behaviour: a bound whose boundary competence is >= t_high moves outwards,
+    <= t_low inwards; goals stay in the current ranges, inside the box."""
+    t = sg.AdrSelector([0.0, 0.0], [1.0, 1.0], seed=2, buffer_size=5, step=0.05)
+    assert np.array_equal(t.bounds[0], [0.5, 0.5]) and np.array_equal(t.bounds[1], [0.5, 0.5])
+    for _ in range(6000):
+        g = t.sample()
+        lo, hi = t.bounds
+        assert np.all(g >= lo) and np.all(g <= hi)
+        t.update(g, 1.0 if g[0] <= 0.75 else 0.0)  # learnable below x = 0.75 only
+    lo, hi = t.bounds
+    assert lo[0] == 0.0 and 0.7 <= hi[0] <= 0.8 + 1e-9 and lo[1] == 0.0 and hi[1] == 1.0

@@ -5,7 +5,8 @@
 
 use crate::body::arm::Arm;
 use crate::body::Body;
-use crate::config::{Condition, Paradigm, RunConfig, Teacher};
+use crate::config::teachers::{RandomConfig, SaggRiacConfig, Teacher};
+use crate::config::{Condition, Paradigm, RunConfig};
 use crate::error::{invalid, Result};
 use crate::evaluation::reachable_cloud::Cloud;
 use crate::evaluation::{Evaluator, TestSet};
@@ -45,14 +46,10 @@ pub struct UserParts {
 /// seeded with stream 1 of the learner's seed.
 pub fn run_teacher(cfg: &RunConfig, seed: u64) -> TeacherSpec {
     let (low, high, seed) = (cfg.goal_low.clone(), cfg.goal_high.clone(), child_seed(seed, 1));
-    match cfg.condition {
-        Condition::SaggRiac => match cfg.teacher {
-            Teacher::Own => TeacherSpec::SaggRiac { low, high, tree: cfg.tree, modes: cfg.modes, seed },
-            Teacher::Riac(cfg) => TeacherSpec::Riac { low, high, cfg, seed },
-            Teacher::AlpGmm(cfg) => TeacherSpec::AlpGmm { low, high, cfg, seed },
-            Teacher::CovarGmm(cfg) => TeacherSpec::CovarGmm { low, high, cfg, seed },
-        },
-        Condition::SaggRandom | Condition::ActuatorRandom => TeacherSpec::Random { low, high, seed },
+    let own = Teacher::SaggRiac(SaggRiacConfig { tree: cfg.tree, modes: cfg.modes });
+    let teacher = match cfg.condition {
+        Condition::SaggRiac => cfg.teacher.unwrap_or(own),
+        Condition::SaggRandom | Condition::ActuatorRandom => Teacher::Random(RandomConfig {}),
         Condition::ActuatorRiac => {
             // R-IAC's space: joint angles within their limits, commands within the babbling step.
             let (n, lim, b) = (cfg.arm.link_lengths.len(), cfg.arm.joint_limit, cfg.babble_step);
@@ -60,9 +57,10 @@ pub fn run_teacher(cfg: &RunConfig, seed: u64) -> TeacherSpec {
             let dims = if cfg.paradigm == Paradigm::Episodic { n } else { 2 * n };
             let low: Vec<f64> = (0..dims).map(|i| if i < n { -lim } else { -b }).collect();
             let high: Vec<f64> = (0..dims).map(|i| if i < n { lim } else { b }).collect();
-            TeacherSpec::SaggRiac { low, high, tree: cfg.tree, modes: cfg.modes, seed }
+            return TeacherSpec { teacher: own, low, high, seed };
         }
-    }
+    };
+    TeacherSpec { teacher, low, high, seed }
 }
 
 impl Learner {

@@ -7,13 +7,15 @@ use serde::{Deserialize, Serialize};
 
 use crate::config::RunConfig;
 use crate::error::{Error, Result};
-use crate::parts::PartsState;
+use crate::body::arm::InlineState;
+use crate::parts::PartsStateAs;
 use crate::run_loop::Learner;
 
-/// Bumped whenever the layout below changes; older checkpoints are then refused.
-/// Format 3: the encoding is followed by a CRC-32 (Castagnoli) of it. Format 4: the test motions'
-/// true displacements and the metric rows' dx_error. Format 5: each part's state in one piece.
-const FORMAT: u32 = 5;
+/// Bumped whenever the layout below changes. Format 3: the encoding is followed by a CRC-32
+/// (Castagnoli) of it. Format 4: the test motions' true displacements and the metric rows'
+/// dx_error. Format 5: each part's state in one piece. Format 6: the body's state in the body's
+/// own encoding (bytes), as the goal selector's. Format 5 is still read; older ones are refused.
+const FORMAT: u32 = 6;
 
 /// CRC-32C: detects every error of up to 32 consecutive bits, so any one damaged byte.
 const CHECKSUM: crc::Crc<u32> = crc::Crc::<u32>::new(&crc::CRC_32_ISCSI);
@@ -23,15 +25,36 @@ const START_OVER: &str = "Start the run over: run it again without --resume (fro
 
 /// A checkpoint: the run's identity, then each part's own state (`Parts::save`) and the
 /// low-level controller's progress.
+/// Generic in how the body's state is held, so that format 5 is read with the same struct.
+/// Generic in the counters added since format 5 too (`()` there: nothing encoded).
 #[derive(Serialize, Deserialize)]
-struct State {
+struct StateAs<Body, Since5> {
     format: u32,
     version: String,
     /// The full configuration, printed: a checkpoint resumes only the run it came from.
     config: String,
     seeds: (u64, u64),
-    parts: PartsState,
+    parts: PartsStateAs<Body>,
     low_level: u64,
+    since_5: Since5,
+}
+
+/// The exploration trigger's counters (recorder.rs, `Counters`): only executed, only desired,
+/// the gap's sum.
+type TriggerCounts = (u64, u64, f64);
+
+type State = StateAs<Vec<u8>, TriggerCounts>;
+
+/// Format 5 (saggriac 0.5): the arm's state inline, no trigger counters.
+type StateV5 = StateAs<InlineState, ()>;
+
+fn decode<T: serde::de::DeserializeOwned>(bytes: &[u8]) -> std::result::Result<T, Error> {
+    match postcard::take_from_bytes_crc32::<T>(bytes, CHECKSUM.digest()) {
+        Ok((s, [])) => Ok(s),
+        Ok(_) => Err(refuse(format!("The checkpoint is damaged: bytes follow its end. {START_OVER}"))),
+        Err(postcard::Error::DeserializeBadCrc) => Err(refuse(format!("The checkpoint is damaged: its checksum does not match its content. {START_OVER}"))),
+        Err(e) => Err(refuse(format!("The checkpoint is damaged or not a saggriac checkpoint ({e}). {START_OVER}"))),
+    }
 }
 
 /// The first fields of every format's checkpoint.
@@ -41,13 +64,28 @@ struct Head {
     version: String,
 }
 
-/// The head of a checkpoint of another format, if `bytes` start like one: a format number other
-/// than this one's and the version of saggriac that wrote it (so damaged bytes are not taken for
-/// another format).
+/// The head of a checkpoint of a format this saggriac does not read, if `bytes` start like one:
+/// a format number other than those read and the version of saggriac that wrote it (so damaged
+/// bytes are not taken for another format).
 fn other_format(bytes: &[u8]) -> Option<Head> {
     let (h, _) = postcard::take_from_bytes::<Head>(bytes).ok()?;
     let version = h.version.split('.').count() == 3 && h.version.split('.').all(|p| !p.is_empty() && p.chars().all(|c| c.is_ascii_digit()));
-    (h.format != FORMAT && (1..FORMAT + 100).contains(&h.format) && version).then_some(h)
+    (![5, FORMAT].contains(&h.format) && (1..FORMAT + 100).contains(&h.format) && version).then_some(h)
+}
+
+/// The configuration as a checkpoint of `format` printed it. Format 5 (saggriac 0.5) printed the
+/// run's teacher as its own enum, `Own` for the condition's own high level, and no trigger.
+fn config_text(cfg: &RunConfig, format: u32) -> String {
+    let mut text = format!("{cfg:?}");
+    if format == 5 {
+        // 0.5 had no choice of exploration trigger: its runs used today's default.
+        text = text.replacen(", trigger: Executed", "", 1);
+    }
+    match (format, &cfg.teacher) {
+        (5, None) => text.replacen("teacher: None,", "teacher: Own,", 1),
+        (5, Some(t)) => text.replacen(&format!("teacher: Some({t:?}),"), &format!("teacher: {t:?},"), 1),
+        _ => text,
+    }
 }
 
 fn wrong_format(h: Head) -> Error {
@@ -68,29 +106,31 @@ impl Learner {
             seeds: self.seeds,
             parts: self.parts.save()?,
             low_level: self.low_level.saved_progress(),
+            since_5: {
+                let c = &self.parts.recorder().counters;
+                (c.trigger_only_executed, c.trigger_only_desired, c.trigger_gap_sum)
+            },
         };
         postcard::to_stdvec_crc32(&state, CHECKSUM.digest()).map_err(|e| refuse(format!("Could not encode the checkpoint: {e}.")))
     }
 
     /// Rebuild a learner from a checkpoint of a run with configuration `cfg`.
     pub fn restore(cfg: RunConfig, bytes: &[u8]) -> Result<Learner> {
-        let decoded = postcard::take_from_bytes_crc32::<State>(bytes, CHECKSUM.digest());
-        if !matches!(decoded, Ok((_, []))) {
-            // Another format's parts do not decode as this one's: its head says which it is.
-            if let Some(h) = other_format(bytes) {
-                return Err(wrong_format(h));
-            }
+        // Another format's parts do not decode as this one's: its head says which it is.
+        if let Some(h) = other_format(bytes) {
+            return Err(wrong_format(h));
         }
-        let s: State = match decoded {
-            Ok((s, [])) => s,
-            Ok(_) => return Err(refuse(format!("The checkpoint is damaged: bytes follow its end. {START_OVER}"))),
-            Err(postcard::Error::DeserializeBadCrc) => return Err(refuse(format!("The checkpoint is damaged: its checksum does not match its content. {START_OVER}"))),
-            Err(e) => return Err(refuse(format!("The checkpoint is damaged or not a saggriac checkpoint ({e}). {START_OVER}"))),
+        let format = postcard::take_from_bytes::<u32>(bytes).map(|(f, _)| f).unwrap_or(FORMAT);
+        let s: State = if format == 5 {
+            let StateAs { format, version, config, seeds, parts, low_level, since_5: () } = decode::<StateV5>(bytes)?;
+            StateAs { format, version, config, seeds, parts: parts.upgraded(), low_level, since_5: (0, 0, 0.0) }
+        } else {
+            decode::<State>(bytes)?
         };
-        if s.format != FORMAT {
+        if ![5, FORMAT].contains(&s.format) {
             return Err(wrong_format(Head { format: s.format, version: s.version }));
         }
-        if s.config != format!("{cfg:?}") {
+        if s.config != config_text(&cfg, s.format) {
             return Err(refuse("The checkpoint belongs to a run with another configuration; resume it with the configuration it was written with."));
         }
         let mut l = Learner::new(cfg, s.seeds.0, s.seeds.1)?;
@@ -98,6 +138,8 @@ impl Learner {
             return Err(refuse("The checkpoint does not match this run's goal selector or body."));
         }
         l.low_level.restore_progress(s.low_level);
+        let c = l.parts.counters_mut();
+        (c.trigger_only_executed, c.trigger_only_desired, c.trigger_gap_sum) = s.since_5;
         Ok(l)
     }
 }
@@ -125,9 +167,37 @@ mod tests {
         }
         let old = postcard::to_stdvec(&Old { format: 4, version: "0.3.0".into(), rest: vec![7; 40] }).unwrap();
         let e = Learner::restore(small(), &old).err().unwrap().to_string();
-        assert!(e.contains("format 4") && e.contains("reads format 5") && e.contains("saggriac 0.3.0"), "{e}");
+        assert!(e.contains("format 4") && e.contains("reads format 6") && e.contains("saggriac 0.3.0"), "{e}");
         let e = Learner::restore(small(), b"\x00\x01garbage").err().unwrap().to_string();
         assert!(e.contains("damaged"), "{e}");
+    }
+
+    /// Checkpoints written by saggriac 0.5.0 (format 5, the arm's state inline; 4ffeabf, by
+    /// `_core.Learner(...).checkpoint()` stopped after step 100) resume, and the run evaluates
+    /// what 0.5.0's resumed run evaluated, to the bit.
+    #[test]
+    fn checkpoints_of_saggriac_0_5_resume_exactly() {
+        let files: [(&[u8], &str); 2] = [
+            (include_bytes!("../tests/data/checkpoint_v5_micro.bin"), include_str!("../tests/data/checkpoint_v5_micro.next")),
+            (include_bytes!("../tests/data/checkpoint_v5_episodic.bin"), include_str!("../tests/data/checkpoint_v5_episodic.next")),
+        ];
+        for (i, (bytes, next)) in files.into_iter().enumerate() {
+            let mut cfg = small();
+            cfg.eval.schedule = vec![0, 100, 200, 300];
+            if i == 1 {
+                cfg.paradigm = crate::config::Paradigm::Episodic;
+                cfg.arm.joint_limit = std::f64::consts::PI;
+                (cfg.goal_low, cfg.goal_high) = (vec![-50.0, -50.0], vec![50.0, 50.0]);
+            }
+            let mut l = Learner::restore(cfg.clone(), bytes).unwrap();
+            assert!(l.steps() > 100 && l.steps() < 300);
+            assert!(l.run(&mut |_| true));
+            let bits: Vec<String> = l.metrics().iter().map(|m| format!("{} {}", m.reach_error.to_bits(), m.pred_error.to_bits())).collect();
+            assert_eq!(bits, next.lines().collect::<Vec<_>>());
+            // Checkpointed again, it is of this format and resumes as itself.
+            let again = Learner::restore(cfg, &l.checkpoint().unwrap()).unwrap();
+            assert_eq!(again.steps(), l.steps());
+        }
     }
 
     #[test]

@@ -20,6 +20,7 @@ pub mod recorder;
 pub mod rng;
 pub mod run_loop;
 pub mod task_space;
+pub mod timers;
 
 pub use config::{Condition, RunConfig};
 pub use error::{Error, Result};

@@ -10,15 +10,15 @@ use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
 
-use crate::body::arm::ArmState;
 use crate::body::Body;
 use crate::config::BodyChange;
 use crate::error::Error;
-use crate::evaluation::{Evaluator, EvaluatorState};
+use crate::evaluation::{Evaluator, EvaluatorStateAs};
 use crate::high_level::goal_selection::{GoalChoice, GoalSelector};
 use crate::model::local_model::FitFailure;
 use crate::model::sensorimotor_model::{ModelState, SensorimotorModel};
-use crate::recorder::{AttemptRow, Counters, GoalRow, MetricRow, Recorder, Timers};
+use crate::recorder::{AttemptRow, Counters, GoalRow, MetricRow, Recorder};
+use crate::timers::Timers;
 use crate::rng::CoreRng;
 use crate::task_space::Point;
 
@@ -46,6 +46,8 @@ pub struct Parts {
     theta_before: Vec<f64>,
     /// The point the high level is told (`tell`).
     told: Vec<f64>,
+    /// A controller called the other paradigm's time step: the run stops with this error.
+    misuse: Option<Error>,
 }
 
 impl Parts {
@@ -61,7 +63,7 @@ impl Parts {
         body_change: Option<BodyChange>,
     ) -> Self {
         let n = body.n_joints();
-        Parts { body, model, selector, rng, evaluator, recorder: Recorder::default(), rest_x, budget, body_change, theta_before: vec![0.0; n], told: Vec::new() }
+        Parts { body, model, selector, rng, evaluator, recorder: Recorder::default(), rest_x, budget, body_change, theta_before: vec![0.0; n], told: Vec::new(), misuse: None }
     }
 
     pub fn body(&self) -> &dyn Body {
@@ -148,9 +150,14 @@ impl Parts {
     pub fn budget_spent(&self) -> bool {
         self.recorder.steps >= self.budget
     }
-    /// A user's body or goal selector failed: the run stops and the binding reports why.
+    /// A user's body or goal selector failed, or a controller called the other paradigm's time
+    /// step: the run stops (the binding reports why; `misuse` says it for a controller).
     pub fn failed(&self) -> bool {
-        self.body.failed() || self.selector.failed()
+        self.body.failed() || self.selector.failed() || self.misuse.is_some()
+    }
+    /// Why a controller's call stopped the run, if it did.
+    pub fn misuse(&self) -> Option<&Error> {
+        self.misuse.as_ref()
     }
 
     /// Back to the rest pose (not a time step).
@@ -205,6 +212,10 @@ impl Parts {
         if self.budget_spent() || self.failed() {
             return None;
         }
+        if self.model.episodes().is_some() {
+            self.misuse = Some(Error::InvalidInput("Parts::micro_action was called in a run of the episodic paradigm, whose time step is Parts::movement: the controller does not fit the run's paradigm.".into()));
+            return None;
+        }
         self.theta_before.copy_from_slice(self.body.theta());
         let x0 = self.body.position();
         let dx = self.body.step(dtheta);
@@ -228,13 +239,19 @@ impl Parts {
     /// The episodic paradigm's time step: put the body in `theta` at once and store the movement.
     /// Returns the position reached. An evaluation due now runs after the attempt (the run loop
     /// calls `evaluate_due`), so that its row counts this goal and what the high level was told.
-    pub fn movement(&mut self, theta: &[f64]) -> Point {
+    /// An error, which also stops the run, in a run of the micro-action paradigm.
+    pub fn movement(&mut self, theta: &[f64]) -> crate::error::Result<Point> {
+        if self.model.episodes().is_none() {
+            let e = Error::InvalidInput("Parts::movement was called in a run of the micro-action paradigm, whose time step is Parts::micro_action: the controller does not fit the run's paradigm.".into());
+            self.misuse = Some(e.clone());
+            return Err(e);
+        }
         self.body.set_theta(theta);
         let x = self.body.position();
         let m = self.model.task_dim();
         self.model.store_movement(self.body.theta(), &x[..m]);
         self.tick();
-        x
+        Ok(x)
     }
 
     /// One time step has passed; at the configured step the body changes, and the evaluation
@@ -302,14 +319,26 @@ impl Parts {
     }
 }
 
-/// Every part's state in a checkpoint (the low-level controller's is beside it).
+/// Every part's state in a checkpoint (the low-level controller's is beside it). `Body` is how
+/// the body's state is held: its own bytes (`Body::save`), or for a checkpoint of format 5 an
+/// arm's state inline (`crate::body::arm::InlineState`).
 #[derive(Serialize, Deserialize)]
-pub(crate) struct PartsState {
+pub(crate) struct PartsStateAs<Body> {
     rng: CoreRng,
     model: ModelState,
     /// The selector's own encoding of its state.
     selector: Vec<u8>,
-    body: ArmState,
-    evaluator: EvaluatorState,
+    body: Body,
+    evaluator: EvaluatorStateAs<Body>,
     recorder: Recorder,
+}
+
+pub(crate) type PartsState = PartsStateAs<Vec<u8>>;
+
+impl<B: Into<Vec<u8>>> PartsStateAs<B> {
+    /// The same state with the body's bytes as `Body::save` writes them today.
+    pub(crate) fn upgraded(self) -> PartsState {
+        let PartsStateAs { rng, model, selector, body, evaluator, recorder } = self;
+        PartsStateAs { rng, model, selector, body: body.into(), evaluator: evaluator.upgraded(), recorder }
+    }
 }

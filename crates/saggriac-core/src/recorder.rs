@@ -6,6 +6,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::high_level::goal_selection::Mode;
 use crate::task_space::Point;
+pub use crate::timers::Timers;
 
 /// One evaluation point of the learning curve.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -57,16 +58,17 @@ pub struct Counters {
     pub explorations: u64,
     pub fit_failures: u64,
     pub test_steps: u64,
-}
-
-/// Wall time spent in each part, in seconds.
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
-pub struct Timers {
-    pub knn: f64,
-    pub fit: f64,
-    pub goal_selection: f64,
-    pub evaluation: f64,
-    pub total: f64,
+    /// Reaching micro-actions where the exploration trigger's two readings disagree: only the
+    /// one against J dtheta of the executed command fires, or only the one against the desired
+    /// dx; and the sum of |J dtheta - desired dx| over reaching micro-actions. Counts only.
+    /// A checkpoint keeps them apart (checkpoint.rs, `TriggerCounts`), so that the recorder of
+    /// a format-5 checkpoint, written before they existed, still decodes.
+    #[serde(skip)]
+    pub trigger_only_executed: u64,
+    #[serde(skip)]
+    pub trigger_only_desired: u64,
+    #[serde(skip)]
+    pub trigger_gap_sum: f64,
 }
 
 /// The rows, counters, timers and clock of one run. A checkpoint keeps all of it but the

@@ -14,7 +14,8 @@ use crate::low_level::LowLevel;
 use crate::model::memory::SensorimotorMemory;
 use crate::model::sensorimotor_model::SensorimotorModel;
 use crate::parts::Parts;
-use crate::recorder::{AttemptRow, Counters, GoalRow, MetricRow, Recorder, Timers};
+use crate::recorder::{AttemptRow, Counters, GoalRow, MetricRow, Recorder};
+use crate::timers::Timers;
 
 pub struct Learner {
     pub(crate) cfg: RunConfig,

@@ -43,7 +43,7 @@ pub fn lerp(a: &Point, b: &Point, f: f64) -> Point {
 }
 
 /// Desired displacement of a reaching step: length min(v, |target - x|) towards the target
-/// (the paper's x_c - x_g is a sign typo, see SPEC.md). The learner's reacher and the
+/// (the paper's x_c - x_g is a sign typo, see docs/parameters.md). The learner's reacher and the
 /// evaluation's test reaches both ask for it.
 pub fn desired_step(x: &Point, target: &Point, v: f64) -> Point {
     let e = sub(target, x);

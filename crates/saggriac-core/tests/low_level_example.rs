@@ -73,3 +73,41 @@ fn a_new_controller_runs_in_the_loop() {
     assert_eq!(again.goals(), l.goals());
     assert_eq!(again.metrics(), l.metrics());
 }
+
+/// A controller that calls the other paradigm's time step: `movement` in a run of micro-actions,
+/// or `micro_action` in an episodic run.
+struct WrongParadigm {
+    calls_movement: bool,
+}
+
+impl LowLevel for WrongParadigm {
+    fn asks_high_level(&self) -> bool {
+        false
+    }
+    fn attempt(&mut self, _choice: Option<GoalChoice>, parts: &mut Parts) {
+        let n = parts.body().n_joints();
+        if self.calls_movement {
+            assert!(parts.movement(&vec![0.1; n]).is_err());
+        } else {
+            assert!(parts.micro_action(&mut vec![0.01; n], ActionKind::Babbling).is_none());
+        }
+    }
+}
+
+#[test]
+fn a_controller_of_the_wrong_paradigm_gets_an_error_not_a_panic() {
+    for (episodic, calls_movement, says) in [(false, true, "Parts::movement was called in a run of the micro-action paradigm"), (true, false, "Parts::micro_action was called in a run of the episodic paradigm")] {
+        let mut cfg = RunConfig { n_steps: 100, ..RunConfig::default() };
+        cfg.eval.schedule = vec![0, 100];
+        (cfg.eval.n_test_goals, cfg.eval.n_test_configs) = (5, 5);
+        if episodic {
+            cfg.paradigm = saggriac_core::config::Paradigm::Episodic;
+        }
+        let mut l = Learner::from_parts(cfg, 1, 1, UserParts { low_level: Some(Box::new(WrongParadigm { calls_movement })), ..UserParts::default() }).unwrap();
+        // The run stops at once, nothing learnt, and says why.
+        assert!(!l.run(&mut |_| true));
+        assert_eq!(l.steps(), 0);
+        let e = l.parts().misuse().expect("an error").to_string();
+        assert!(e.contains(says), "{e}");
+    }
+}

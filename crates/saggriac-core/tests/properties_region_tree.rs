@@ -19,7 +19,7 @@ fn interval() -> impl Strategy<Value = (f64, f64)> {
 }
 
 fn divisor() -> impl Strategy<Value = InterestDivisor> {
-    prop_oneof![Just(InterestDivisor::Zeta), Just(InterestDivisor::Window)]
+    prop_oneof![Just(InterestDivisor::Zeta), Just(InterestDivisor::Window), Just(InterestDivisor::Printed)]
 }
 
 fn tree_config() -> impl Strategy<Value = RegionTreeConfig> {
@@ -32,10 +32,11 @@ fn tree_config() -> impl Strategy<Value = RegionTreeConfig> {
 /// competences C_1..C_n. The window is the last m = min(n, zeta) of them, split into an older
 /// half j = n-m+1 .. n-m+h and a newer half j = n-h+1 .. n with h = floor(m / 2) (an odd m
 /// leaves its middle term out); the difference of the half-sums is divided by zeta as printed,
-/// or by m under the `Window` reading.
+/// or by m under the `Window` reading. `Printed` takes the printed index ranges literally: the
+/// window is the last min(n, zeta + 1) values (the middle one, in both sums, cancels).
 fn eq2_by_hand(c: &[f64], zeta: usize, divisor: InterestDivisor) -> f64 {
     let n = c.len();
-    let m = n.min(zeta);
+    let m = n.min(if divisor == InterestDivisor::Printed { zeta + 1 } else { zeta });
     let h = m / 2;
     if h == 0 {
         return 0.0;
@@ -50,7 +51,7 @@ fn eq2_by_hand(c: &[f64], zeta: usize, divisor: InterestDivisor) -> f64 {
         newer += term(j);
     }
     let denominator = match divisor {
-        InterestDivisor::Zeta => zeta as f64,
+        InterestDivisor::Zeta | InterestDivisor::Printed => zeta as f64,
         InterestDivisor::Window => m as f64,
     };
     (older - newer).abs() / denominator

@@ -6,6 +6,7 @@ mod common;
 use proptest::prelude::*;
 
 use common::{cases, TestResult};
+use saggriac_core::config::teachers::{AdrConfig, GoalGanConfig, PlrConfig, PlrScore, RandomConfig, ReplaySchedule, SaggRiacConfig, SpdlConfig, Teacher};
 use saggriac_core::high_level::ask_tell::AskTell;
 use saggriac_core::high_level::goal_selection::ModeProbabilities;
 use saggriac_core::high_level::interest::InterestDivisor;
@@ -17,6 +18,8 @@ use saggriac_core::high_level::teachers::riac::RiacConfig;
 use saggriac_core::high_level::teachers::TeacherSpec;
 use saggriac_core::rng::{rng_from_seed, uniform};
 
+/// Any teacher with random parameters over a random box (a task-list teacher ignores the box):
+/// one line of `teacher` per teacher.
 fn spec() -> impl Strategy<Value = TeacherSpec> {
     let bounds = (1usize..=6)
         .prop_flat_map(|d| proptest::collection::vec((-10.0..10.0f64, 1e-3..10.0f64), d))
@@ -33,19 +36,74 @@ fn spec() -> impl Strategy<Value = TeacherSpec> {
         ..RiacConfig::default()
     });
     let lp = (1usize..=12, 0.01..1.0f64, 0.01..0.99f64).prop_map(|(n_tasks, alpha, theta)| DiscreteLpConfig { n_tasks, alpha, theta });
-    let mixture = (10usize..=60, 2usize..=5, 0.0..1.0f64, 0usize..80).prop_map(|(fit_rate, max_components, random_task_ratio, bootstrap)| AlpGmmConfig {
-        fit_rate,
-        max_components,
-        random_task_ratio,
-        bootstrap,
+    let mixture = || {
+        (10usize..=60, 2usize..=5, 0.0..1.0f64, 0usize..80).prop_map(|(fit_rate, max_components, random_task_ratio, bootstrap)| AlpGmmConfig {
+            fit_rate,
+            max_components,
+            random_task_ratio,
+            bootstrap,
+        })
+    };
+    // Thresholds inside the told competences' range [-1, 0], so that bounds both grow and shrink.
+    let adr = (0.0..=1.0f64, 1usize..=12, -1.0..-0.5f64, -0.5..0.0f64, 0.01..0.5f64, 0.0..=1.0f64, 0.0..=1.0f64).prop_map(|(boundary_prob, buffer_size, t_low, t_high, step, initial, initial_width)| AdrConfig {
+        boundary_prob,
+        buffer_size,
+        t_low,
+        t_high,
+        step,
+        initial,
+        initial_width,
     });
-    (bounds, tree, riac, lp, mixture, any::<bool>(), any::<u64>(), 0usize..6).prop_map(|((low, high), tree, riac, lp, mixture, absolute_lp, seed, kind)| match kind {
-        0 => TeacherSpec::SaggRiac { low, high, tree, modes: ModeProbabilities::default(), seed },
-        1 => TeacherSpec::Random { low, high, seed },
-        2 => TeacherSpec::Riac { low, high, cfg: riac, seed },
-        3 => TeacherSpec::DiscreteLp { cfg: lp, seed },
-        4 => TeacherSpec::AlpGmm { low, high, cfg: mixture, seed },
-        _ => TeacherSpec::CovarGmm { low, high, cfg: CovarGmmConfig { mixture, absolute_lp }, seed },
+    let schedule = prop_oneof![Just(ReplaySchedule::Proportionate), Just(ReplaySchedule::Fixed)];
+    let score = prop_oneof![Just(PlrScore::Progress), Just(PlrScore::Told)];
+    let plr = (1usize..=12, 0.01..2.0f64, 0.0..=1.0f64, schedule, 0.0..=1.0f64, score).prop_map(|(n_tasks, temperature, staleness_coef, replay_schedule, replay_prob, score)| PlrConfig {
+        n_tasks,
+        temperature,
+        staleness_coef,
+        replay_schedule,
+        replay_prob,
+        score,
+    });
+    // Updates often, so that the distribution moves (delta inside [-1, 0]) within a case.
+    let spdl = (0.0..=1.0f64, 0.01..0.5f64, 0.0..=1.0f64, 0.05..1.0f64, 0.01..0.5f64, -1.0..0.0f64, 5usize..=50, 0usize..=50).prop_map(|(init_mean, init_std, target_mean, target_std, epsilon, delta, update_every, warmup)| SpdlConfig {
+        init_mean,
+        init_std,
+        target_mean,
+        target_std,
+        epsilon,
+        delta,
+        update_every,
+        warmup,
+    });
+    // Small networks and trainings, so that a case trains the GAN a few times quickly.
+    // [r_min, r_max] always holds a success rate k / n_rollouts (1/2 or 1/3), as the config requires.
+    let goal_gan = (-1.0..0.0f64, 0.0..=0.3f64, 0.7..=1.0f64, 2usize..=3, 2usize..=30, 0usize..=10, 0.0..=1.0f64, 1usize..=4, 1usize..=8).prop_map(|(success_threshold, r_min, r_max, n_rollouts, update_size, gan_iterations, p_old, noise_dim, hidden)| GoalGanConfig {
+        success_threshold,
+        r_min,
+        r_max,
+        n_rollouts,
+        update_size,
+        gan_iterations,
+        p_old,
+        noise_dim,
+        hidden,
+        ..GoalGanConfig::default()
+    });
+    let teacher = prop_oneof![
+        tree.prop_map(|tree| Teacher::SaggRiac(SaggRiacConfig { tree, modes: ModeProbabilities::default() })),
+        Just(Teacher::Random(RandomConfig {})),
+        riac.prop_map(Teacher::Riac),
+        lp.prop_map(Teacher::DiscreteLp),
+        mixture().prop_map(Teacher::AlpGmm),
+        (mixture(), any::<bool>()).prop_map(|(mixture, absolute_lp)| Teacher::CovarGmm(CovarGmmConfig { mixture, absolute_lp })),
+        adr.prop_map(Teacher::Adr),
+        plr.prop_map(Teacher::Plr),
+        spdl.prop_map(Teacher::Spdl),
+        goal_gan.prop_map(Teacher::GoalGan),
+    ];
+    (bounds, teacher, any::<u64>()).prop_map(|((low, high), teacher, seed)| {
+        let (low, high) = if teacher.has_box() { (low, high) } else { (Vec::new(), Vec::new()) };
+        TeacherSpec { teacher, low, high, seed }
     })
 }
 
@@ -64,7 +122,7 @@ fn run_case(spec: TeacherSpec, before: usize, after: usize, batch: bool, seed: u
     let mut a = AskTell::new(spec.clone()).map_err(|e| TestCaseError::fail(e.to_string()))?;
     let mut rng = rng_from_seed(seed);
     let d = a.dim();
-    let success = matches!(spec, TeacherSpec::DiscreteLp { .. });
+    let success = matches!(spec.teacher, Teacher::DiscreteLp(_));
     let (low, high) = (a.selector().low().to_vec(), a.selector().high().to_vec());
     let step = |t: &mut AskTell, rng: &mut saggriac_core::rng::CoreRng| -> Vec<f64> {
         let g = t.sample().goal;

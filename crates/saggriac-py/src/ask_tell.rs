@@ -3,16 +3,8 @@
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use saggriac_core::config::high_level::InterestDivisor;
-use saggriac_core::error::invalid;
 use saggriac_core::high_level::ask_tell::AskTell;
-use saggriac_core::high_level::goal_selection::ModeProbabilities;
-use saggriac_core::high_level::region_tree::RegionTreeConfig;
-use saggriac_core::high_level::teachers::alp_gmm::AlpGmmConfig;
-use saggriac_core::high_level::teachers::covar_gmm::CovarGmmConfig;
-use saggriac_core::high_level::teachers::discrete_lp::DiscreteLpConfig;
-use saggriac_core::high_level::teachers::riac::RiacConfig;
-use saggriac_core::high_level::teachers::TeacherSpec;
+use saggriac_core::high_level::teachers::{Teacher, TeacherSpec};
 use saggriac_core::Error;
 
 use crate::errors::{to_py, wrap};
@@ -37,93 +29,23 @@ fn named(r: saggriac_core::Result<AskTell>, owner: &'static str) -> saggriac_cor
 
 #[pymethods]
 impl PyAskTell {
-    /// AskTell(kind: "sagg_riac" | "random", low, high, seed, g_max, zeta, min_child, interest_divisor, p_interest, p_global, p_lowest);
-    /// a parameter left out takes the core's default (saggriac.SaggRiacSelector passes them all).
+    /// AskTell(kind, low, high, seed, params=None): the teacher `kind` over the box [low, high]
+    /// (ignored by "discrete_lp", whose goals are task indices), with the parameters `params`
+    /// names and the others at their defaults (`_core.teacher_defaults()[kind]`).
     #[new]
-    #[pyo3(signature = (kind, low, high, seed, g_max=None, zeta=None, min_child=None, interest_divisor=None, p_interest=None, p_global=None, p_lowest=None))]
-    #[allow(clippy::too_many_arguments)]
-    fn new(
-        py: Python<'_>,
-        kind: &str,
-        low: Vec<f64>,
-        high: Vec<f64>,
-        seed: u64,
-        g_max: Option<usize>,
-        zeta: Option<usize>,
-        min_child: Option<usize>,
-        interest_divisor: Option<&str>,
-        p_interest: Option<f64>,
-        p_global: Option<f64>,
-        p_lowest: Option<f64>,
-    ) -> PyResult<Self> {
-        let (t, m) = (RegionTreeConfig::default(), ModeProbabilities::default());
-        let (g_max, zeta, min_child) = (g_max.unwrap_or(t.g_max), zeta.unwrap_or(t.zeta), min_child.unwrap_or(t.min_child));
-        let interest_divisor = interest_divisor.unwrap_or(t.divisor.name());
-        let (p_interest, p_global, p_lowest) = (p_interest.unwrap_or(m.p_interest), p_global.unwrap_or(m.p_global), p_lowest.unwrap_or(m.p_lowest));
-        let inner = match kind {
-            "sagg_riac" => InterestDivisor::parse("SaggRiacSelector", interest_divisor)
-                .and_then(|divisor| AskTell::sagg_riac(&low, &high, RegionTreeConfig { g_max, zeta, min_child, divisor }, ModeProbabilities { p_interest, p_global, p_lowest }, seed)),
-            "random" => AskTell::random(&low, &high, seed),
-            other => return Err(to_py(py, invalid("GoalSelector", "kind", "one of 'sagg_riac', 'random'", format!("'{other}'")))),
-        };
-        // Messages name the Python class and its arguments, not the core's parts.
-        let owner = if kind == "random" { "RandomSelector" } else { "SaggRiacSelector" };
-        let inner = inner.map_err(|e| match e {
-            Error::InvalidParameter { param, rule, value, .. } => Error::InvalidParameter { owner, param: if param == "bounds" { "low/high".into() } else { param }, rule, value },
-            other => other,
-        });
-        Ok(PyAskTell { inner: wrap(py, inner)? })
+    #[pyo3(signature = (kind, low, high, seed, params=None))]
+    fn new(py: Python<'_>, kind: &str, low: Vec<f64>, high: Vec<f64>, seed: u64, params: Option<Bound<'_, PyDict>>) -> PyResult<Self> {
+        let default = wrap(py, Teacher::parse("GoalSelector", "kind", kind))?;
+        let owner = default.class();
+        let teacher = crate::teachers::teacher(py, default, params.as_ref(), owner, "params", "")?;
+        let (low, high) = if teacher.has_box() { (low, high) } else { (Vec::new(), Vec::new()) };
+        Ok(PyAskTell { inner: wrap(py, named(AskTell::new(TeacherSpec { teacher, low, high, seed }), owner))? })
     }
 
-    /// riac(low, high, seed, ...) -> AskTell: RIAC (Portelas et al., CoRL 2019 baseline). Every
-    /// parameter is given: their defaults are saggriac.RiacSelector's, read from the core.
-    #[staticmethod]
-    #[pyo3(signature = (low, high, seed, max_region_size, split_attempts, min_child_share, min_dims_range_ratio, p_alp, p_random))]
-    #[allow(clippy::too_many_arguments)]
-    fn riac(
-        py: Python<'_>,
-        low: Vec<f64>,
-        high: Vec<f64>,
-        seed: u64,
-        max_region_size: usize,
-        split_attempts: usize,
-        min_child_share: f64,
-        min_dims_range_ratio: f64,
-        p_alp: f64,
-        p_random: f64,
-    ) -> PyResult<Self> {
-        let cfg = RiacConfig { max_region_size, split_attempts, min_child_share, min_dims_range_ratio, p_alp, p_random };
-        let inner = AskTell::new(TeacherSpec::Riac { low, high, cfg, seed }).map_err(|e| match e {
-            Error::InvalidParameter { param, rule, value, .. } => Error::InvalidParameter { owner: "RiacSelector", param: if param == "bounds" { "low/high".into() } else { param }, rule, value },
-            other => other,
-        });
-        Ok(PyAskTell { inner: wrap(py, inner)? })
-    }
-
-    /// discrete_lp(n_tasks, seed, alpha, theta) -> AskTell: learning progress over a task list
-    /// (Kanitscheider et al., 2021).
-    #[staticmethod]
-    #[pyo3(signature = (n_tasks, seed, alpha, theta))]
-    fn discrete_lp(py: Python<'_>, n_tasks: usize, seed: u64, alpha: f64, theta: f64) -> PyResult<Self> {
-        Ok(PyAskTell { inner: wrap(py, AskTell::new(TeacherSpec::DiscreteLp { cfg: DiscreteLpConfig { n_tasks, alpha, theta }, seed }))? })
-    }
-
-    /// alp_gmm(low, high, seed, ...) -> AskTell: ALP-GMM (Portelas et al., CoRL 2019).
-    #[staticmethod]
-    #[pyo3(signature = (low, high, seed, fit_rate, max_components, random_task_ratio, bootstrap))]
-    #[allow(clippy::too_many_arguments)]
-    fn alp_gmm(py: Python<'_>, low: Vec<f64>, high: Vec<f64>, seed: u64, fit_rate: usize, max_components: usize, random_task_ratio: f64, bootstrap: usize) -> PyResult<Self> {
-        let cfg = AlpGmmConfig { fit_rate, max_components, random_task_ratio, bootstrap };
-        Ok(PyAskTell { inner: wrap(py, named(AskTell::new(TeacherSpec::AlpGmm { low, high, cfg, seed }), "AlpGmmSelector"))? })
-    }
-
-    /// covar_gmm(low, high, seed, ...) -> AskTell: Covar-GMM (Moulin-Frier, Nguyen & Oudeyer, 2014).
-    #[staticmethod]
-    #[pyo3(signature = (low, high, seed, fit_rate, max_components, random_task_ratio, bootstrap, absolute_lp))]
-    #[allow(clippy::too_many_arguments)]
-    fn covar_gmm(py: Python<'_>, low: Vec<f64>, high: Vec<f64>, seed: u64, fit_rate: usize, max_components: usize, random_task_ratio: f64, bootstrap: usize, absolute_lp: bool) -> PyResult<Self> {
-        let cfg = CovarGmmConfig { mixture: AlpGmmConfig { fit_rate, max_components, random_task_ratio, bootstrap }, absolute_lp };
-        Ok(PyAskTell { inner: wrap(py, named(AskTell::new(TeacherSpec::CovarGmm { low, high, cfg, seed }), "CovarGmmSelector"))? })
+    /// check_competences(lo, hi, whence): refuses thresholds no competence in [lo, hi] (told by
+    /// `whence`) can meet, or every one meets.
+    fn check_competences(&self, py: Python<'_>, lo: f64, hi: f64, whence: &str) -> PyResult<()> {
+        wrap(py, self.inner.spec().teacher.check_competences(lo, hi, whence))
     }
 
     /// save() -> bytes: parameters, state and history (AskTell.restore rebuilds the teacher).

@@ -22,13 +22,15 @@ pub struct PyBody {
     x: Point,
     slot: Slot,
     failed: bool,
+    /// The joint limit of the run (the environment's joint_space): a theta beyond it is refused.
+    limit: f64,
 }
 
 impl PyBody {
     /// Wrap `env` and reset it once with `seed` (later resets pass no seed, as in Gymnasium).
     /// `n` joints, an `m`-D task space (the goal space's dimension).
-    pub fn new(py: Python<'_>, env: Py<PyAny>, n: usize, m: usize, seed: u64, slot: Slot) -> PyResult<Self> {
-        let mut b = PyBody { env, n, m, theta: vec![0.0; n], x: [0.0; MAX_TASK_DIM], slot, failed: false };
+    pub fn new(py: Python<'_>, env: Py<PyAny>, n: usize, m: usize, seed: u64, limit: f64, slot: Slot) -> PyResult<Self> {
+        let mut b = PyBody { env, n, m, theta: vec![0.0; n], x: [0.0; MAX_TASK_DIM], slot, failed: false, limit };
         let kw = PyDict::new(py);
         kw.set_item("seed", seed)?;
         b.call(py, "reset", PyTuple::empty(py), Some(&kw));
@@ -59,6 +61,11 @@ impl PyBody {
     fn parse(&self, v: &Bound<'_, PyAny>, method: &str) -> Result<(Vec<f64>, Vec<f64>), String> {
         let pair: (Bound<'_, PyAny>, Bound<'_, PyAny>) = v.extract().map_err(|_| format!("environment.{method}() must return a pair (theta, x); got {}.", repr(v)))?;
         let t = vector(&pair.0, self.n, &format!("theta returned by environment.{method}()"))?;
+        // A float32 joint space rounds its limit: a hair of slack, not a new range.
+        let bound = self.limit * (1.0 + 1e-6) + 1e-12;
+        if let Some(i) = t.iter().position(|a| a.abs() > bound) {
+            return Err(format!("theta returned by environment.{method}() must stay within the joint limits [-{0}, {0}] (environment.joint_space); joint {i} is {1}", saggriac_core::error::G(self.limit), saggriac_core::error::Num(t[i])));
+        }
         let x = vector(&pair.1, self.m, &format!("x returned by environment.{method}()")).map_err(|e| format!("{e} (the goal space goal_low/goal_high is {}-D)", self.m))?;
         Ok((t, x))
     }

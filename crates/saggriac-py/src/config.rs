@@ -1,31 +1,40 @@
-//! A Python dict of flat parameters -> the core's `RunConfig`. Type problems are reported with
-//! the parameter's name; the rules themselves are checked once, by the core's `validate()`.
+//! A Python dict of flat parameters -> the core's `RunConfig`, as data: the core's structs carry
+//! `Config`'s names (serde: `RunConfig` and the body's `BodyParams`), so the keys, their types
+//! and their defaults are read from the core's defaults, serialised. Only the teacher, given by
+//! two keys (`teacher`, `teacher_params`), is read by hand. Type problems are reported with the
+//! parameter's name and the core's rule for it; the rules are checked once, by `validate()`.
 
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
-use saggriac_core::body::arm::{ArmConfig, ArmKind};
-use saggriac_core::body::chain::{Chain, ChainSpec};
-use saggriac_core::config::body::{DEFAULT_ARM_LENGTH, MAX_JOINTS};
-use saggriac_core::config::evaluation::TestConfigs;
-use saggriac_core::config::high_level::{CompetenceKind, InterestDivisor, Teacher};
-use saggriac_core::config::teachers::{AlpGmmConfig, CovarGmmConfig, RiacConfig};
-use saggriac_core::config::Paradigm;
+use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyTuple};
+use pythonize::{depythonize, pythonize};
+use saggriac_core::body::params::BodyParams;
 use saggriac_core::error::invalid;
-use saggriac_core::model::memory::IndexKind;
-use saggriac_core::{Condition, Error, RunConfig};
+use saggriac_core::{Error, RunConfig};
+use serde::{de::DeserializeOwned, Serialize};
 
 use crate::errors::to_py;
+use crate::teachers::{serde_rule, wrong_type};
 
-/// The keys `run_config_from_dict` understands (kept in the order of the parameters page).
-#[rustfmt::skip]
-pub const KEYS: &[&str] = &[
-    "condition", "n_steps", "body", "n_joints", "arm_length", "link_lengths", "joint_limit", "max_joint_step", "goal_low", "goal_high",
-    "v", "n_subgoals", "eps_max", "timeout_factor", "timeout_min", "timeout_in_exploration", "q", "explore_step", "k_neighbours", "ridge", "pinv_rcond",
-    "bandwidth", "min_c", "eps_c", "competence", "g_max", "zeta", "min_child", "interest_divisor", "p_interest", "p_global", "p_lowest", "reset_every",
-    "n_test_goals", "n_test_configs", "test_configs", "eval_tolerance", "eval_patience", "eval_timeout_factor", "eval_timeout_min",
-    "eval_schedule", "knn_index", "warm_start_recent", "babble_step", "actuator_candidates", "actuator_reset_every", "paradigm", "episodic_noise", "episodic_refine", "episodic_k", "motor_noise", "sensor_noise", "body_change_step",
-    "body_change_link", "body_change_length", "chain", "teacher", "teacher_params",
-];
+/// A value of the core's, by its serde names.
+fn as_dict<'py, T: Serialize>(py: Python<'py>, v: &T) -> PyResult<Bound<'py, PyDict>> {
+    Ok(pythonize(py, v).map_err(PyErr::from)?.cast_into::<PyDict>()?)
+}
+
+/// Every key `run_config_from_dict` understands.
+pub fn keys(py: Python<'_>) -> PyResult<Vec<String>> {
+    Ok(defaults(py)?.keys().iter().map(|k| k.to_string()).collect())
+}
+
+/// The core's default configuration in `Config`'s flat terms: the one declaration of every
+/// default, which Python's `Config` reads (`_core.config_defaults()`). None where the default is
+/// "not given" (lengths that follow the body are given here as the default arm's).
+pub fn defaults(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
+    let d = as_dict(py, &RunConfig::default())?;
+    as_dict(py, &BodyParams::default())?.iter().try_for_each(|(k, v)| d.set_item(k, v))?;
+    d.set_item("teacher", "own")?;
+    d.set_item("teacher_params", PyDict::new(py))?;
+    Ok(d)
+}
 
 /// The core names a rule's parameter by the struct that owns it (`tolerance` of `Evaluation`);
 /// a Python user knows one flat `Config`, so every message names the Config key instead.
@@ -36,7 +45,7 @@ pub fn in_config_terms(e: Error) -> Error {
                 // An argument of saggriac.run, not a Config key.
                 return Error::InvalidParameter { owner: "run", param, rule, value };
             }
-            if matches!(owner, "RiacSelector" | "AlpGmmSelector" | "CovarGmmSelector") {
+            if owner.ends_with("Selector") {
                 // A rule of the teacher chosen by `teacher`, set through `teacher_params`.
                 return Error::InvalidParameter { owner: "Config", param: format!("teacher_params.{param}"), rule, value };
             }
@@ -52,17 +61,6 @@ pub fn in_config_terms(e: Error) -> Error {
     }
 }
 
-fn get<'py, T: FromPyObjectOwned<'py>>(d: &Bound<'py, PyDict>, key: &str, default: T, kind: &str) -> PyResult<T> {
-    match d.get_item(key)? {
-        None => Ok(default),
-        Some(v) if v.is_none() => Ok(default),
-        Some(v) => v.extract::<T>().map_err(|_| {
-            let shown = v.repr().map(|r| r.to_string()).unwrap_or_else(|_| "?".into());
-            to_py(d.py(), invalid("Config", key, kind, shown))
-        }),
-    }
-}
-
 /// The configuration `d` describes, checked against every rule (`Config()` checks this way).
 pub fn run_config_from_dict(d: &Bound<'_, PyDict>) -> PyResult<RunConfig> {
     let c = parse_config(d)?;
@@ -74,247 +72,60 @@ pub fn run_config_from_dict(d: &Bound<'_, PyDict>) -> PyResult<RunConfig> {
 /// learner built from it checks them itself (`Learner::from_parts`), once per run.
 pub fn parse_config(d: &Bound<'_, PyDict>) -> PyResult<RunConfig> {
     let py = d.py();
+    let known = keys(py)?;
     for k in d.keys() {
         let k: String = k.extract()?;
-        if !KEYS.contains(&k.as_str()) {
-            return Err(to_py(py, invalid("Config", &k, format!("one of the known parameters ({})", KEYS.join(", ")), "an unknown key")));
+        if !known.contains(&k) {
+            return Err(to_py(py, invalid("Config", &k, format!("one of the known parameters ({})", known.join(", ")), "an unknown key")));
         }
     }
-    let mut c = RunConfig::default();
-    let condition: String = get(d, "condition", c.condition.name().to_string(), "a str")?;
-    c.condition = Condition::parse(&condition).map_err(|e| to_py(py, in_config_terms(e)))?;
-    c.n_steps = get(d, "n_steps", c.n_steps, "an int >= 1")?;
-    let n_joints: usize = get(d, "n_joints", c.arm.link_lengths.len(), "an int >= 1")?;
-    let length: f64 = get(d, "arm_length", DEFAULT_ARM_LENGTH, "a float > 0")?;
-    let links: Option<Vec<f64>> = get(d, "link_lengths", None, "a list of floats")?;
-    let limit = get(d, "joint_limit", c.arm.joint_limit, "a float")?;
-    let max_step = get(d, "max_joint_step", c.arm.max_joint_step, "a float")?;
-    if n_joints == 0 || n_joints > MAX_JOINTS {
-        // Refused before the arm's vectors are allocated.
-        return Err(to_py(py, invalid("Config", "n_joints", format!("an int in [1, {MAX_JOINTS}]"), n_joints)));
-    }
-    c.arm = match links.clone() {
-        Some(l) => ArmConfig { link_lengths: l, ..ArmConfig::uniform(1, 1.0, limit, max_step) },
-        None => ArmConfig::uniform(n_joints, length, limit, max_step),
-    };
-    let body: String = get(d, "body", ArmKind::Planar.name().to_string(), "a str")?;
-    c.arm.kind = ArmKind::parse(&body).map_err(|e| to_py(py, in_config_terms(e)))?;
-    let chain: Option<Vec<f64>> = get(d, "chain", None, "a list of floats")?;
-    match (chain, c.arm.kind) {
-        (Some(flat), ArmKind::Chain) => {
-            if links.is_some() {
-                return Err(to_py(py, invalid("Config", "link_lengths", "not given with body 'chain' (the chain's geometry gives its links)", "a list")));
-            }
-            let spec = ChainSpec::from_flat(&flat).map_err(|e| to_py(py, in_config_terms(e)))?;
-            c.arm = Chain::arm_config(spec, c.arm.clone());
-        }
-        (None, ArmKind::Chain) => return Err(to_py(py, invalid("Config", "chain", "the chain's geometry for body 'chain' (saggriac.mujoco_arm.MujocoArm.chain() gives it)", "None"))),
-        (Some(_), _) => return Err(to_py(py, invalid("Config", "chain", format!("None unless body is 'chain' (body is '{body}')"), "a list"))),
-        (None, _) => {}
-    }
-    c.arm.motor_noise = get(d, "motor_noise", 0.0, "a float")?;
-    c.arm.sensor_noise = get(d, "sensor_noise", 0.0, "a float")?;
-    let change_step: Option<u64> = get(d, "body_change_step", None, "an int >= 1")?;
-    if let Some(step) = change_step {
-        let link: usize = get(d, "body_change_link", usize::MAX, "an int >= 0")?;
-        let length: f64 = get(d, "body_change_length", f64::NAN, "a float > 0")?;
-        c.body_change = Some(saggriac_core::config::BodyChange { step, link, length });
-    }
-    c.goal_low = get(d, "goal_low", c.goal_low, "a list of floats")?;
-    c.goal_high = get(d, "goal_high", c.goal_high, "a list of floats")?;
-    c.reaching.v = get(d, "v", c.reaching.v, "a float")?;
-    c.reaching.n_subgoals = get(d, "n_subgoals", c.reaching.n_subgoals, "an int >= 1")?;
-    c.reaching.eps_max = get(d, "eps_max", c.reaching.eps_max, "a float")?;
-    c.reaching.timeout_factor = get(d, "timeout_factor", c.reaching.timeout_factor, "a float")?;
-    c.reaching.timeout_min = get(d, "timeout_min", c.reaching.timeout_min, "an int >= 1")?;
-    c.reaching.timeout_in_exploration = get(d, "timeout_in_exploration", c.reaching.timeout_in_exploration, "a bool")?;
-    c.exploration.q = get(d, "q", c.exploration.q, "an int >= 1")?;
-    c.exploration.step = get(d, "explore_step", c.exploration.step, "a float")?;
-    c.local.k_neighbours = get(d, "k_neighbours", c.local.k_neighbours, "an int >= 1")?;
-    c.local.ridge = get(d, "ridge", c.local.ridge, "a float")?;
-    c.local.pinv_rcond = get(d, "pinv_rcond", c.local.pinv_rcond, "a float")?;
-    c.local.bandwidth = get(d, "bandwidth", c.local.bandwidth, "a float")?;
-    c.competence.min_c = get(d, "min_c", c.competence.min_c, "a float")?;
-    c.competence.eps_c = get(d, "eps_c", c.competence.eps_c, "a float")?;
-    let teacher: String = get(d, "teacher", c.teacher.name().to_string(), "a str")?;
-    c.teacher = Teacher::parse(&teacher).map_err(|e| to_py(py, in_config_terms(e)))?;
-    if let Some(params) = d.get_item("teacher_params")?.filter(|p| !p.is_none()) {
-        let params = params.cast::<PyDict>().map_err(|_| to_py(py, invalid("Config", "teacher_params", "a dict of the teacher's parameters", "not a dict")))?;
-        c.teacher = teacher_with(c.teacher, params)?;
-    }
-    let kind: String = get(d, "competence", c.competence.kind.name().to_string(), "a str")?;
-    c.competence.kind = CompetenceKind::parse(&kind).ok_or_else(|| to_py(py, invalid("Config", "competence", "one of 'relative', 'absolute'", format!("'{kind}'"))))?;
-    c.tree.g_max = get(d, "g_max", c.tree.g_max, "an int >= 2")?;
-    c.tree.zeta = get(d, "zeta", c.tree.zeta, "an int >= 2")?;
-    c.tree.min_child = get(d, "min_child", c.tree.min_child, "an int >= 1")?;
-    let divisor: String = get(d, "interest_divisor", c.tree.divisor.name().to_string(), "a str")?;
-    c.tree.divisor = InterestDivisor::parse("Config", &divisor).map_err(|e| to_py(py, e))?;
-    c.modes.p_interest = get(d, "p_interest", c.modes.p_interest, "a float")?;
-    c.modes.p_global = get(d, "p_global", c.modes.p_global, "a float")?;
-    c.modes.p_lowest = get(d, "p_lowest", c.modes.p_lowest, "a float")?;
-    c.reset_every = get(d, "reset_every", c.reset_every, "an int >= 1")?;
-    c.eval.n_test_goals = get(d, "n_test_goals", c.eval.n_test_goals, "an int >= 1")?;
-    c.eval.n_test_configs = get(d, "n_test_configs", c.eval.n_test_configs, "an int >= 1")?;
-    let kind: String = get(d, "test_configs", c.eval.test_configs.name().to_string(), "a str")?;
-    c.eval.test_configs = TestConfigs::parse(&kind).ok_or_else(|| to_py(py, invalid("Config", "test_configs", "one of 'ik_min_norm', 'uniform'", format!("'{kind}'"))))?;
-    c.eval.tolerance = get(d, "eval_tolerance", c.eval.tolerance, "a float")?;
-    c.eval.patience = get(d, "eval_patience", c.eval.patience, "an int >= 1")?;
-    c.eval.timeout_factor = get(d, "eval_timeout_factor", c.eval.timeout_factor, "a float")?;
-    c.eval.timeout_min = get(d, "eval_timeout_min", c.eval.timeout_min, "an int >= 1")?;
-    c.eval.schedule = get(d, "eval_schedule", c.eval.schedule, "a list of ints >= 0")?;
-    let index: String = get(d, "knn_index", c.index.name().to_string(), "a str")?;
-    c.index = IndexKind::parse(&index).ok_or_else(|| to_py(py, invalid("Config", "knn_index", "one of 'blocks', 'brute_force'", format!("'{index}'"))))?;
-    c.warm_start_recent = get(d, "warm_start_recent", c.warm_start_recent, "an int >= 0")?;
-    c.babble_step = get(d, "babble_step", c.babble_step, "a float")?;
-    c.actuator_candidates = get(d, "actuator_candidates", c.actuator_candidates, "an int >= 0")?;
-    c.actuator_reset_every = get(d, "actuator_reset_every", c.actuator_reset_every, "an int >= 0")?;
-    let paradigm: String = get(d, "paradigm", c.paradigm.name().to_string(), "a str")?;
-    c.paradigm = Paradigm::parse(&paradigm).map_err(|e| to_py(py, in_config_terms(e)))?;
-    c.episodic.noise = get(d, "episodic_noise", c.episodic.noise, "a float")?;
-    c.episodic.refine = get(d, "episodic_refine", c.episodic.refine, "a bool")?;
-    c.episodic.k_refine = get(d, "episodic_k", c.episodic.k_refine, "an int >= 1")?;
+    let mut c: RunConfig = typed(d, |c: &RunConfig| c.validate())?;
+    let body: BodyParams = typed(d, |b: &BodyParams| b.clone().build().map(|_| ()))?;
+    (c.arm, c.body_change) = body.build().map_err(|e| to_py(py, in_config_terms(e)))?;
+    c.teacher = crate::teachers::of_config(d, c.competence.min_c)?;
     Ok(c)
 }
 
-/// `teacher` with the parameters `params` names (the others keep their papers' defaults).
-fn teacher_with(teacher: Teacher, params: &Bound<'_, PyDict>) -> PyResult<Teacher> {
-    let py = params.py();
-    let names: &[&str] = match teacher {
-        Teacher::Own => &[],
-        Teacher::Riac(_) => &["max_region_size", "split_attempts", "min_child_share", "min_dims_range_ratio", "p_alp", "p_random"],
-        Teacher::AlpGmm(_) => &["fit_rate", "max_components", "random_task_ratio", "bootstrap"],
-        Teacher::CovarGmm(_) => &["fit_rate", "max_components", "random_task_ratio", "bootstrap", "absolute_lp"],
-    };
-    let mut t = teacher;
-    for (k, v) in params.iter() {
-        let key: String = k.extract().map_err(|_| to_py(py, invalid("Config", "teacher_params", "a dict with str keys", "a key that is not a str")))?;
-        if !names.contains(&key.as_str()) {
-            let rule = match teacher {
-                Teacher::Own => "empty with teacher 'own' (SAGG-RIAC's own high level is set by g_max, zeta, min_child, interest_divisor, p_interest, p_global, p_lowest)".to_string(),
-                _ => format!("a dict of the '{}' teacher's parameters (those of saggriac.{}: {})", teacher.name(), teacher.class(), names.join(", ")),
+/// The `T` (`RunConfig` or `BodyParams`) the keys of `d` that are its serde names describe, the
+/// others at their defaults. Each value's type is checked against its default's; a number of
+/// the wrong type (a negative count, a string) is named with the rule `check` gives that
+/// parameter (`n_steps`: an int >= 1), found by putting 0 (or NaN for a float) in its place.
+fn typed<T: Serialize + DeserializeOwned + Default>(d: &Bound<'_, PyDict>, check: impl Fn(&T) -> saggriac_core::Result<()>) -> PyResult<T> {
+    let py = d.py();
+    let defaults = as_dict(py, &T::default())?;
+    let merged = defaults.copy()?;
+    let mut wrong = None;
+    let is_list = |o: &Bound<'_, PyAny>| o.is_instance_of::<PyList>() || o.is_instance_of::<PyTuple>();
+    for (k, v) in d.iter() {
+        let key: String = k.extract()?;
+        let Some(default) = defaults.get_item(&key)?.filter(|_| !v.is_none()) else { continue };
+        let shown = v.repr().map(|r| r.to_string()).unwrap_or_else(|_| "?".into());
+        let number = default.is_instance_of::<PyFloat>() || (default.is_instance_of::<PyInt>() && !default.is_instance_of::<PyBool>());
+        match wrong_type(&v, &default) {
+            Some(rule) if number => {
+                wrong.get_or_insert((key.clone(), rule, shown));
+                merged.set_item(&key, if default.is_instance_of::<PyInt>() { 0u64.into_pyobject(py)?.into_any() } else { f64::NAN.into_pyobject(py)?.into_any() })?;
+                continue;
+            }
+            Some(rule) if !default.is_none() && !is_list(&default) => return Err(to_py(py, invalid("Config", &key, rule, shown))),
+            _ => merged.set_item(&key, &v)?,
+        }
+        // What serde refuses of a value (a str naming no choice, a list of another type) is named here.
+        if let Err(e) = depythonize::<T>(&merged) {
+            let e = e.to_string();
+            let rule = if is_list(&default) || is_list(&v) || e.contains("sequence") { if key.contains("schedule") { "a list of ints >= 0".into() } else { "a list of floats".into() } } else { serde_rule(&e) };
+            return Err(to_py(py, invalid("Config", &key, rule, shown)));
+        }
+    }
+    let c: T = depythonize(&merged).map_err(|e| to_py(py, Error::InvalidInput(e.to_string())))?;
+    match wrong {
+        None => Ok(c),
+        Some((key, rule, shown)) => {
+            let rule = match check(&c).map_err(in_config_terms) {
+                Err(Error::InvalidParameter { param, rule, .. }) if param == key => rule,
+                _ => rule.to_string(),
             };
-            return Err(to_py(py, invalid("Config", "teacher_params", rule, format!("a dict with key '{key}'"))));
-        }
-        let name = format!("teacher_params.{key}");
-        let shown = || v.repr().map(|r| r.to_string()).unwrap_or_else(|_| "?".into());
-        let wrong = |kind: &str| to_py(py, invalid("Config", &name, kind, shown()));
-        // A bool is an int to Python: refused where a number is meant, the only place it is meant.
-        let is_bool = v.is_instance_of::<pyo3::types::PyBool>();
-        let int = || if is_bool { Err(wrong("an int")) } else { v.extract::<usize>().map_err(|_| wrong("an int >= 0")) };
-        let float = || if is_bool { Err(wrong("a float")) } else { v.extract::<f64>().map_err(|_| wrong("a float")) };
-        match (&mut t, key.as_str()) {
-            (Teacher::Riac(c), "max_region_size") => c.max_region_size = int()?,
-            (Teacher::Riac(c), "split_attempts") => c.split_attempts = int()?,
-            (Teacher::Riac(c), "min_child_share") => c.min_child_share = float()?,
-            (Teacher::Riac(c), "min_dims_range_ratio") => c.min_dims_range_ratio = float()?,
-            (Teacher::Riac(c), "p_alp") => c.p_alp = float()?,
-            (Teacher::Riac(c), "p_random") => c.p_random = float()?,
-            (Teacher::CovarGmm(c), "absolute_lp") => c.absolute_lp = if is_bool { v.extract()? } else { return Err(wrong("a bool")) },
-            (Teacher::AlpGmm(m) | Teacher::CovarGmm(CovarGmmConfig { mixture: m, .. }), key) => match key {
-                "fit_rate" => m.fit_rate = int()?,
-                "max_components" => m.max_components = int()?,
-                "random_task_ratio" => m.random_task_ratio = float()?,
-                "bootstrap" => m.bootstrap = int()?,
-                _ => unreachable!("absolute_lp is set above"),
-            },
-            _ => unreachable!("every name of `names` is set above"),
+            Err(to_py(py, invalid("Config", &key, rule, shown)))
         }
     }
-    Ok(t)
-}
-
-/// The core's default configuration in `Config`'s flat terms: the one declaration of every
-/// default, which Python's `Config` reads (`_core.config_defaults()`). None where the default is
-/// "not given" (lengths that follow the body are given here as the default arm's).
-pub fn defaults(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
-    let c = RunConfig::default();
-    let d = PyDict::new(py);
-    d.set_item("condition", c.condition.name())?;
-    d.set_item("n_steps", c.n_steps)?;
-    d.set_item("body", c.arm.kind.name())?;
-    d.set_item("n_joints", c.arm.link_lengths.len())?;
-    d.set_item("arm_length", DEFAULT_ARM_LENGTH)?;
-    d.set_item("joint_limit", c.arm.joint_limit)?;
-    d.set_item("max_joint_step", c.arm.max_joint_step)?;
-    d.set_item("motor_noise", c.arm.motor_noise)?;
-    d.set_item("sensor_noise", c.arm.sensor_noise)?;
-    for k in ["link_lengths", "chain", "body_change_step", "body_change_link", "body_change_length"] {
-        d.set_item(k, py.None())?;
-    }
-    d.set_item("goal_low", c.goal_low.clone())?;
-    d.set_item("goal_high", c.goal_high.clone())?;
-    let r = c.reaching;
-    d.set_item("v", r.v)?;
-    d.set_item("n_subgoals", r.n_subgoals)?;
-    d.set_item("eps_max", r.eps_max)?;
-    d.set_item("timeout_factor", r.timeout_factor)?;
-    d.set_item("timeout_min", r.timeout_min)?;
-    d.set_item("timeout_in_exploration", r.timeout_in_exploration)?;
-    d.set_item("q", c.exploration.q)?;
-    d.set_item("explore_step", c.exploration.step)?;
-    d.set_item("k_neighbours", c.local.k_neighbours)?;
-    d.set_item("ridge", c.local.ridge)?;
-    d.set_item("pinv_rcond", c.local.pinv_rcond)?;
-    d.set_item("bandwidth", c.local.bandwidth)?;
-    d.set_item("min_c", c.competence.min_c)?;
-    d.set_item("eps_c", c.competence.eps_c)?;
-    d.set_item("competence", c.competence.kind.name())?;
-    d.set_item("g_max", c.tree.g_max)?;
-    d.set_item("zeta", c.tree.zeta)?;
-    d.set_item("min_child", c.tree.min_child)?;
-    d.set_item("interest_divisor", c.tree.divisor.name())?;
-    d.set_item("p_interest", c.modes.p_interest)?;
-    d.set_item("p_global", c.modes.p_global)?;
-    d.set_item("p_lowest", c.modes.p_lowest)?;
-    d.set_item("reset_every", c.reset_every)?;
-    d.set_item("teacher", c.teacher.name())?;
-    d.set_item("teacher_params", PyDict::new(py))?;
-    let e = &c.eval;
-    d.set_item("n_test_goals", e.n_test_goals)?;
-    d.set_item("n_test_configs", e.n_test_configs)?;
-    d.set_item("test_configs", e.test_configs.name())?;
-    d.set_item("eval_tolerance", e.tolerance)?;
-    d.set_item("eval_patience", e.patience)?;
-    d.set_item("eval_timeout_factor", e.timeout_factor)?;
-    d.set_item("eval_timeout_min", e.timeout_min)?;
-    d.set_item("eval_schedule", e.schedule.clone())?;
-    d.set_item("knn_index", c.index.name())?;
-    d.set_item("warm_start_recent", c.warm_start_recent)?;
-    d.set_item("babble_step", c.babble_step)?;
-    d.set_item("actuator_candidates", c.actuator_candidates)?;
-    d.set_item("actuator_reset_every", c.actuator_reset_every)?;
-    d.set_item("paradigm", c.paradigm.name())?;
-    d.set_item("episodic_noise", c.episodic.noise)?;
-    d.set_item("episodic_refine", c.episodic.refine)?;
-    d.set_item("episodic_k", c.episodic.k_refine)?;
-    Ok(d)
-}
-
-/// The default parameters of the teachers a run can take (`teacher_params`), by teacher: the
-/// defaults of saggriac.RiacSelector, AlpGmmSelector and CovarGmmSelector.
-pub fn teacher_defaults(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
-    let out = PyDict::new(py);
-    let r = RiacConfig::default();
-    let d = PyDict::new(py);
-    d.set_item("max_region_size", r.max_region_size)?;
-    d.set_item("split_attempts", r.split_attempts)?;
-    d.set_item("min_child_share", r.min_child_share)?;
-    d.set_item("min_dims_range_ratio", r.min_dims_range_ratio)?;
-    d.set_item("p_alp", r.p_alp)?;
-    d.set_item("p_random", r.p_random)?;
-    out.set_item("riac", d)?;
-    let mixture = |m: AlpGmmConfig| -> PyResult<Bound<'_, PyDict>> {
-        let d = PyDict::new(py);
-        d.set_item("fit_rate", m.fit_rate)?;
-        d.set_item("max_components", m.max_components)?;
-        d.set_item("random_task_ratio", m.random_task_ratio)?;
-        d.set_item("bootstrap", m.bootstrap)?;
-        Ok(d)
-    };
-    out.set_item("alp_gmm", mixture(AlpGmmConfig::default())?)?;
-    let c = CovarGmmConfig::default();
-    let d = mixture(c.mixture)?;
-    d.set_item("absolute_lp", c.absolute_lp)?;
-    out.set_item("covar_gmm", d)?;
-    Ok(out)
 }

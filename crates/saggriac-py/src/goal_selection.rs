@@ -6,6 +6,7 @@ use numpy::{IntoPyArray, PyArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use saggriac_core::high_level::goal_selection::{GoalChoice, GoalSelector, Mode};
+use saggriac_core::error::Num;
 
 use crate::errors::{keep_first, Failure, Slot};
 use crate::values::vector;
@@ -58,7 +59,7 @@ impl GoalSelector for PySelector {
                 if let Some(i) = (0..d).find(|&i| !(g[i] >= self.low[i] && g[i] <= self.high[i])) {
                     self.fail(Failure::Invalid(format!(
                         "the goal returned by goal_selector.sample() must lie in [low, high]; coordinate {i} is {} but the bounds are [{}, {}].",
-                        g[i], self.low[i], self.high[i]
+                        Num(g[i]), Num(self.low[i]), Num(self.high[i])
                     )));
                     return GoalChoice { goal: centre, mode: Mode::External, region: None };
                 }

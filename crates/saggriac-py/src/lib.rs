@@ -17,6 +17,7 @@ mod gmm;
 mod goal_selection;
 mod recorder;
 mod run_loop;
+mod teachers;
 mod values;
 
 /// validate_config(config: dict) -> None: raise ParameterError if any parameter breaks a rule.
@@ -38,10 +39,16 @@ fn config_defaults(py: Python<'_>) -> PyResult<Bound<'_, pyo3::types::PyDict>> {
     config::defaults(py)
 }
 
+/// teacher_param_rule(name) -> str | None: the rule of a teacher's parameter, as its check states it.
+#[pyfunction]
+fn teacher_param_rule(name: &str) -> Option<String> {
+    saggriac_core::config::teachers::param_rule(name)
+}
+
 /// teacher_defaults() -> dict: the default parameters of each teacher a run can take.
 #[pyfunction]
 fn teacher_defaults(py: Python<'_>) -> PyResult<Bound<'_, pyo3::types::PyDict>> {
-    config::teacher_defaults(py)
+    teachers::defaults(py)
 }
 
 /// child_seed(parent, stream) -> int: the core's seed of one component (SplitMix64 mixing; stream
@@ -55,7 +62,7 @@ fn child_seed(parent: u64, stream: u64) -> u64 {
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<run_loop::PyLearner>()?;
     m.add_class::<ask_tell::PyAskTell>()?;
-    m.add("CONFIG_KEYS", config::KEYS.to_vec())?;
+    m.add("CONFIG_KEYS", config::keys(m.py())?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add("GIT_COMMIT", env!("SAGGRIAC_GIT_COMMIT"))?;
     // A test configuration further than this times the reach from its goal did not reach it.
@@ -64,6 +71,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(config_debug, m)?)?;
     m.add_function(wrap_pyfunction!(config_defaults, m)?)?;
     m.add_function(wrap_pyfunction!(teacher_defaults, m)?)?;
+    m.add_function(wrap_pyfunction!(teacher_param_rule, m)?)?;
     m.add_function(wrap_pyfunction!(child_seed, m)?)?;
     m.add_function(wrap_pyfunction!(competence::competence, m)?)?;
     m.add_function(wrap_pyfunction!(chain::chain_forward, m)?)?;

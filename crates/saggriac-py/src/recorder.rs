@@ -90,6 +90,9 @@ pub fn profile<'py>(py: Python<'py>, r: &Recorder, actuator_reset_period: usize,
     d.set_item("explorations", c.explorations)?;
     d.set_item("fit_failures", c.fit_failures)?;
     d.set_item("test_steps", c.test_steps)?;
+    d.set_item("trigger_only_executed", c.trigger_only_executed)?;
+    d.set_item("trigger_only_desired", c.trigger_only_desired)?;
+    d.set_item("trigger_gap_sum", c.trigger_gap_sum)?;
     d.set_item("rejected_samples", rejected_samples)?;
     d.set_item("time_knn", t.knn)?;
     d.set_item("time_fit", t.fit)?;

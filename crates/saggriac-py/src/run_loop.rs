@@ -57,7 +57,7 @@ impl PyLearner {
         let slot: Slot = Default::default();
         let (n, m) = (cfg.arm.link_lengths.len(), cfg.goal_low.len());
         let body = match environment {
-            Some(env) => Some(Box::new(PyBody::new(py, env, n, m, env_seed, slot.clone())?) as Box<dyn Body>),
+            Some(env) => Some(Box::new(PyBody::new(py, env, n, m, env_seed, cfg.arm.joint_limit, slot.clone())?) as Box<dyn Body>),
             None => None,
         };
         let selector = match goal_selector {

@@ -17,7 +17,7 @@ from matplotlib.ticker import FuncFormatter
 from .. import _core
 from ..config import Config
 from ..files import write_file
-from ..reachable import ReachableSet
+from ..bodies.reachable import ReachableSet
 
 PNG = b"\x89PNG\r\n\x1a\n"
 #: Written into every figure's PNG metadata, so that saggriac recognises its own files.
@@ -227,7 +227,7 @@ def arm_points(theta: np.ndarray, lengths: np.ndarray) -> np.ndarray:
 
 def spatial_arm_points(theta: np.ndarray, lengths: np.ndarray) -> np.ndarray:
     """Joint positions of the spatial arm, base first (n + 1 points in 3-D)."""
-    from ..environments import SpatialArm
+    from ..bodies.environments import SpatialArm
 
     # Joint i sits at the tip of the arm made of the first i links.
     return np.vstack([np.zeros(3)] + [SpatialArm(link_lengths=lengths[:i]).forward(theta[:i]) for i in range(1, len(theta) + 1)])

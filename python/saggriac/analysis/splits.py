@@ -1,5 +1,5 @@
-"""The null model of Fig. 3's "regions split in the reachable area first" (SPEC "What every run
-and study reports"): where SAGG-RIAC's tree splits, against where the same tree splits when it is
+"""The null model of Fig. 3's "regions split in the reachable area first" (docs/reproduction.md, "Fig. 3: where
+SAGG-RIAC's goals and splits go"): where SAGG-RIAC's tree splits, against where the same tree splits when it is
 fed the measurements of SAGG-Random, which chose its goals without looking at the tree.
 
 Big regions nearly always meet the reachable area, so a share of splits "in" it means little
@@ -15,7 +15,7 @@ import pandas as pd
 
 from ..config import Config
 from ..teachers import SaggRiacSelector
-from ..reachable import ReachableSet
+from ..bodies.reachable import ReachableSet
 
 
 def _dims(regions: pd.DataFrame) -> list[str]:
@@ -44,7 +44,7 @@ def replay_regions(attempts: pd.DataFrame, config: Config) -> pd.DataFrame:
 
 def reachable_share(low: np.ndarray, high: np.ndarray, reach: float | ReachableSet, grid: int = 40) -> float:
     """Share of the box [low, high] inside the ball of radius ``reach`` around the origin, or
-    inside a :class:`~saggriac.reachable.ReachableSet` (midpoints of a grid of ``grid`` cells
+    inside a :class:`~saggriac.bodies.reachable.ReachableSet` (midpoints of a grid of ``grid`` cells
     per side)."""
     return float(reachable_shares(np.asarray(low, float)[None, :], np.asarray(high, float)[None, :], reach, grid)[0])
 

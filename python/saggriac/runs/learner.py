@@ -9,30 +9,40 @@
 ``learner.save_checkpoint(out_dir, checkpoint_every=N)`` saves it as ``run(..., out_dir=...,
 checkpoint_every=N)`` does on the way; ``saggriac.resume(out_dir)`` then runs it to the end.
 
-``run(config, seed, ...)`` is this class run to the end with its result written; the two give
-the same bits, however the run is cut into pieces. A learner stops only after an evaluation
-(``Config.schedule()``), at the end of the goal attempt during which it fell: that is where its
-state is whole, and where ``checkpoint()`` may be taken. With ``threads`` > 1 evaluations run
-beside learning, so the learner may go on a few attempts past that evaluation before it sees
-it (the results are the same bits either way); with ``threads=1`` it stops right there.
+``run(config, seed, ...)`` is this class run to the end with its result written (runs/runner.py
+builds a Learner and drives it with the loop below); the two give the same bits, however the run
+is cut into pieces. A learner stops only after an evaluation (``Config.schedule()``), at the end
+of the goal attempt during which it fell: that is where its state is whole, and where
+``checkpoint()`` may be taken. With ``threads`` > 1 evaluations run beside learning, so the
+learner may go on a few attempts past that evaluation before it sees it (the results are the
+same bits either way); with ``threads=1`` it stops right there.
 """
 
 from __future__ import annotations
 
+import platform
 import time
+import warnings
 from pathlib import Path
 from typing import Any
 
 import numpy as np
+import pandas as pd
 
+from .. import _core
 from ..config import Config
-from ..errors import ParameterError
+from ..errors import ParameterError, StorageError
 from ..files import as_path, check_flag
-from ..seeding import check_seed
+from ..bodies.reachable import ReachableSet
+from ..bodies.scale import body_scale
+from ..seeding import check_seed, derive_seeds, environment_seed
+from ..testing import joint_space_of
+from . import checkpoint as _checkpoint
+from .checkpoint import CheckpointWarning, check_every, checkpoint_dir
 from .resources import check_run_fits, check_threads
 from .result import RunResult
-from .runner import _build, _result, _write_checkpoint, checkpoint_dir, for_body
 from .storage import check_output_dir, target_lock
+from .time_budget import time_budget
 
 
 class Learner:
@@ -41,15 +51,36 @@ class Learner:
     ``goal_selector``; ``threads`` as for :func:`saggriac.run`."""
 
     def __init__(self, config: Config | None = None, seed: int = 0, *, environment: Any = None, goal_selector: Any = None, threads: int | None = None) -> None:
+        self._setup(config, seed, environment, goal_selector, threads, "Learner")
+
+    @classmethod
+    def _for(cls, owner: str, config: Any, seed: Any, environment: Any, goal_selector: Any, threads: Any) -> Learner:
+        """A learner built for ``owner`` (run()), whose messages name it."""
+        self = cls.__new__(cls)
+        self._setup(config, seed, environment, goal_selector, threads, owner)
+        return self
+
+    def _setup(self, config: Any, seed: Any, environment: Any, goal_selector: Any, threads: Any, owner: str) -> None:
         if config is None:
             config = Config()
         if not isinstance(config, Config):
-            raise ParameterError(f"The 'config' parameter of Learner must be a saggriac.Config. Got {type(config).__name__} instead.", "config", repr(config))
+            raise ParameterError(f"The 'config' parameter of {owner} must be a saggriac.Config. Got {type(config).__name__} instead.", "config", repr(config))
         self.config = config = for_body(config, environment)
         self.seed = check_seed(seed)
+        threads = check_threads(threads, owner)
         check_run_fits(config)
-        self._inner, self._info, self._extras = _build(config, self.seed, check_threads(threads, "Learner"), environment, goal_selector, "Learner")
+        self._inner, self._info, self._extras = _build(config, self.seed, threads, environment, goal_selector, owner)
         self._wall = 0.0
+
+    @classmethod
+    def _restored(cls, config: Config, state: bytes, info: dict[str, Any], threads: int) -> Learner:
+        """The learner a checkpoint holds (resume)."""
+        self = cls.__new__(cls)
+        self.config, self.seed, self._wall = config, info["seed"], 0.0
+        self._inner = _core.Learner.restore(config.core_dict(), state)
+        self._inner.set_threads(threads)
+        self._info, self._extras = info, {"scale": _arm_scale(config)}
+        return self
 
     @property
     def steps(self) -> int:
@@ -75,28 +106,55 @@ class Learner:
         if isinstance(target, (bool, np.bool_)) or not isinstance(target, (int, np.integer)) or target < 0:
             raise ParameterError(f"The 'until' parameter of Learner.run must be an int >= 0 (a time step) or None (the end of the budget). Got {until!r} instead.", "until", repr(until))
         # A numpy integer compares into a numpy bool, which the core does not read as a stop.
-        target = int(target)
+        self._advance(int(target), progress)
+        return self.done
+
+    def _advance(self, target: int, progress: bool, out: Path | None = None, every: int | None = None) -> None:
+        """The one loop of every run: learn until the first evaluation at or after ``target``,
+        with a progress bar if asked; with ``every``, stop at the first evaluation at or after
+        each multiple of it to write a checkpoint for ``out``, and go on."""
+        n = self.config.n_steps
         bar = None
         if progress:
             from tqdm.auto import tqdm
 
-            bar = tqdm(total=self.config.n_steps, initial=self.steps, unit="step", unit_scale=True, desc=f"{self.config.condition} seed {self.seed}")
+            bar = tqdm(total=n, initial=self.steps, unit="step", unit_scale=True, desc=f"{self.config.condition} seed {self.seed}")
+        due = None if every is None else (self.steps // every + 1) * every
 
         def on_eval(row: dict[str, Any]) -> bool:
             if bar is not None:
                 bar.update(row["step"] - bar.n)
-                bar.set_postfix(reach=f"{row['reach_error']:.2f}")
-            return bool(row["step"] < target)
+                bar.set_postfix(reach=f"{row['reach_error']:.2f}", pred=f"{row['pred_error']:.2f}", goals=row["n_goals"])
+            # Stop (between goal attempts) at the target, or to write a checkpoint once one is due.
+            return row["step"] < target and not (due is not None and due <= row["step"] < n)
 
         t0 = time.perf_counter()
         try:
-            if not self.done and (self.steps < target or self.steps == 0):
-                self._inner.run(on_eval)
+            if self.done or not (self.steps < target or self.steps == 0):
+                return
+            while not self._inner.run(on_eval) and self.steps < n:
+                if due is None or self.steps < due:
+                    return  # stopped at the target
+                self._checkpoint_on_the_way(out, every)
+                due = (self.steps // every + 1) * every
+                if self.steps >= target:
+                    return
         finally:
             self._wall += time.perf_counter() - t0
             if bar is not None:
                 bar.close()
-        return self.done
+
+    def _checkpoint_on_the_way(self, out: Path, every: int) -> None:
+        info = self._info
+        try:
+            _checkpoint.write_checkpoint(out, self.checkpoint(), info, self.config, self.steps, every)
+            info["last_checkpoint"] = self.steps
+        except StorageError as e:
+            # Losing a checkpoint only costs what a later interruption would redo; losing the
+            # run would cost everything.
+            last = info.get("last_checkpoint", info.get("resumed_at"))
+            kept = f"the last good checkpoint (step {last}) is kept" if last is not None else "there is no earlier checkpoint"
+            warnings.warn(f"The checkpoint at step {self.steps} could not be written ({e}); the run goes on and {kept}.", CheckpointWarning, stacklevel=4)
 
     def test_set(self) -> dict[str, Any]:
         """The fixed test sets of this seed: ``goals`` (the reaching test), ``configs``, ``true_x``
@@ -115,16 +173,14 @@ class Learner:
         folder (beside ``out_dir``)."""
         owner = "Learner.save_checkpoint"
         out = as_path(out_dir, "out_dir", owner)
-        every = checkpoint_every
-        if isinstance(every, (bool, np.bool_)) or not isinstance(every, (int, np.integer)) or every < 1:
-            raise ParameterError(f"The 'checkpoint_every' parameter of {owner} must be an int >= 1 (time steps). Got {every!r} instead.", "checkpoint_every", repr(every))
+        every = check_every(checkpoint_every, owner)
         overwrite = check_flag(overwrite, "overwrite", owner)
         if "environment" in self._extras or "goal_selector" in self._extras:
             raise ParameterError(f"{owner} is not available with a user's environment or goal selector (saggriac cannot save their state).", "checkpoint_every", repr(every))
         # Refuse now a target that resume() could not write to.
         check_output_dir(out, overwrite)
         with target_lock(out):
-            _write_checkpoint(out, self.checkpoint(), {**self._info, "overwrite": overwrite}, self.config, self.steps, int(every))
+            _checkpoint.write_checkpoint(out, self.checkpoint(), {**self._info, "overwrite": overwrite}, self.config, self.steps, every)
         return checkpoint_dir(out)
 
     def result(self) -> RunResult:
@@ -134,6 +190,126 @@ class Learner:
 
     def __repr__(self) -> str:
         return f"Learner(condition={self.config.condition!r}, seed={self.seed}, steps={self.steps} of {self.config.n_steps})"
+
+
+def for_body(config: Config, environment: Any) -> Config:
+    """The configuration of a run on ``environment``: the joint limit is the body's (its
+    ``joint_space``), so a user's body states it once; ``Config.joint_limit`` is for saggriac's
+    own arms. The resolved value is what run.json records."""
+    if environment is None:
+        return config
+    limit = float(joint_space_of(environment)[1][0])
+    if limit == config.joint_limit:
+        return config
+    try:
+        return config.replace(joint_limit=limit)
+    except ParameterError as e:
+        raise ParameterError(f"The environment's joint_space gives the joint limit {limit:g}, which a run cannot take: {e}", "environment.joint_space", f"{limit:g}") from None
+
+
+def _build(config: Config, seed: int, threads: int, environment: Any, goal_selector: Any, owner: str) -> tuple[Any, dict[str, Any], dict[str, Any]]:
+    """The core's learner for ``config`` and root ``seed``, the user's parts checked first; with
+    the seeds (``info``) and what run.json says of the parts (``extras``). Built before any
+    output is locked or made, so a refused environment or selector leaves nothing on disk."""
+    learner_seed, eval_seed = derive_seeds(seed)
+    extra: dict[str, Any] = {}
+    extras: dict[str, Any] = {"scale": _arm_scale(config)}
+    core = config.core_dict()
+    if environment is not None:
+        # The core calls it from its loop; check the protocol first so mistakes read plainly.
+        from ..testing import check_environment_interface
+
+        check_environment_interface(environment, config)
+        extra["environment"] = environment
+        extras["environment"] = f"{type(environment).__module__}.{type(environment).__qualname__}"
+        if config.chain is None:
+            # A user's body: the length parameters and the test goals follow its size and place.
+            body = body_scale(environment, *joint_space_of(environment), len(config.goal_low))
+            core = config.core_dict(reach=body.reach)
+            extras["scale"] = body.summary(config.lengths(body.reach))
+            if body.positions is not None:
+                extra["test_cloud"] = (body.configs.tolist(), body.positions.tolist())
+    if goal_selector is not None:
+        if config.teacher != "own":
+            raise ParameterError(f"The 'goal_selector' parameter of {owner} replaces the run's teacher, and Config names teacher={config.teacher!r}: give one of them (Config(teacher='own') with a goal_selector).", "goal_selector", type(goal_selector).__name__)
+        from ..testing import check_goal_selector_interface
+
+        check_goal_selector_interface(goal_selector, config)
+        if callable(getattr(goal_selector, "check_competences", None)):
+            goal_selector.check_competences(config.min_c, 0.0, "a run tells (min_c to 0)")
+        extra["goal_selector"] = goal_selector
+        extras["goal_selector"] = f"{type(goal_selector).__module__}.{type(goal_selector).__qualname__}"
+    learner = _core.Learner(core, learner_seed, eval_seed, env_seed=environment_seed(seed), **extra)
+    learner.set_threads(threads)
+    return learner, {"seed": seed, "learner_seed": learner_seed, "eval_seed": eval_seed}, extras
+
+
+def _arm_scale(config: Config) -> dict[str, Any]:
+    """run.json's "scale" for the built-in body: its reach and the lengths that follow it."""
+    return {"reach": config.reach, "source": "chain" if config.chain is not None else "arm", **config.lengths()}
+
+
+def _xy_columns(d: dict[str, np.ndarray]) -> pd.DataFrame:
+    cols: dict[str, np.ndarray] = {}
+    for k, v in d.items():
+        if v.ndim == 2:
+            # x, y (, z) for task-space points; numbered columns for larger spaces such as
+            # ACTUATOR-RIAC's (theta, dtheta) regions.
+            names = "xyz" if v.shape[1] <= 3 else [str(i) for i in range(v.shape[1])]
+            for i in range(v.shape[1]):
+                cols[f"{k}_{names[i]}"] = v[:, i]
+        else:
+            cols[k] = v
+    return pd.DataFrame(cols)
+
+
+def _test_set_summary(t: dict[str, Any], config: Config, reach: float | None) -> dict[str, Any]:
+    """What the forward-model metric was measured on, and its no-learning values."""
+    true_x = np.asarray(t["true_x"], dtype=float)
+    out: dict[str, Any] = {
+        "configs": t["kind"],
+        "n_configs": int(len(true_x)),
+        # Predicting the origin (what an empty memory gives) and predicting no motion.
+        "pred_error_no_learning": float(np.linalg.norm(true_x, axis=1).mean()) if len(true_x) else None,
+        "dx_error_no_learning": 1.0,
+    }
+    residuals = np.asarray(t["ik_residuals"], dtype=float)
+    if t["kind"] == "ik_min_norm":
+        scale = reach if reach is not None else config.reach
+        out["unreached_goals"] = int((residuals > _core.IK_TOLERANCE * scale).sum())
+        out["max_ik_residual"] = float(residuals.max()) if len(residuals) else 0.0
+        out["mean_config_norm"] = float(np.linalg.norm(np.asarray(t["configs"], dtype=float), axis=1).mean())
+    return out
+
+
+def _result(learner: Any, config: Config, info: dict[str, Any], extras: dict[str, Any], wall: float) -> RunResult:
+    """What ``learner`` has done so far, as a run's result: its four tables and run.json."""
+    seed = info["seed"]
+    metrics = pd.DataFrame(learner.metrics())
+    goals = _xy_columns(learner.goals())
+    attempts = _xy_columns(learner.attempts())
+    regions = _xy_columns(learner.regions())
+    manifest = {
+        "config": config.to_dict(),
+        "seed": seed,
+        "learner_seed": info["learner_seed"],
+        "eval_seed": info["eval_seed"],
+        "version": _core.__version__,
+        "git_commit": _core.GIT_COMMIT,
+        "python": platform.python_version(),
+        "wall_seconds": wall,
+        "profile": learner.profile(),
+        **extras,
+    }
+    if info.get("resumed_at") is not None:
+        manifest["resumed_at_step"] = info["resumed_at"]
+    # A learner stopped early (Learner.run(until=...)) saves a result too: say how far it got.
+    manifest["steps"] = {"done": int(learner.steps), "of": int(config.n_steps), "finished": bool(learner.steps >= config.n_steps)}
+    reach = None if "environment" in extras else config.reach
+    manifest["test_set"] = _test_set_summary(learner.test_set(), config, extras["scale"]["reach"])
+    reachable = ReachableSet(config) if reach is not None and config.chain is not None else reach
+    manifest["time_budget"] = time_budget(goals, manifest["profile"], config.n_steps, reachable)
+    return RunResult(config=config, seed=seed, metrics=metrics, goals=goals, attempts=attempts, regions=regions, manifest=manifest, path=None)
 
 
 __all__ = ["Learner"]

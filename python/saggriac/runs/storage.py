@@ -30,7 +30,7 @@ import numpy as np
 import pandas as pd
 
 from ..errors import StorageError
-from ..files import MAX_JSON_BYTES, _fsync, as_path, check_seal, lock, read_bounded, seal  # noqa: F401 (as_path: runner, study and cli take it from here)
+from ..files import MAX_JSON_BYTES, fsync_path, as_path, check_seal, lock, read_bounded, seal  # noqa: F401 (as_path: runner, study and cli take it from here)
 
 MANIFEST = "run.json"
 TABLES = ("metrics", "goals", "attempts", "regions")
@@ -80,11 +80,25 @@ def foreign_entries(out: Path) -> list[str]:
 
 def is_saggriac_run(out: Path) -> bool:
     """A folder saggriac wrote as a run: a manifest of ours and nothing but saggriac's files."""
+    return _manifest_problem(out) is None and not foreign_entries(out)
+
+
+def _manifest_problem(out: Path) -> str | None:
+    """Why ``out``'s run.json does not show a run saggriac wrote, or None if it does."""
     try:
         data = json.loads(read_bounded(out / MANIFEST, "a run.json", MAX_JSON_BYTES))
-    except (OSError, ValueError, UnicodeDecodeError):
-        return False
-    return isinstance(data, dict) and {"config", "seed", "version"} <= set(data) and not foreign_entries(out)
+    except StorageError as e:
+        return f"its {MANIFEST} cannot be read ({e})"
+    except OSError as e:
+        return f"its {MANIFEST} cannot be read ({e.strerror or e})"
+    except (ValueError, UnicodeDecodeError) as e:
+        return f"its {MANIFEST} is damaged (not JSON: {e})"
+    missing = sorted({"config", "seed", "version"} - set(data)) if isinstance(data, dict) else None
+    if missing is None:
+        return f"its {MANIFEST} is damaged (a JSON {type(data).__name__}, not an object)"
+    if missing:
+        return f"its {MANIFEST} lacks {', '.join(missing)}"
+    return None
 
 
 def _describe(names: list[str]) -> str:
@@ -150,8 +164,13 @@ def _check_output_dir(out: Path, overwrite: bool, min_free: int) -> None:
                 raise RunExistsError(out)
             if not is_saggriac_run(out):
                 extra = foreign_entries(out)
-                why = f"it also holds files saggriac did not write ({_describe(extra)})" if extra else f"its {MANIFEST} is not a saggriac manifest"
-                raise StorageError(f"{out} cannot be overwritten: {why}. Move those files out, or choose another path.")
+                if extra:
+                    raise StorageError(f"{out} cannot be overwritten: it also holds files saggriac did not write ({_describe(extra)}). Move those files out, or choose another path.")
+                why = _manifest_problem(out)
+                raise StorageError(
+                    f"{out} cannot be overwritten: {why}, so saggriac cannot tell that it wrote this folder, and replaces only runs it can tell are its own. "
+                    "If the folder is a damaged run of yours, delete it yourself; or choose another path."
+                )
         else:
             entries = sorted(os.listdir(out))
             if entries:
@@ -229,7 +248,7 @@ def replace_dir(out: Path, fill: Callable[[Path], None], what: str, replace: Cal
         tmp.chmod(0o755)  # mkdtemp makes it private; results are meant to be shared
         fill(tmp)
         for f in tmp.iterdir():
-            _fsync(f)
+            fsync_path(f)
         if out.is_dir() and not out.is_symlink() and not os.listdir(out):
             os.rename(tmp, out)  # over an empty folder only: fails if anything appeared in it
         elif os.path.lexists(out):
@@ -242,7 +261,7 @@ def replace_dir(out: Path, fill: Callable[[Path], None], what: str, replace: Cal
             shutil.rmtree(old, ignore_errors=True)
         else:
             _rename_noreplace(tmp, out)
-        _fsync(out.parent)
+        fsync_path(out.parent)
     except OSError as e:
         shutil.rmtree(tmp, ignore_errors=True)
         raise StorageError(f"Could not write {what} to {out}: {e.strerror or e}.") from None

@@ -1,10 +1,10 @@
-"""Where a run's time went (SPEC "What every run and study reports"): micro-actions by kind,
+"""Where a run's time went (docs/reproduction.md, "What is measured"): micro-actions by kind,
 goals attempted, steps per goal inside and outside the reachable area, and the share of time by
 goal-selection mode. Written into run.json as ``time_budget`` and summed up by ``reproduce``.
 
 A goal's time is the micro-actions from its start to its end (subgoals, exploration phases and
 the timeout included). Whether a goal is reachable is known only for the built-in bodies (the ball
-of radius = arm length around the base; a chain's sampled reachable set, ``saggriac.reachable``);
+of radius = arm length around the base; a chain's sampled reachable set, ``saggriac.bodies.reachable``);
 for a user's environment those entries are absent.
 """
 
@@ -17,7 +17,7 @@ import numpy as np
 import pandas as pd
 
 from ..teachers import MODES
-from ..reachable import ReachableSet
+from ..bodies.reachable import ReachableSet
 
 
 def time_budget(goals: pd.DataFrame, profile: Mapping[str, Any], n_steps: int, reach: float | ReachableSet | None) -> dict[str, Any]:

@@ -26,8 +26,8 @@ from ..errors import ParameterError, StorageError
 from ..files import check_flag
 from ..runs.result import run_stopped_early
 from ..runs.storage import MANIFEST, as_path, clear_stale_lock, read_manifest, run_damage
-from .backends import COST_HINT, SCHEDULER_TIMEOUT, WORKER_TIMEOUT, _check_scheduler, _default_workers, _import_distributed, _longest_first_by_seed, _run_dask, _run_local, check_cluster, check_worker_timeout, local_cluster
-from .folder import _check_or_write_spec, _check_study_folder, _folder_lock, _is_finished, _remove_leftovers, _set_aside
+from .backends import COST_HINT, SCHEDULER_TIMEOUT, WORKER_TIMEOUT, check_scheduler, default_workers, import_distributed, longest_first_by_seed, run_dask, run_local, check_cluster, check_worker_timeout, local_cluster
+from .folder import check_or_write_spec, check_study_folder, folder_lock, is_finished, remove_leftovers, set_aside
 from .spec import LOCK_FILE, METRICS, RUNS_DIR, STUDY_FILE, IncompleteStudyWarning, Study, StudyError, Task, run_task
 
 
@@ -77,35 +77,35 @@ def run_study(
     if scheduler is not None and n_workers is not None:
         raise ParameterError("The 'n_workers' parameter of run_study applies only to workers it starts itself; size the given Dask cluster instead.", "n_workers", repr(n_workers))
     if backend == "dask":
-        _import_distributed()  # fail before writing anything
+        import_distributed()  # fail before writing anything
         if isinstance(scheduler, str):
-            _check_scheduler(scheduler)
+            check_scheduler(scheduler)
         check_cluster(scheduler)
     worker_timeout = check_worker_timeout(worker_timeout, "run_study")
     out = as_path(out_dir, "out_dir", "run_study").resolve()  # absolute: workers may run elsewhere (Dask, SLURM)
-    _check_study_folder(out)
+    check_study_folder(out)
     try:
         out.mkdir(parents=True, exist_ok=True)
     except OSError as e:
         raise StorageError(f"Cannot create the study folder {out}: {e.strerror}.") from None
 
-    with _folder_lock(out):
-        _check_or_write_spec(out, study)
+    with folder_lock(out):
+        check_or_write_spec(out, study)
         tasks = study.tasks()
         pending = []
         repaired: dict[str, str] = {}
         for task in tasks:
             clear_stale_lock(out / task.path)
-            state = _is_finished(out, task)
+            state = is_finished(out, task)
             if state is True:
                 continue
             if state is False and os.path.lexists(out / task.path) and (not (out / task.path).is_dir() or os.listdir(out / task.path)):
                 state = f"it holds files but no {MANIFEST} (unfinished, or its {MANIFEST} was lost)"
             if isinstance(state, str):
-                aside = _set_aside(out / task.path)
+                aside = set_aside(out / task.path)
                 repaired[task.name] = f"{state}; set aside as {aside.name}"
                 print(f"saggriac: {task.name} is damaged ({state}); it is set aside as {aside} and recomputed.", file=sys.stderr)
-            _remove_leftovers(out, task)
+            remove_leftovers(out, task)
             pending.append(task)
         n_skipped = len(tasks) - len(pending)
         failures: dict[str, BaseException] = {}
@@ -123,12 +123,12 @@ def run_study(
                 bar.update(1)
 
             try:
-                workers = min(n_workers or _default_workers(), len(pending))
-                pending = _longest_first_by_seed(pending)
+                workers = min(n_workers or default_workers(), len(pending))
+                pending = longest_first_by_seed(pending)
                 if backend == "local":
-                    _run_local(pending, out, workers, on_done)
+                    run_local(pending, out, workers, on_done)
                 else:
-                    _run_dask(pending, out, workers, scheduler, on_done, worker_timeout)
+                    run_dask(pending, out, workers, scheduler, on_done, worker_timeout)
             finally:
                 bar.close()
     if failures:

@@ -19,7 +19,7 @@ from ..errors import ParameterError
 from .spec import Task, run_task
 
 
-def _default_workers() -> int:
+def default_workers() -> int:
     # Honour CPU affinity (SLURM allocations, containers), where os.cpu_count() counts the node.
     if hasattr(os, "process_cpu_count"):
         return os.process_cpu_count() or 1
@@ -46,7 +46,7 @@ def _die_with_parent(parent_pid: int) -> None:
 COST_HINT = {"actuator_riac": 4.0, "actuator_random": 1.7}
 
 
-def _longest_first_by_seed(tasks: list[Task]) -> list[Task]:
+def longest_first_by_seed(tasks: list[Task]) -> list[Task]:
     """The tasks seed by seed (a partial study still compares conditions on the same seeds), the
     costliest first within a seed, so the last seed's long run does not start last and leave the
     other workers idle at the end."""
@@ -58,7 +58,7 @@ def _longest_first_by_seed(tasks: list[Task]) -> list[Task]:
     return sorted(tasks, key=lambda t: (seed_rank[t.seed], -cost(t)))
 
 
-def _run_local(tasks: list[Task], out: Path, n_workers: int, on_done: Callable[[Task, Any], None]) -> None:
+def run_local(tasks: list[Task], out: Path, n_workers: int, on_done: Callable[[Task, Any], None]) -> None:
     import concurrent.futures as cf
     import multiprocessing
 
@@ -73,7 +73,7 @@ def _run_local(tasks: list[Task], out: Path, n_workers: int, on_done: Callable[[
             raise
 
 
-def _import_distributed() -> Any:
+def import_distributed() -> Any:
     try:
         import distributed
     except ImportError as e:
@@ -88,7 +88,7 @@ def local_cluster(n_workers: int) -> Iterator[Any]:
     ``dashboard_address=None``, with a warning and another port if 8787 is taken); here it has no
     routes, listens on a free loopback port only while the cluster starts, and is then closed.
     Workers serve no routes either."""
-    distributed = _import_distributed()
+    distributed = import_distributed()
     import dask
 
     quiet = {"distributed.scheduler.http.routes": [], "distributed.worker.http.routes": []}
@@ -138,12 +138,23 @@ def _dask_client(distributed: Any, scheduler: Any, n_workers: int) -> Iterator[A
 SCHEDULER_TIMEOUT = 10
 
 
-def _check_scheduler(address: str) -> None:
+def check_scheduler(address: str) -> None:
     """Refuse, before anything is written, an address that is not one or a scheduler that does
     not answer within SCHEDULER_TIMEOUT seconds (Dask itself waits 30 s, then may hang on exit)."""
     import socket
 
     rule = "an address such as 'tcp://HOST:PORT'"
+    web = re.fullmatch(r"(https?)://\[?([A-Za-z0-9_.:-]*?)\]?(?::(\d{1,5}))?(/.*)?", address.strip())
+    if web is not None:
+        # Dask would try it for 20 s and end in a TimeoutError that names neither cause.
+        scheme, host = web.group(1), web.group(2) or "127.0.0.1"
+        port = int(web.group(3) or (443 if scheme == "https" else 80))
+        raise ParameterError(
+            f"The 'scheduler' parameter of run_study must be {rule}: a Dask scheduler speaks Dask's own protocol over tcp:// (port 8786 unless set), "
+            f"not {scheme}://, which is its dashboard's (port 8787). Got {address!r}; {_what_answers(host, port, scheme)}.",
+            "scheduler",
+            repr(address),
+        )
     m = re.fullmatch(r"(?:(tcp|tls)://)?\[?([A-Za-z0-9_.:-]*?)\]?:(\d{1,5})", address.strip())
     if m is None:
         if re.fullmatch(r"[a-z]+://.+", address.strip()):
@@ -156,6 +167,31 @@ def _check_scheduler(address: str) -> None:
         socket.create_connection((host, port), timeout=SCHEDULER_TIMEOUT).close()
     except OSError as e:
         raise ParameterError(f"The 'scheduler' parameter of run_study names {address!r}, where no Dask scheduler answers within {SCHEDULER_TIMEOUT} s ({e.strerror or e}). Start it (dask scheduler) or check the address.", "scheduler", repr(address)) from None
+
+
+#: Seconds to wait for a web server's first line.
+PROBE_TIMEOUT = 3.0
+
+
+def _what_answers(host: str, port: int, scheme: str) -> str:
+    """What answers an HTTP request at host:port, in words (its status line and server)."""
+    import socket
+
+    if scheme == "https":
+        return f"saggriac did not look at what answers at {host}:{port} (https)"
+    try:
+        with socket.create_connection((host, port), timeout=PROBE_TIMEOUT) as s:
+            s.settimeout(PROBE_TIMEOUT)
+            s.sendall(f"HEAD / HTTP/1.0\r\nHost: {host}\r\n\r\n".encode())
+            head = s.recv(4096).decode("latin-1")
+    except OSError as e:
+        return f"nothing answers at {host}:{port} ({e.strerror or e})"
+    lines = head.splitlines()
+    if not lines or not lines[0].startswith("HTTP/"):
+        return f"what answers at {host}:{port} is not a web server ({head[:60]!r})"
+    server = next((ln.split(":", 1)[1].strip() for ln in lines if ln.lower().startswith("server:")), None)
+    dashboard = " (Tornado: likely Dask's dashboard; its scheduler is then at tcp://HOST:8786)" if server and "tornado" in server.lower() else ""
+    return f"at {host}:{port} a web server answers {lines[0].strip()!r}" + (f", server {server!r}" if server else "") + dashboard
 
 
 #: Seconds to wait for the first Dask worker to join a given scheduler or cluster before giving up.
@@ -212,8 +248,8 @@ def _wait_for_a_worker(client: Any, scheduler: Any, timeout: float) -> None:
         ) from None
 
 
-def _run_dask(tasks: list[Task], out: Path, n_workers: int, scheduler: Any, on_done: Callable[[Task, Any], None], worker_timeout: float = WORKER_TIMEOUT) -> None:
-    distributed = _import_distributed()
+def run_dask(tasks: list[Task], out: Path, n_workers: int, scheduler: Any, on_done: Callable[[Task, Any], None], worker_timeout: float = WORKER_TIMEOUT) -> None:
+    distributed = import_distributed()
     with _dask_client(distributed, scheduler, n_workers) as client:
         if scheduler is not None:
             _wait_for_a_worker(client, scheduler, worker_timeout)

@@ -21,10 +21,10 @@ from ..errors import ParameterError, StorageError
 from ..files import lock, write_file
 from ..runs.result import run_stopped_early
 from ..runs.storage import MANIFEST, read_manifest, run_damage
-from .spec import _FORMAT, LOCK_FILE, RUNS_DIR, STUDY_FILE, Study, Task
+from .spec import STUDY_FORMAT, LOCK_FILE, RUNS_DIR, STUDY_FILE, Study, Task
 
 
-def _set_aside(run_dir: Path) -> Path:
+def set_aside(run_dir: Path) -> Path:
     """Move a damaged run out of the study's way, keeping what is left of it."""
     stamp = time.strftime("%Y%m%d-%H%M%S")
     for i in range(1000):
@@ -40,7 +40,7 @@ def _write_json_atomic(path: Path, data: dict[str, Any]) -> None:
 
 
 @contextmanager
-def _folder_lock(out: Path) -> Iterator[None]:
+def folder_lock(out: Path) -> Iterator[None]:
     """Hold an exclusive lock on the study folder: a second run_study on it would delete the
     first one's temporary directories. The kernel drops the lock when the process dies."""
     with lock(out / LOCK_FILE, f"Another run_study is writing to {out}; wait for it to finish (or stop it) first.") as unlocked:
@@ -65,7 +65,7 @@ def _runs_of(study: Study) -> dict[str, tuple[int, dict[str, Any]]]:
     return {t.path: (t.seed, t.config) for t in study.tasks()}
 
 
-def _check_study_folder(out: Path) -> None:
+def check_study_folder(out: Path) -> None:
     """A study goes into a new or empty folder, or a study folder; never into a user's folder."""
     try:
         _check_study_place(out)
@@ -87,7 +87,7 @@ def _check_study_place(out: Path) -> None:
             raise StorageError(f"{out} is a folder run_study did not make (it holds {shown}); a study goes into a new or empty folder. Choose another out_dir.")
 
 
-def _check_or_write_spec(out: Path, study: Study) -> None:
+def check_or_write_spec(out: Path, study: Study) -> None:
     path = out / STUDY_FILE
     if path.exists():
         old = Study.load(out)
@@ -102,10 +102,10 @@ def _check_or_write_spec(out: Path, study: Study) -> None:
         raise StorageError(f"{out} holds a {RUNS_DIR}/ folder but no {STUDY_FILE}; it was not made by run_study. Choose another out_dir.")
     for leftover in out.glob(f".{STUDY_FILE}.*.tmp"):
         leftover.unlink(missing_ok=True)
-    _write_json_atomic(path, {"format": _FORMAT, "study": study.to_dict(), "created_with": {"saggriac": _core.__version__, "git_commit": _core.GIT_COMMIT}})
+    _write_json_atomic(path, {"format": STUDY_FORMAT, "study": study.to_dict(), "created_with": {"saggriac": _core.__version__, "git_commit": _core.GIT_COMMIT}})
 
 
-def _is_finished(out: Path, task: Task) -> bool | str:
+def is_finished(out: Path, task: Task) -> bool | str:
     """True for a finished, intact run of this task; False for none; for a damaged one, the
     reason. Raises if a finished run is of another configuration."""
     run_dir = out / task.path
@@ -133,7 +133,7 @@ def _last_steps(run_dir: Path) -> pd.DataFrame:
     return pd.read_parquet(run_dir / "metrics.parquet", columns=["step"])
 
 
-def _remove_leftovers(out: Path, task: Task) -> None:
+def remove_leftovers(out: Path, task: Task) -> None:
     """Remove the temporary directories that storage.write_run left when a process was killed."""
     parent = (out / task.path).parent
     try:

@@ -14,7 +14,7 @@ from ..analysis import plots, splits, statistics
 from ..config import CONDITIONS, PRESETS, Config
 from ..errors import InputError, ParameterError, StorageError
 from ..files import as_path, check_flag, write_file
-from ..reachable import ReachableSet
+from ..bodies.reachable import ReachableSet
 from ..runs.result import RunResult, run_stopped_early
 from ..runs.storage import read_manifest, signed_integers
 from . import IncompleteStudyWarning, Study, load_study, run_study
@@ -68,18 +68,23 @@ def reproduce(
     scheduler: Any = None,
     progress: bool = True,
     worker_timeout: float = WORKER_TIMEOUT,
+    first_seed: int = 0,
 ) -> dict[str, Path]:
-    """Run experiment 'exp1' or 'exp2' (every condition, seeds 0..seeds-1), then write the
-    figures and statistics. Finished runs in ``out_dir`` are reused (the study resumes)."""
+    """Run experiment 'exp1' or 'exp2' (every condition, seeds first_seed..first_seed+seeds-1),
+    then write the figures and statistics. Finished runs in ``out_dir`` are reused (the study
+    resumes). ``first_seed`` lets a second, independent set of seeds replicate the first."""
     if experiment not in PRESETS:
         raise ParameterError(f"The 'experiment' parameter must be one of {', '.join(map(repr, PRESETS))}. Got {experiment!r} instead.", "experiment", repr(experiment))
     if isinstance(seeds, (bool, np.bool_)) or not isinstance(seeds, (int, np.integer)) or not 1 <= seeds <= MAX_SEEDS:
         raise ParameterError(f"The 'seeds' parameter of reproduce must be an int in [1, {MAX_SEEDS}]. Got {seeds!r} instead.", "seeds", repr(seeds))
     seeds = int(seeds)
     progress = check_flag(progress, "progress", "reproduce")
+    if isinstance(first_seed, (bool, np.bool_)) or not isinstance(first_seed, (int, np.integer)) or not 0 <= first_seed <= MAX_SEEDS:
+        raise ParameterError(f"The 'first_seed' parameter of reproduce must be an int in [0, {MAX_SEEDS}]. Got {first_seed!r} instead.", "first_seed", repr(first_seed))
+    first_seed = int(first_seed)
     base = Config.from_preset(experiment, **({} if steps is None else {"n_steps": steps}))
     out = as_path(out_dir, "out_dir", "reproduce") if out_dir is not None else Path(f"reproduce-{experiment}")
-    study = Study(base=base, conditions=tuple(conditions), seeds=tuple(range(seeds)))
+    study = Study(base=base, conditions=tuple(conditions), seeds=tuple(range(first_seed, first_seed + seeds)))
     run_study(study, out, backend=backend, n_workers=n_workers, scheduler=scheduler, progress=progress, worker_timeout=worker_timeout)
     return make_report(out)
 

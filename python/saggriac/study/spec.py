@@ -26,7 +26,7 @@ STUDY_FILE = "study.json"
 LOCK_FILE = ".lock"
 RUNS_DIR = "runs"
 METRICS = ("reach_error", "pred_error", "dx_error", "n_goals", "n_regions")
-_FORMAT = 1
+STUDY_FORMAT = 1
 _SAFE_TEXT = re.compile(r"[A-Za-z0-9_.+-]+")
 
 

@@ -1,5 +1,5 @@
 """Teachers (goal selectors) on their own, ask/tell style: SAGG-RIAC and the field's other
-learning-progress teachers as curricula for any learner. ``saggriac.goal_selection`` is the same
+learning-progress teachers as curricula for any learner. ``saggriac.teachers`` is the same
 module under its former name.
 
     teacher = SaggRiacSelector(low=[0, 0], high=[1, 1], seed=0)
@@ -26,10 +26,11 @@ from ..files import MAX_TEACHER_BYTES, as_path, check_flag, read_bounded, starts
 from ..values import as_numbers as _numbers
 from . import ownership
 
-# Every default below is the core's (one declaration): SAGG-RIAC's are the run's, the others'
-# those of the teachers a run can take.
-_RUN = _core.config_defaults()
-_RIAC, _ALP, _COVAR = (_core.teacher_defaults()[k] for k in ("riac", "alp_gmm", "covar_gmm"))
+# Every teacher's parameters and defaults are the core's (one declaration): each class below
+# takes exactly those of its kind, with those defaults (tests/core/test_stub.py checks it).
+_DEFAULTS: dict[str, dict[str, Any]] = _core.teacher_defaults()
+_SAGG, _RIAC, _DLP, _ALP, _COVAR, _ADR, _PLR = (_DEFAULTS[k] for k in ("sagg_riac", "riac", "discrete_lp", "alp_gmm", "covar_gmm", "adr", "plr"))
+_SPDL, _GAN = _DEFAULTS["spdl"], _DEFAULTS["goal_gan"]
 
 #: The first bytes of a teacher saved by ``save(path)``.
 MAGIC = b"saggriac-teacher\n"
@@ -63,15 +64,31 @@ def _int_param(owner: str, name: str, value: Any, low: int, high: int) -> int:
     truncated), and the range is checked here so the core's fixed-width ints never overflow
     (the core checks each parameter's own rule)."""
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not low <= int(value) < high:
-        span = f"in [{low}, 2**{high.bit_length() - 1})"
-        raise ParameterError(f"The '{name}' parameter of {owner} must be an int {span}. Got {value!r} instead.", name, repr(value))
+        # The parameter's own rule where the core states one: the same text as for a value out of range.
+        rule = _core.teacher_param_rule(name) or f"an int in [{low}, 2**{high.bit_length() - 1})"
+        raise ParameterError(f"The '{name}' parameter of {owner} must be {rule}. Got {value!r} instead.", name, repr(value))
     return int(value)
 
 
 def _float_param(owner: str, name: str, value: Any) -> float:
     if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
-        raise ParameterError(f"The '{name}' parameter of {owner} must be a float. Got {value!r} instead.", name, repr(value))
+        rule = _core.teacher_param_rule(name) or "a float"
+        raise ParameterError(f"The '{name}' parameter of {owner} must be {rule}. Got {value!r} instead.", name, repr(value))
     return float(value)
+
+
+def _typed(owner: str, name: str, value: Any, default: Any) -> Any:
+    """``value`` as the type of the parameter's default: numpy scalars taken, floats and bools
+    never taken for ints (the core checks each parameter's own rule)."""
+    if isinstance(default, bool):
+        return check_flag(value, name, owner)
+    if isinstance(default, int):
+        return _int_param(owner, name, value, 0, 2**63)
+    if isinstance(default, float):
+        return _float_param(owner, name, value)
+    if not isinstance(value, str):
+        raise ParameterError(f"The '{name}' parameter of {owner} must be a str. Got {value!r} instead.", name, repr(value))
+    return value
 
 
 class _AskTellSelector:
@@ -81,20 +98,18 @@ class _AskTellSelector:
 
     def __init__(self, low: Any, high: Any, seed: int, **params: Any) -> None:
         owner = type(self).__name__
-        lo = _vector("low", low)
-        hi = _vector("high", high)
+        lo, hi = _vector("low", low), _vector("high", high)
         seed = _int_param(owner, "seed", seed, 0, 2**64)
-        for name, value in params.items():
-            if name == "interest_divisor":
-                if not isinstance(value, str):
-                    raise ParameterError(f"The 'interest_divisor' parameter of {owner} must be one of 'zeta', 'window'. Got {value!r} instead.", name, repr(value))
-            elif name.startswith("p_"):
-                params[name] = _float_param(owner, name, value)
-            else:
-                params[name] = _int_param(owner, name, value, 0, 2**63)
-        self._inner = _core.AskTell(self._kind, lo.tolist(), hi.tolist(), seed, **params)
+        self._inner = _core.AskTell(self._kind, lo.tolist(), hi.tolist(), seed, {k: _typed(owner, k, v, _DEFAULTS[self._kind][k]) for k, v in params.items()})
         self.last_mode: str | None = None
         self.last_region: int | None = None
+
+    def check_competences(self, lo: float, hi: float, whence: str) -> None:
+        """Refuse (ParameterError) a threshold that competences in [lo, hi], told by ``whence``,
+        can never meet, or always meet: ADR's ``t_low`` / ``t_high``, SPDL's ``delta``, Goal
+        GAN's ``success_threshold``. A run, ``TeacherCallback`` and ``SelectorCurriculum`` call
+        it with the competences they tell, so that a teacher never sits still without a word."""
+        self._inner.check_competences(float(lo), float(hi), whence)
 
     @property
     def seed(self) -> int:
@@ -237,7 +252,7 @@ class SaggRiacSelector(_AskTellSelector):
 
     _kind = "sagg_riac"
 
-    def __init__(self, low: Any, high: Any, seed: int = 0, *, g_max: int = _RUN["g_max"], zeta: int = _RUN["zeta"], min_child: int = _RUN["min_child"], interest_divisor: str = _RUN["interest_divisor"], p_interest: float = _RUN["p_interest"], p_global: float = _RUN["p_global"], p_lowest: float = _RUN["p_lowest"]) -> None:
+    def __init__(self, low: Any, high: Any, seed: int = 0, *, g_max: int = _SAGG["g_max"], zeta: int = _SAGG["zeta"], min_child: int = _SAGG["min_child"], interest_divisor: str = _SAGG["interest_divisor"], p_interest: float = _SAGG["p_interest"], p_global: float = _SAGG["p_global"], p_lowest: float = _SAGG["p_lowest"]) -> None:
         super().__init__(low, high, seed, g_max=g_max, zeta=zeta, min_child=min_child, interest_divisor=interest_divisor, p_interest=p_interest, p_global=p_global, p_lowest=p_lowest)
 
 
@@ -266,15 +281,33 @@ class RiacSelector(_AskTellSelector):
     _kind = "riac"
 
     def __init__(self, low: Any, high: Any, seed: int = 0, *, max_region_size: int = _RIAC["max_region_size"], split_attempts: int = _RIAC["split_attempts"], min_child_share: float = _RIAC["min_child_share"], min_dims_range_ratio: float = _RIAC["min_dims_range_ratio"], p_alp: float = _RIAC["p_alp"], p_random: float = _RIAC["p_random"]) -> None:
-        owner = type(self).__name__
-        lo, hi = _vector("low", low), _vector("high", high)
-        ints = {k: _int_param(owner, k, v, 0, 2**63) for k, v in (("max_region_size", max_region_size), ("split_attempts", split_attempts))}
-        floats = {k: _float_param(owner, k, v) for k, v in (("min_child_share", min_child_share), ("min_dims_range_ratio", min_dims_range_ratio), ("p_alp", p_alp), ("p_random", p_random))}
-        self._inner = _core.AskTell.riac(lo.tolist(), hi.tolist(), _int_param(owner, "seed", seed, 0, 2**64), **ints, **floats)
-        self.last_mode, self.last_region = None, None
+        super().__init__(low, high, seed, max_region_size=max_region_size, split_attempts=split_attempts, min_child_share=min_child_share, min_dims_range_ratio=min_dims_range_ratio, p_alp=p_alp, p_random=p_random)
 
 
-class DiscreteLpSelector(_AskTellSelector):
+class TaskListSelector(_AskTellSelector):
+    """A teacher over a list of ``n_tasks`` tasks: its goals are task indices (``sample()`` gives
+    ``[i]``, ``sample_task()`` the int) and ``update`` takes an index or ``[index]``. Syllabus's
+    ``DiscreteTaskSpace`` takes any of them (:class:`saggriac.adapters.syllabus.SelectorCurriculum`)."""
+
+    def __init__(self, n_tasks: int, seed: int, **params: Any) -> None:
+        # The goals are task indices: no box.
+        super().__init__([], [], seed, n_tasks=n_tasks, **params)
+
+    @property
+    def n_tasks(self) -> int:
+        """The number of tasks."""
+        return int(round(float(self.high[0]))) + 1
+
+    def sample_task(self) -> int:
+        """The next task's index."""
+        return int(self.sample()[0])
+
+    def update(self, goal: Any, competence: float) -> int | None:
+        """Report what was obtained on task ``goal`` (an index, or ``[index]``)."""
+        return super().update(np.atleast_1d(_numbers("goal", goal)), competence)
+
+
+class DiscreteLpSelector(TaskListSelector):
     """Learning progress over a list of ``n_tasks`` tasks (Kanitscheider et al., "Multi-task
     curriculum learning in a complex, visual, hard-exploration domain: Minecraft", 2021).
 
@@ -289,39 +322,11 @@ class DiscreteLpSelector(_AskTellSelector):
     _kind = "discrete_lp"
     competence_range = (0.0, 1.0)
 
-    def __init__(self, n_tasks: int, seed: int = 0, *, alpha: float = 0.1, theta: float = 0.1) -> None:
-        owner = type(self).__name__
-        n = _int_param(owner, "n_tasks", n_tasks, 0, 2**32)
-        self._inner = _core.AskTell.discrete_lp(n, _int_param(owner, "seed", seed, 0, 2**64), _float_param(owner, "alpha", alpha), _float_param(owner, "theta", theta))
-        self.last_mode, self.last_region = None, None
-
-    def sample_task(self) -> int:
-        """The next task's index."""
-        return int(self.sample()[0])
-
-    def update(self, goal: Any, competence: float) -> int | None:
-        """Report the success rate in [0, 1] obtained on task ``goal`` (an index, or ``[index]``)."""
-        return super().update(np.atleast_1d(_numbers("goal", goal)), competence)
+    def __init__(self, n_tasks: int, seed: int = 0, *, alpha: float = _DLP["alpha"], theta: float = _DLP["theta"]) -> None:
+        super().__init__(n_tasks, seed, alpha=alpha, theta=theta)
 
 
-class _MixtureSelector(_AskTellSelector):
-    _make = ""
-
-    def __init__(self, low: Any, high: Any, seed: int, **params: Any) -> None:
-        owner = type(self).__name__
-        lo, hi = _vector("low", low), _vector("high", high)
-        for k, v in params.items():
-            if k in ("fit_rate", "max_components", "bootstrap"):
-                params[k] = _int_param(owner, k, v, 0, 2**63)
-            elif k == "absolute_lp":
-                params[k] = check_flag(v, k, owner)
-            else:
-                params[k] = _float_param(owner, k, v)
-        self._inner = getattr(_core.AskTell, self._make)(lo.tolist(), hi.tolist(), _int_param(owner, "seed", seed, 0, 2**64), **params)
-        self.last_mode, self.last_region = None, None
-
-
-class AlpGmmSelector(_MixtureSelector):
+class AlpGmmSelector(_AskTellSelector):
     """ALP-GMM (Portelas, Colas, Hofmann & Oudeyer, CoRL 2019) over the box [low, high].
 
     A told task's absolute learning progress (ALP) is |competence - competence of the nearest
@@ -332,13 +337,13 @@ class AlpGmmSelector(_MixtureSelector):
     Tasks are scaled to [0, 1] per dimension inside the teacher.
     """
 
-    _kind, _make = "alp_gmm", "alp_gmm"
+    _kind = "alp_gmm"
 
     def __init__(self, low: Any, high: Any, seed: int = 0, *, fit_rate: int = _ALP["fit_rate"], max_components: int = _ALP["max_components"], random_task_ratio: float = _ALP["random_task_ratio"], bootstrap: int = _ALP["bootstrap"]) -> None:
         super().__init__(low, high, seed, fit_rate=fit_rate, max_components=max_components, random_task_ratio=random_task_ratio, bootstrap=bootstrap)
 
 
-class CovarGmmSelector(_MixtureSelector):
+class CovarGmmSelector(_AskTellSelector):
     """Covar-GMM (Moulin-Frier, Nguyen & Oudeyer, 2014) over the box [low, high].
 
     Gaussian mixtures over (time, task, competence) of the last ``fit_rate`` tasks, refitted
@@ -348,10 +353,115 @@ class CovarGmmSelector(_MixtureSelector):
     bootstrap and random share of :class:`AlpGmmSelector`.
     """
 
-    _kind, _make = "covar_gmm", "covar_gmm"
+    _kind = "covar_gmm"
 
     def __init__(self, low: Any, high: Any, seed: int = 0, *, fit_rate: int = _COVAR["fit_rate"], max_components: int = _COVAR["max_components"], random_task_ratio: float = _COVAR["random_task_ratio"], bootstrap: int = _COVAR["bootstrap"], absolute_lp: bool = _COVAR["absolute_lp"]) -> None:
         super().__init__(low, high, seed, fit_rate=fit_rate, max_components=max_components, random_task_ratio=random_task_ratio, bootstrap=bootstrap, absolute_lp=absolute_lp)
 
 
-_CLASSES: dict[str, type[_AskTellSelector]] = {"sagg_riac": SaggRiacSelector, "random": RandomSelector, "riac": RiacSelector, "discrete_lp": DiscreteLpSelector, "alp_gmm": AlpGmmSelector, "covar_gmm": CovarGmmSelector}
+class AdrSelector(_AskTellSelector):
+    """Automatic Domain Randomization (OpenAI: Akkaya et al., "Solving Rubik's Cube with a Robot
+    Hand", 2019, Algorithm 1) over the box [low, high] of any dimension.
+
+    Goals are uniform in the current ranges [phi_L, phi_H] of every dimension, which start at an
+    initial region: a single value (``initial_width=0``, the paper's) at ``initial`` of each
+    dimension's width from low (0.5: the box's centre). With probability ``boundary_prob`` one
+    dimension, drawn uniformly, is set to its low or high bound; the competence told for such a
+    goal joins that bound's buffer. Once ``buffer_size`` competences are there, their mean moves
+    the bound by ``step`` of the dimension's width: outwards if >= ``t_high``, inwards if
+    <= ``t_low`` (never past the other bound), and the buffer is cleared.
+
+    ``t_low`` and ``t_high`` are in the units of the competence told: the defaults suit a success
+    rate or task progress in [0, 1] (SB3's ``TeacherCallback``, Syllabus). A run's competence
+    lies in [min_c, 0]: ``Config(teacher="adr")`` moves the defaults there (-0.8, -0.2 for
+    min_c = -1); a run, ``TeacherCallback`` and ``SelectorCurriculum`` refuse thresholds their
+    competences cannot meet (:meth:`check_competences`). ``bounds`` gives the current ranges.
+    """
+
+    _kind = "adr"
+    competence_range = (0.0, 1.0)
+
+    def __init__(self, low: Any, high: Any, seed: int = 0, *, boundary_prob: float = _ADR["boundary_prob"], buffer_size: int = _ADR["buffer_size"], t_low: float = _ADR["t_low"], t_high: float = _ADR["t_high"], step: float = _ADR["step"], initial: float = _ADR["initial"], initial_width: float = _ADR["initial_width"]) -> None:
+        super().__init__(low, high, seed, boundary_prob=boundary_prob, buffer_size=buffer_size, t_low=t_low, t_high=t_high, step=step, initial=initial, initial_width=initial_width)
+
+    @property
+    def bounds(self) -> tuple[np.ndarray, np.ndarray]:
+        """The current ranges: (phi_L, phi_H), one value per dimension."""
+        r = self.regions()
+        return r["low"][0], r["high"][0]
+
+
+class PlrSelector(TaskListSelector):
+    """Prioritized Level Replay (Jiang, Grefenstette & Rocktäschel, ICML 2021) over a list of
+    ``n_tasks`` levels; goals are level indices, as :class:`DiscreteLpSelector`'s.
+
+    Each draw is a new level (uniform among the levels never drawn) or a replay: with
+    ``replay_schedule="proportionate"`` (the paper's) a replay has probability |seen| / n_tasks,
+    with ``"fixed"`` probability ``replay_prob`` (always once every level is seen). A replay draws
+    a seen level from (1 - ``staleness_coef``) P_S + ``staleness_coef`` P_C: P_S ranks the levels'
+    scores (weight rank^(-1/``temperature``)), P_C is proportional to the draws since a level was
+    last drawn. With ``score="progress"`` (the default), ``update`` is told a competence and a
+    level's score is the change of its competence since its previous tell (0 on the first); with
+    ``score="told"``, the value told is the score itself (the paper's: the learner's value loss,
+    mean |GAE|, on the level's last episode).
+    """
+
+    _kind = "plr"
+    competence_range = (0.0, 1.0)
+
+    def __init__(self, n_tasks: int, seed: int = 0, *, temperature: float = _PLR["temperature"], staleness_coef: float = _PLR["staleness_coef"], replay_schedule: str = _PLR["replay_schedule"], replay_prob: float = _PLR["replay_prob"], score: str = _PLR["score"]) -> None:
+        super().__init__(n_tasks, seed, temperature=temperature, staleness_coef=staleness_coef, replay_schedule=replay_schedule, replay_prob=replay_prob, score=score)
+
+
+class SpdlSelector(_AskTellSelector):
+    """SPDL, self-paced deep RL (Klink et al., NeurIPS 2020), in its form with a performance
+    threshold (Klink et al., JMLR 2021), over the box [low, high].
+
+    Goals are drawn from a Gaussian context distribution p (diagonal covariance, in the box
+    scaled to [0, 1]) and clipped to the box. Every ``update_every`` told goals, once ``warmup``
+    were told, p moves toward the target mu: it minimises KL(p || mu) subject to an expected
+    competence >= ``delta`` (importance-weighted from the goals told since the last update) and
+    KL(p || p_old) <= ``epsilon``. While the mean competence told is below ``delta``, p stays.
+    Both Gaussians have one mean (``init_mean``, ``target_mean``: a position in [0, 1]) and
+    one standard deviation (``init_std``, ``target_std``: box widths) for every dimension.
+    ``regions()`` gives p as one row: mean +- one standard deviation, its KL to mu as interest.
+    ``delta`` is in the units of the competence told (the default for [0, 1]; through
+    ``Config(teacher="spdl")`` it is moved to the run's [min_c, 0], and one outside is refused).
+    """
+
+    _kind = "spdl"
+    competence_range = (0.0, 1.0)
+
+    def __init__(self, low: Any, high: Any, seed: int = 0, *, init_mean: float = _SPDL["init_mean"], init_std: float = _SPDL["init_std"], target_mean: float = _SPDL["target_mean"], target_std: float = _SPDL["target_std"], epsilon: float = _SPDL["epsilon"], delta: float = _SPDL["delta"], update_every: int = _SPDL["update_every"], warmup: int = _SPDL["warmup"]) -> None:
+        super().__init__(low, high, seed, init_mean=init_mean, init_std=init_std, target_mean=target_mean, target_std=target_std, epsilon=epsilon, delta=delta, update_every=update_every, warmup=warmup)
+
+
+class GoalGanSelector(_AskTellSelector):
+    """Goal GAN (Florensa, Held, Geng & Abbeel, ICML 2018) over the box [low, high].
+
+    Each proposed goal is asked ``n_rollouts`` times in a row; a told competence >=
+    ``success_threshold`` is a success, and the goal's success rate labels it good when it lies
+    in [``r_min``, ``r_max``] (intermediate difficulty). Every ``update_size`` labelled goals
+    holding a good one, a least-squares GAN with goal labels is trained (``gan_iterations``
+    steps, Adam with ``learning_rate``): the discriminator scores good goals high, bad and
+    generated goals low. Goals come from the generator (noise of dimension ``noise_dim``, two
+    hidden layers of ``hidden`` ReLU units) and, with probability ``p_old``, from the goals
+    labelled so far; until the first training they are uniform in the box. The networks are
+    saggriac's own (no deep-learning framework). ``success_threshold`` is in the units of the
+    competence told (the default for [0, 1]; through ``Config(teacher="goal_gan")`` it is moved to
+    the run's [min_c, 0], and one every attempt would fail or pass is refused).
+    """
+
+    _kind = "goal_gan"
+    competence_range = (0.0, 1.0)
+
+    def __init__(self, low: Any, high: Any, seed: int = 0, *, success_threshold: float = _GAN["success_threshold"], r_min: float = _GAN["r_min"], r_max: float = _GAN["r_max"], n_rollouts: int = _GAN["n_rollouts"], update_size: int = _GAN["update_size"], gan_iterations: int = _GAN["gan_iterations"], p_old: float = _GAN["p_old"], noise_dim: int = _GAN["noise_dim"], hidden: int = _GAN["hidden"], learning_rate: float = _GAN["learning_rate"]) -> None:
+        super().__init__(low, high, seed, success_threshold=success_threshold, r_min=r_min, r_max=r_max, n_rollouts=n_rollouts, update_size=update_size, gan_iterations=gan_iterations, p_old=p_old, noise_dim=noise_dim, hidden=hidden, learning_rate=learning_rate)
+
+
+def _subclasses(cls: type) -> list[type]:
+    return [d for c in cls.__subclasses__() for d in [c, *_subclasses(c)]]
+
+
+#: Each teacher's class, by kind: the classes above (a new teacher is one more class).
+_CLASSES: dict[str, type[_AskTellSelector]] = {c._kind: c for c in _subclasses(_AskTellSelector) if c._kind}

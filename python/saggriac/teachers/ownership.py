@@ -71,7 +71,7 @@ def _refusal(owner: str, teacher: Any, holder: str) -> ConformanceError:
         f"{owner} (pid {os.getpid()}) was given a teacher, {teacher!r}, that a saggriac wrapper in another process (pid {holder}) already uses: "
         "it was copied into worker processes (a SubprocVecEnv, an AsyncVectorEnv or a process pool capturing it), so each copy would learn "
         "from its own worker only and the original would be told nothing. To keep one teacher for all workers, keep it in the main process: "
-        "saggriac.sb3.TeacherCallback(teacher) for Stable-Baselines3, or saggriac.gym.VectorSelectorGoals around a Gymnasium vector "
+        "saggriac.adapters.sb3.TeacherCallback(teacher) for Stable-Baselines3, or saggriac.adapters.gym.VectorSelectorGoals around a Gymnasium vector "
         "environment. If each process is meant to have its own independent teacher, build it there, give each its own copy "
         "(copy.deepcopy(teacher) in the parent), or pass allow_copy=True."
     )

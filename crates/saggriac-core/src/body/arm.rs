@@ -5,15 +5,16 @@
 //! a MuJoCo model's.
 
 use crate::body::chain::Chain;
+use crate::body::Body;
 pub use crate::config::body::{ArmConfig, ArmKind};
 use crate::error::Result;
 use crate::rng::{normal, rng_from_seed, CoreRng};
 use crate::task_space::{sub, Point, MAX_TASK_DIM};
 
 /// What a checkpoint keeps of an arm: joints, last reading, noise generator, link lengths (a
-/// link may have changed during the run).
+/// link may have changed during the run). The arm's own encoding: `Body::save` gives its bytes.
 #[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
-pub struct ArmState {
+struct ArmState {
     pub theta: Vec<f64>,
     pub x: Point,
     pub rng: CoreRng,
@@ -79,18 +80,20 @@ impl Arm {
         x
     }
 
-    pub fn save(&self) -> ArmState {
+    fn state(&self) -> ArmState {
         ArmState { theta: self.theta.clone(), x: self.x, rng: self.rng.clone(), link_lengths: self.cfg.link_lengths.clone() }
     }
-    /// Restore a saved state; false if it belongs to an arm with another number of joints.
-    pub fn load(&mut self, s: &ArmState) -> bool {
+    /// Restore a saved state; false if it is not an arm's or belongs to an arm with another
+    /// number of joints.
+    fn load_state(&mut self, bytes: &[u8]) -> bool {
+        let Ok(s) = postcard::from_bytes::<ArmState>(bytes) else { return false };
         if s.theta.len() != self.theta.len() || s.link_lengths.len() != self.theta.len() {
             return false;
         }
         self.theta.copy_from_slice(&s.theta);
         self.x = s.x;
         self.rng = s.rng.clone();
-        self.cfg.link_lengths.clone_from(&s.link_lengths);
+        self.cfg.link_lengths = s.link_lengths;
         true
     }
 
@@ -210,6 +213,81 @@ fn spatial_forward(links: &[f64], theta: &[f64]) -> Point {
         }
     }
     x
+}
+
+impl Body for Arm {
+    fn n_joints(&self) -> usize {
+        Arm::n_joints(self)
+    }
+    fn theta(&self) -> &[f64] {
+        Arm::theta(self)
+    }
+    fn task_dim(&self) -> usize {
+        Arm::task_dim(self)
+    }
+    fn position(&self) -> Point {
+        Arm::position(self)
+    }
+    fn reset(&mut self) {
+        Arm::reset(self)
+    }
+    fn set_theta(&mut self, theta: &[f64]) {
+        Arm::set_theta(self, theta)
+    }
+    fn forward(&self, theta: &[f64]) -> Option<Point> {
+        // Within the limits, as a placement would be.
+        let lim = self.config().joint_limit;
+        if theta.iter().all(|t| t.abs() <= lim) {
+            return Some(Arm::forward(self, theta));
+        }
+        let clipped: Vec<f64> = theta.iter().map(|t| t.clamp(-lim, lim)).collect();
+        Some(Arm::forward(self, &clipped))
+    }
+    fn jacobian(&self, theta: &[f64], out: &mut [f64]) -> bool {
+        // Only inside the limits, where placements do not clip.
+        let lim = self.config().joint_limit;
+        theta.iter().all(|t| t.abs() < lim) && Arm::jacobian(self, theta, out)
+    }
+    fn step(&mut self, dtheta: &mut [f64]) -> Point {
+        Arm::step(self, dtheta)
+    }
+    fn scratch(&self) -> Option<Box<dyn Body>> {
+        Some(Box::new(self.clone()))
+    }
+    fn forgets_on_reset(&self) -> bool {
+        // Noise draws advance the arm's generator: the next evaluation depends on this one's.
+        self.config().motor_noise == 0.0 && self.config().sensor_noise == 0.0
+    }
+    fn set_link_length(&mut self, link: usize, length: f64) -> bool {
+        if self.config().kind == ArmKind::Chain {
+            return false;
+        }
+        Arm::set_link_length(self, link, length);
+        true
+    }
+    fn save(&self) -> Option<Vec<u8>> {
+        postcard::to_stdvec(&self.state()).ok()
+    }
+    fn load(&mut self, state: &[u8]) -> bool {
+        self.load_state(state)
+    }
+}
+
+/// An arm's bytes as checkpoints of format 5 and older held them: its state inline in the
+/// checkpoint. Read, it gives the bytes `Body::save` writes today.
+pub struct InlineState(pub Vec<u8>);
+
+impl<'de> serde::Deserialize<'de> for InlineState {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        let s = ArmState::deserialize(d)?;
+        postcard::to_stdvec(&s).map(InlineState).map_err(serde::de::Error::custom)
+    }
+}
+
+impl From<InlineState> for Vec<u8> {
+    fn from(s: InlineState) -> Self {
+        s.0
+    }
 }
 
 #[cfg(test)]

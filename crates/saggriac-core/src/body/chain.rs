@@ -1,6 +1,6 @@
 //! A serial chain of hinge joints given by fixed transforms, the way a MuJoCo model's kinematic
 //! tree describes an arm (each body's `pos` and `quat` in its parent, each hinge's `pos` and
-//! `axis` in its body). `saggriac.mujoco_arm` reads one out of any model; the run loop then moves
+//! `axis` in its body). `saggriac.bodies.mujoco_arm` reads one out of any model; the run loop then moves
 //! it natively, with no call into Python or MuJoCo per micro-action.
 //!
 //! Joint j sees saggriac's coordinate theta_j in [-1, 1] as the hinge angle

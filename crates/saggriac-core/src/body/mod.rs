@@ -1,11 +1,11 @@
-//! What the learner acts on: the built-in arm (planar or spatial), or a user's environment (the Python
-//! binding wraps one). The run loop, the exploration phase and the evaluation only see this
+//! What the learner acts on: the built-in arm (planar, spatial or a chain; `arm.rs`, which
+//! implements `Body` for it), or a user's environment (the Python binding wraps one). The run loop, the exploration phase and the evaluation only see this
 //! trait.
 
 pub mod arm;
 pub mod chain;
+pub mod params;
 
-use crate::body::arm::{Arm, ArmState};
 use crate::task_space::Point;
 
 pub trait Body: Send + Sync {
@@ -47,74 +47,18 @@ pub trait Body: Send + Sync {
     fn set_link_length(&mut self, _link: usize, _length: f64) -> bool {
         false
     }
-    /// The body's state for a checkpoint (None: this body cannot be checkpointed).
-    fn save(&self) -> Option<ArmState> {
+    /// The body's state for a checkpoint, in the body's own encoding (None: this body cannot
+    /// be checkpointed).
+    fn save(&self) -> Option<Vec<u8>> {
         None
     }
-    fn load(&mut self, _state: &ArmState) -> bool {
+    /// Put back the state `save` gave; false if the bytes are not this kind of body's.
+    fn load(&mut self, _state: &[u8]) -> bool {
         false
     }
     /// True once the body has failed (a user's environment raised or returned bad values); the
     /// run loop stops at the next step.
     fn failed(&self) -> bool {
         false
-    }
-}
-
-impl Body for Arm {
-    fn n_joints(&self) -> usize {
-        Arm::n_joints(self)
-    }
-    fn theta(&self) -> &[f64] {
-        Arm::theta(self)
-    }
-    fn task_dim(&self) -> usize {
-        Arm::task_dim(self)
-    }
-    fn position(&self) -> Point {
-        Arm::position(self)
-    }
-    fn reset(&mut self) {
-        Arm::reset(self)
-    }
-    fn set_theta(&mut self, theta: &[f64]) {
-        Arm::set_theta(self, theta)
-    }
-    fn forward(&self, theta: &[f64]) -> Option<Point> {
-        // Within the limits, as a placement would be.
-        let lim = self.config().joint_limit;
-        if theta.iter().all(|t| t.abs() <= lim) {
-            return Some(Arm::forward(self, theta));
-        }
-        let clipped: Vec<f64> = theta.iter().map(|t| t.clamp(-lim, lim)).collect();
-        Some(Arm::forward(self, &clipped))
-    }
-    fn jacobian(&self, theta: &[f64], out: &mut [f64]) -> bool {
-        // Only inside the limits, where placements do not clip.
-        let lim = self.config().joint_limit;
-        theta.iter().all(|t| t.abs() < lim) && Arm::jacobian(self, theta, out)
-    }
-    fn step(&mut self, dtheta: &mut [f64]) -> Point {
-        Arm::step(self, dtheta)
-    }
-    fn scratch(&self) -> Option<Box<dyn Body>> {
-        Some(Box::new(self.clone()))
-    }
-    fn forgets_on_reset(&self) -> bool {
-        // Noise draws advance the arm's generator: the next evaluation depends on this one's.
-        self.config().motor_noise == 0.0 && self.config().sensor_noise == 0.0
-    }
-    fn set_link_length(&mut self, link: usize, length: f64) -> bool {
-        if self.config().kind == crate::body::arm::ArmKind::Chain {
-            return false;
-        }
-        Arm::set_link_length(self, link, length);
-        true
-    }
-    fn save(&self) -> Option<ArmState> {
-        Some(Arm::save(self))
-    }
-    fn load(&mut self, state: &ArmState) -> bool {
-        Arm::load(self, state)
     }
 }

@@ -1,18 +1,21 @@
 //! The body's parameters: which arm, its geometry and limits, noise, and a change during a run.
 
-use crate::error::{invalid, Check, Result};
+use crate::error::{invalid, Check, Num, Result};
 
 /// Which kinematics the arm has.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum ArmKind {
     /// The paper's arm: every joint turns about z, the task space is the plane (x, y).
+    #[serde(rename = "planar_arm")]
     Planar,
     /// An arm in space: joint i turns about its link frame's z axis for even i and its y axis
     /// for odd i; the task space is (x, y, z).
+    #[serde(rename = "spatial_arm")]
     Spatial,
     /// A serial chain of hinges given by fixed transforms (`ArmConfig::chain`), such as a
     /// MuJoCo model's arm; the task space is (x, y, z) and each joint's coordinate in [-1, 1]
     /// spans its range.
+    #[serde(rename = "chain")]
     Chain,
 }
 
@@ -78,7 +81,7 @@ impl ArmConfig {
                     return Err(invalid("Arm", "chain", "a chain whose end effector is away from its first joint (link lengths from its geometry)", format!("{:?}", self.link_lengths)));
                 }
                 c.in_open_closed("joint_limit", self.joint_limit, 0.0, 1.0)
-                    .map_err(|_| invalid("Arm", "joint_limit", "a float in (0, 1] for body 'chain' (a share of each joint's half-range)", self.joint_limit))?;
+                    .map_err(|_| invalid("Arm", "joint_limit", "a float in (0, 1] for body 'chain' (a share of each joint's half-range)", Num(self.joint_limit)))?;
                 c.positive("max_joint_step", self.max_joint_step)?;
                 c.non_negative("motor_noise", self.motor_noise)?;
                 return c.non_negative("sensor_noise", self.sensor_noise);

@@ -2,8 +2,9 @@
 
 use crate::error::{invalid, Check, Result};
 
-/// Where the forward model is tested (SPEC "Evaluation").
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// Where the forward model is tested (docs/reproduction.md, "What is measured").
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
 pub enum TestConfigs {
     /// For each test goal (in order; more goals are drawn if there are more configurations than
     /// goals), the configuration of least joint norm that reaches it within the joint limits.
@@ -29,19 +30,25 @@ impl TestConfigs {
     }
 }
 
-#[derive(Debug, Clone, PartialEq)]
+/// Serialised by its `Config` names (`eval_tolerance`, ...).
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct EvalConfig {
     pub n_test_goals: usize,
     pub n_test_configs: usize,
     pub test_configs: TestConfigs,
     /// A test reach stops once closer than this to its goal.
+    #[serde(rename = "eval_tolerance")]
     pub tolerance: f64,
     /// ... or after this many micro-actions without getting closer.
+    #[serde(rename = "eval_patience")]
     pub patience: usize,
     /// ... or after ceil(timeout_factor * distance / v) + timeout_min micro-actions.
+    #[serde(rename = "eval_timeout_factor")]
     pub timeout_factor: f64,
+    #[serde(rename = "eval_timeout_min")]
     pub timeout_min: usize,
     /// Time steps after which to evaluate (sorted, each <= n_steps; 0 = before learning).
+    #[serde(rename = "eval_schedule")]
     pub schedule: Vec<u64>,
 }
 

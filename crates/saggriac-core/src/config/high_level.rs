@@ -1,11 +1,11 @@
 //! The high level's parameters: competence, the region tree, the goal selection modes, and the
 //! rule every box of a goal space obeys.
 
-use crate::config::teachers::{AlpGmmConfig, CovarGmmConfig, RiacConfig};
-use crate::error::{invalid, Check, Result, MAX_COUNT};
+use crate::error::{invalid, Check, Num, Result};
 
 /// What an attempt's final distance to its goal is measured against.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
 pub enum CompetenceKind {
     /// Eq. 7: C = -D(x_g, x_f) / D(x_start, x_g), the paper's.
     Relative,
@@ -32,12 +32,13 @@ impl CompetenceKind {
 }
 
 /// Thresholds of the competence measure.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct CompetenceConfig {
     /// Lowest competence; worse attempts are clipped to it (min_C < 0).
     pub min_c: f64,
     /// Tolerance: a cost above eps_C (min_C < eps_C < 0) counts as reached, competence 0.
     pub eps_c: f64,
+    #[serde(rename = "competence")]
     pub kind: CompetenceKind,
 }
 
@@ -50,18 +51,20 @@ impl Default for CompetenceConfig {
 impl CompetenceConfig {
     pub fn validate(&self) -> Result<()> {
         if !(self.min_c.is_finite() && self.min_c < 0.0) {
-            return Err(invalid("Competence", "min_c", "a finite float < 0", self.min_c));
+            return Err(invalid("Competence", "min_c", "a finite float < 0", Num(self.min_c)));
         }
         if !(self.eps_c.is_finite() && self.eps_c < 0.0 && self.eps_c > self.min_c) {
-            return Err(invalid("Competence", "eps_c", format!("a float with min_c < eps_c < 0 (min_c = {})", self.min_c), self.eps_c));
+            return Err(invalid("Competence", "eps_c", format!("a float with min_c < eps_c < 0 (min_c = {})", Num(self.min_c)), Num(self.eps_c)));
         }
         Ok(())
     }
 }
 
-/// The denominator of eq. 2 for a region holding fewer than zeta measurements (for a full window
-/// both readings divide by zeta). The paper prints zeta and says nothing of young regions.
+/// How eq. 2 reads a region's window: the denominator of a region holding fewer than zeta
+/// measurements, and which values a full region compares. The paper prints zeta and says nothing
+/// of young regions; its index ranges hold zeta + 1 values.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
 pub enum InterestDivisor {
     /// Eq. 2 as printed: every region's half-sums are divided by zeta, so a young region's
     /// progress counts in proportion to the measurements behind it (saggriac >= 0.3).
@@ -70,16 +73,21 @@ pub enum InterestDivisor {
     /// The region's own window w = min(|R|, zeta): a young region gets the scale of a full one
     /// (saggriac <= 0.2; kept for comparisons and for the same bits as older builds).
     Window,
+    /// Eq. 2's index ranges as printed: a full region compares the last zeta + 1 values, the
+    /// middle one (in both printed sums) cancelling; divided by zeta. A region of at most zeta
+    /// values reads as `Zeta`. (`Zeta` and `Window` compare the last zeta values.)
+    Printed,
 }
 
 impl InterestDivisor {
-    pub const NAMES: [&'static str; 2] = ["zeta", "window"];
+    pub const NAMES: [&'static str; 3] = ["zeta", "window", "printed"];
 
     pub fn parse(owner: &'static str, s: &str) -> Result<Self> {
         match s {
             "zeta" => Ok(InterestDivisor::Zeta),
             "window" => Ok(InterestDivisor::Window),
-            _ => Err(invalid(owner, "interest_divisor", "one of 'zeta' (eq. 2 as printed), 'window' (saggriac <= 0.2)", format!("'{s}'"))),
+            "printed" => Ok(InterestDivisor::Printed),
+            _ => Err(invalid(owner, "interest_divisor", "one of 'zeta' (the default), 'window' (saggriac <= 0.2), 'printed' (eq. 2's index ranges, zeta + 1 values)", format!("'{s}'"))),
         }
     }
     pub fn name(&self) -> &'static str {
@@ -88,8 +96,15 @@ impl InterestDivisor {
     /// The denominator of a window of `w` values under window length `zeta`.
     pub fn of(&self, w: usize, zeta: usize) -> f64 {
         match self {
-            InterestDivisor::Zeta => zeta as f64,
+            InterestDivisor::Zeta | InterestDivisor::Printed => zeta as f64,
             InterestDivisor::Window => w as f64,
+        }
+    }
+    /// How many of a region's most recent values eq. 2 reads under window length `zeta`.
+    pub fn window_len(&self, zeta: usize) -> usize {
+        match self {
+            InterestDivisor::Zeta | InterestDivisor::Window => zeta,
+            InterestDivisor::Printed => zeta + 1,
         }
     }
 }
@@ -103,6 +118,7 @@ pub struct RegionTreeConfig {
     /// Fewest measurements each child of a split must receive.
     pub min_child: usize,
     /// Eq. 2's denominator for regions younger than zeta measurements.
+    #[serde(rename = "interest_divisor")]
     pub divisor: InterestDivisor,
 }
 
@@ -115,8 +131,8 @@ impl Default for RegionTreeConfig {
 impl RegionTreeConfig {
     pub fn validate(&self) -> Result<()> {
         let c = Check { owner: "RegionTree" };
-        c.within("g_max", self.g_max, 2, MAX_COUNT)?;
-        c.within("zeta", self.zeta, 2, MAX_COUNT)?;
+        crate::config::rules::check_int(&c, "g_max", self.g_max)?;
+        crate::config::rules::check_int(&c, "zeta", self.zeta)?;
         c.at_least("min_child", self.min_child, 1)?;
         if 2 * self.min_child > self.g_max + 1 {
             return Err(invalid("RegionTree", "min_child", format!("an int with 2 * min_child <= g_max + 1 (g_max = {})", self.g_max), self.min_child));
@@ -146,62 +162,9 @@ impl ModeProbabilities {
         c.probability("p_lowest", self.p_lowest)?;
         let s = self.p_interest + self.p_global + self.p_lowest;
         if (s - 1.0).abs() > 1e-9 {
-            return Err(invalid("SaggRiac", "p_lowest", format!("such that p_interest + p_global + p_lowest = 1 (p_interest = {}, p_global = {})", self.p_interest, self.p_global), self.p_lowest));
+            return Err(invalid("SaggRiac", "p_lowest", format!("such that p_interest + p_global + p_lowest = 1 (p_interest = {}, p_global = {})", Num(self.p_interest), Num(self.p_global)), Num(self.p_lowest)));
         }
         Ok(())
-    }
-}
-
-/// Which teacher chooses the goals of the goal-babbling condition (beyond the paper), with its
-/// parameters. `Own` is the condition's own high level: SAGG-RIAC's (the paper's, set by the
-/// region tree's and the modes' parameters), or uniform goals for SAGG-Random. The others replace
-/// SAGG-RIAC's high level (`crate::high_level::teachers`).
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub enum Teacher {
-    #[default]
-    Own,
-    Riac(RiacConfig),
-    AlpGmm(AlpGmmConfig),
-    CovarGmm(CovarGmmConfig),
-}
-
-impl Teacher {
-    pub const NAMES: [&'static str; 4] = ["own", "riac", "alp_gmm", "covar_gmm"];
-
-    /// The teacher `s` with its paper's parameters.
-    pub fn parse(s: &str) -> Result<Self> {
-        match s {
-            "own" => Ok(Teacher::Own),
-            "riac" => Ok(Teacher::Riac(RiacConfig::default())),
-            "alp_gmm" => Ok(Teacher::AlpGmm(AlpGmmConfig::default())),
-            "covar_gmm" => Ok(Teacher::CovarGmm(CovarGmmConfig::default())),
-            _ => Err(invalid("Run", "teacher", "one of 'own', 'riac', 'alp_gmm', 'covar_gmm'", format!("'{s}'"))),
-        }
-    }
-    pub fn name(&self) -> &'static str {
-        match self {
-            Teacher::Own => "own",
-            Teacher::Riac(_) => "riac",
-            Teacher::AlpGmm(_) => "alp_gmm",
-            Teacher::CovarGmm(_) => "covar_gmm",
-        }
-    }
-    /// The Python class of the teacher on its own (ask/tell), whose parameters are the same.
-    pub fn class(&self) -> &'static str {
-        match self {
-            Teacher::Own => "SaggRiacSelector",
-            Teacher::Riac(_) => "RiacSelector",
-            Teacher::AlpGmm(_) => "AlpGmmSelector",
-            Teacher::CovarGmm(_) => "CovarGmmSelector",
-        }
-    }
-    pub fn validate(&self) -> Result<()> {
-        match self {
-            Teacher::Own => Ok(()),
-            Teacher::Riac(c) => c.validate(),
-            Teacher::AlpGmm(c) => c.validate("AlpGmmSelector"),
-            Teacher::CovarGmm(c) => c.validate(),
-        }
     }
 }
 
@@ -212,7 +175,7 @@ pub fn check_bounds(owner: &'static str, low: &[f64], high: &[f64]) -> Result<()
     }
     for (i, (l, h)) in low.iter().zip(high).enumerate() {
         if !(l.is_finite() && h.is_finite() && l < h) {
-            return Err(invalid(owner, "bounds", format!("finite with low < high in every dimension (dimension {i}: low = {l})"), h));
+            return Err(invalid(owner, "bounds", format!("finite with low < high in every dimension (dimension {i}: low = {})", Num(*l)), Num(*h)));
         }
         // Goals are drawn as low + u * (high - low): the width itself must be a finite float.
         if !(h - l).is_finite() {

@@ -3,16 +3,18 @@
 
 use crate::error::{Check, Result};
 
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ReachingConfig {
     /// Length of the desired displacement per micro-action (paper: v = 0.5). Near the target the
     /// step is shortened to the remaining distance ("v bounded by v_max").
     pub v: f64,
     /// Subgoals per goal, the goal being the last (paper: l = 5).
     pub n_subgoals: usize,
-    /// Explore when |realised dx - expected dx| > eps_max, where the expected dx is J dtheta for
-    /// the executed dtheta (the desired dx itself unless the command was cut by a bound).
+    /// Explore when |realised dx - expected dx| > eps_max; `trigger` says what is expected.
     pub eps_max: f64,
+    /// The expected dx of the exploration trigger.
+    #[serde(rename = "exploration_trigger")]
+    pub trigger: ExplorationTrigger,
     /// Timeout of one (sub)goal attempt, in micro-actions of any kind (reaching and
     /// exploration): ceil(timeout_factor * distance / v) + timeout_min. It is checked between
     /// phases, so an exploration phase that starts before the timeout runs its q actions,
@@ -24,7 +26,36 @@ pub struct ReachingConfig {
 
 impl Default for ReachingConfig {
     fn default() -> Self {
-        ReachingConfig { v: 0.5, n_subgoals: 5, eps_max: 0.1, timeout_factor: 2.0, timeout_min: 10, timeout_in_exploration: false }
+        ReachingConfig { v: 0.5, n_subgoals: 5, eps_max: 0.1, timeout_factor: 2.0, timeout_min: 10, timeout_in_exploration: false, trigger: ExplorationTrigger::Executed }
+    }
+}
+
+/// What the exploration trigger compares the realised displacement with.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ExplorationTrigger {
+    /// J dtheta of the command actually executed (saggriac's reading, the default): a command cut
+    /// by `max_joint_step` or a joint limit is not held against the model.
+    #[default]
+    Executed,
+    /// The desired step dx (the paper's epsilon = |realised dx - desired dx|): also triggers where
+    /// J+ truncates small singular values or J is rank-deficient (the straight rest pose).
+    Desired,
+}
+
+impl ExplorationTrigger {
+    pub fn parse(s: &str) -> Option<Self> {
+        match s {
+            "executed" => Some(ExplorationTrigger::Executed),
+            "desired" => Some(ExplorationTrigger::Desired),
+            _ => None,
+        }
+    }
+    pub fn name(&self) -> &'static str {
+        match self {
+            ExplorationTrigger::Executed => "executed",
+            ExplorationTrigger::Desired => "desired",
+        }
     }
 }
 
@@ -45,12 +76,13 @@ impl ReachingConfig {
     }
 }
 
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ExplorationConfig {
     /// Number of random micro-actions per exploration phase.
     pub q: usize,
     /// Half-width of the box around the phase's starting configuration in which the random
     /// configurations are drawn (radians, per joint).
+    #[serde(rename = "explore_step")]
     pub step: f64,
 }
 
@@ -69,13 +101,16 @@ impl ExplorationConfig {
     }
 }
 
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct EpisodicConfig {
     /// Standard deviation of the Gaussian noise added to every joint of a proposal (rad).
+    #[serde(rename = "episodic_noise")]
     pub noise: f64,
     /// Refine the nearest neighbour's configuration with a local linear model.
+    #[serde(rename = "episodic_refine")]
     pub refine: bool,
     /// Neighbours (in joint space) of the local linear model used by `refine`.
+    #[serde(rename = "episodic_k")]
     pub k_refine: usize,
 }
 

@@ -7,19 +7,23 @@ pub mod evaluation;
 pub mod high_level;
 pub mod low_level;
 pub mod model;
+pub mod rules;
+pub mod teacher_thresholds;
 pub mod teachers;
 
 pub use body::{ArmConfig, ArmKind, BodyChange};
 pub use evaluation::EvalConfig;
-pub use high_level::{check_bounds, CompetenceConfig, InterestDivisor, ModeProbabilities, RegionTreeConfig, Teacher};
-pub use low_level::{EpisodicConfig, ExplorationConfig, ReachingConfig};
+pub use high_level::{check_bounds, CompetenceConfig, InterestDivisor, ModeProbabilities, RegionTreeConfig};
+pub use teachers::{SaggRiacConfig, Teacher};
+pub use low_level::{EpisodicConfig, ExplorationConfig, ExplorationTrigger, ReachingConfig};
 pub use model::{IndexKind, LocalModelConfig, MIN_RCOND};
 
-use crate::error::{invalid, Check, Result};
+use crate::error::{invalid, Check, Num, Result};
 use crate::task_space::MAX_TASK_DIM;
 
 /// The experimental conditions of the paper.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
 pub enum Condition {
     /// Goals chosen by competence progress over the region tree.
     SaggRiac,
@@ -56,7 +60,8 @@ impl Condition {
 }
 
 /// How the low level acts (see `low_level/episodic.rs`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
 pub enum Paradigm {
     /// The paper's: goals reached through subgoals by micro-actions; one step = one micro-action.
     MicroActions,
@@ -80,27 +85,45 @@ impl Paradigm {
     }
 }
 
-#[derive(Debug, Clone, PartialEq)]
+/// Serialised flat, by the names of Python's `Config` (each part's fields in its place, renamed
+/// where two parts share a name). The body (`arm`, `body_change`) and the teacher are given in
+/// `Config` by other keys than their fields (`n_joints`, `arm_length`, `teacher_params`...):
+/// they are left to the caller (`#[serde(skip)]`), which sets them from those keys.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default)]
 pub struct RunConfig {
+    #[serde(skip)]
     pub body_change: Option<BodyChange>,
     pub condition: Condition,
     pub paradigm: Paradigm,
+    #[serde(flatten)]
     pub episodic: EpisodicConfig,
     pub n_steps: u64,
+    #[serde(skip)]
     pub arm: ArmConfig,
     pub goal_low: Vec<f64>,
     pub goal_high: Vec<f64>,
+    #[serde(flatten)]
     pub reaching: ReachingConfig,
+    #[serde(flatten)]
     pub exploration: ExplorationConfig,
+    #[serde(flatten)]
     pub local: LocalModelConfig,
+    #[serde(flatten)]
     pub competence: CompetenceConfig,
+    #[serde(flatten)]
     pub tree: RegionTreeConfig,
+    #[serde(flatten)]
     pub modes: ModeProbabilities,
-    /// Who chooses the goals of the goal-babbling condition (`Teacher::Own`: the paper's).
-    pub teacher: Teacher,
+    /// Who chooses the goals of the goal-babbling condition in place of its own high level
+    /// (None, `Config`'s "own": SAGG-RIAC's, set by `tree` and `modes`).
+    #[serde(skip)]
+    pub teacher: Option<Teacher>,
     /// The arm returns to rest every `reset_every` goal attempts (paper: r = 2).
     pub reset_every: usize,
+    #[serde(flatten)]
     pub eval: EvalConfig,
+    #[serde(rename = "knn_index")]
     pub index: IndexKind,
     /// Newest samples added to the warm-start candidates of the neighbour search (0 = cold search).
     pub warm_start_recent: usize,
@@ -132,7 +155,7 @@ impl Default for RunConfig {
             competence: CompetenceConfig::default(),
             tree: RegionTreeConfig::default(),
             modes: ModeProbabilities::default(),
-            teacher: Teacher::Own,
+            teacher: None,
             reset_every: 2,
             eval: EvalConfig::default(),
             index: IndexKind::Blocks,
@@ -144,7 +167,33 @@ impl Default for RunConfig {
     }
 }
 
+/// A neighbour count up to this is taken whatever n_steps is (short test runs keep the defaults).
+pub const MIN_NEIGHBOUR_BOUND: u64 = 1000;
+
 impl RunConfig {
+    /// Sizes bounded by what the run can use: neighbour counts by the samples the memory can
+    /// hold (one per time step), lengths by the diameter of the body's reachable ball.
+    fn check_sizes(&self) -> Result<()> {
+        // One rule text for a value too small or too large (checked before the parts' own rules).
+        let most = self.n_steps.max(MIN_NEIGHBOUR_BOUND);
+        let neighbours = [("LocalModel", "k_neighbours", self.local.k_neighbours, 1), ("Episodic", "episodic_k", self.episodic.k_refine, self.arm.link_lengths.len().min(2))];
+        for (owner, name, k, least) in neighbours {
+            if k < least || k as u64 > most {
+                let rule = format!("an int in [{least}, max(n_steps, {MIN_NEIGHBOUR_BOUND})] (the memory holds at most one sample per time step; n_steps = {})", self.n_steps);
+                return Err(invalid(owner, name, rule, k));
+            }
+        }
+        let reach: f64 = self.arm.link_lengths.iter().sum();
+        let lengths = [("Reaching", "v", self.reaching.v), ("Reaching", "eps_max", self.reaching.eps_max), ("Evaluation", "tolerance", self.eval.tolerance)];
+        for (owner, name, value) in lengths {
+            if !(value > 0.0 && value <= 2.0 * reach) {
+                let rule = format!("a finite float > 0 and <= 2 * reach, the diameter of the ball the body reaches (reach = {})", crate::error::G(reach));
+                return Err(invalid(owner, name, rule, Num(value)));
+            }
+        }
+        Ok(())
+    }
+
     pub fn validate(&self) -> Result<()> {
         let c = Check { owner: "Run" };
         if self.n_steps == 0 {
@@ -160,6 +209,7 @@ impl RunConfig {
             ));
         }
         check_bounds("Run", &self.goal_low, &self.goal_high)?;
+        self.check_sizes()?;
         self.reaching.validate()?;
         self.exploration.validate()?;
         self.local.validate()?;
@@ -167,37 +217,8 @@ impl RunConfig {
         self.tree.validate()?;
         self.modes.validate()?;
         c.at_least("reset_every", self.reset_every, 1)?;
-        if self.teacher != Teacher::Own && self.condition != Condition::SaggRiac {
-            return Err(invalid(
-                "Run",
-                "teacher",
-                format!("'own' unless condition is 'sagg_riac' (the goal-babbling condition a teacher replaces the high level of; condition is '{}')", self.condition.name()),
-                format!("'{}'", self.teacher.name()),
-            ));
-        }
-        self.teacher.validate()?;
-        if self.teacher != Teacher::Own {
-            // Another teacher replaces SAGG-RIAC's high level: a SAGG-RIAC parameter set here
-            // would be ignored without a word.
-            let (t, d) = (self.tree, high_level::RegionTreeConfig::default());
-            let (m, dm) = (self.modes, high_level::ModeProbabilities::default());
-            let changed = [
-                ("g_max", t.g_max != d.g_max, t.g_max.to_string()),
-                ("zeta", t.zeta != d.zeta, t.zeta.to_string()),
-                ("min_child", t.min_child != d.min_child, t.min_child.to_string()),
-                ("interest_divisor", t.divisor != d.divisor, format!("'{}'", t.divisor.name())),
-                ("p_interest", m.p_interest != dm.p_interest, m.p_interest.to_string()),
-                ("p_global", m.p_global != dm.p_global, m.p_global.to_string()),
-                ("p_lowest", m.p_lowest != dm.p_lowest, m.p_lowest.to_string()),
-            ];
-            if let Some((name, _, value)) = changed.iter().find(|(_, c, _)| *c) {
-                return Err(invalid(
-                    "Run",
-                    name,
-                    format!("left at its default with teacher '{}' (it sets SAGG-RIAC's own high level, which that teacher replaces; set that teacher's parameters with teacher_params, those of saggriac.{})", self.teacher.name(), self.teacher.class()),
-                    value,
-                ));
-            }
+        if let Some(t) = &self.teacher {
+            self.validate_teacher(t)?;
         }
         c.positive("babble_step", self.babble_step)?;
         self.eval.validate(self.n_steps)?;
@@ -214,6 +235,36 @@ impl RunConfig {
             if b.step == 0 || b.step > self.n_steps {
                 return Err(invalid("Run", "body_change_step", format!("an int in [1, n_steps] (n_steps = {})", self.n_steps), b.step));
             }
+        }
+        Ok(())
+    }
+
+    /// A teacher replacing the high level of the goal-babbling condition: its rules, and
+    /// SAGG-RIAC's own parameters left at their defaults (they would be ignored without a word).
+    fn validate_teacher(&self, t: &Teacher) -> Result<()> {
+        if self.condition != Condition::SaggRiac {
+            return Err(invalid(
+                "Run",
+                "teacher",
+                format!("'own' unless condition is 'sagg_riac' (the goal-babbling condition a teacher replaces the high level of; condition is '{}')", self.condition.name()),
+                format!("'{}'", t.kind()),
+            ));
+        }
+        if !t.has_box() {
+            return Err(invalid("Run", "teacher", "'own' or a teacher of goals in a box (a run's goals are points of the goal space)", format!("'{}'", t.kind())));
+        }
+        t.validate()?;
+        t.check_competences(self.competence.min_c, 0.0, "a run tells (min_c to 0)")?;
+        // The whole parameter set, by name: a parameter added to SAGG-RIAC's is checked too.
+        let flat = |c: SaggRiacConfig| teachers::flat_params(&c);
+        let (own, default) = (flat(SaggRiacConfig { tree: self.tree, modes: self.modes }), flat(SaggRiacConfig::default()));
+        if let Some((name, value)) = own.iter().zip(&default).find(|(a, b)| a != b).map(|(a, _)| a) {
+            return Err(invalid(
+                "Run",
+                name,
+                format!("left at its default with teacher '{}' (it sets SAGG-RIAC's own high level, which that teacher replaces; set that teacher's parameters with teacher_params, those of saggriac.{})", t.kind(), t.class()),
+                value,
+            ));
         }
         Ok(())
     }

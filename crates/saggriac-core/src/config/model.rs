@@ -1,8 +1,8 @@
 //! The sensorimotor model's parameters: the local linear models and the neighbour index.
 
-use crate::error::{invalid, Check, Result};
+use crate::error::{invalid, Check, Num, Result};
 
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct LocalModelConfig {
     /// Neighbours used for each local fit.
     pub k_neighbours: usize,
@@ -27,7 +27,7 @@ impl LocalModelConfig {
         c.at_least("k_neighbours", self.k_neighbours, 1)?;
         c.positive("ridge", self.ridge)?;
         if !(self.pinv_rcond.is_finite() && (MIN_RCOND..=1.0).contains(&self.pinv_rcond)) {
-            return Err(invalid("LocalModel", "pinv_rcond", format!("a float in [{MIN_RCOND:e}, 1]"), self.pinv_rcond));
+            return Err(invalid("LocalModel", "pinv_rcond", format!("a float in [{MIN_RCOND:e}, 1]"), Num(self.pinv_rcond)));
         }
         c.non_negative("bandwidth", self.bandwidth)?;
         Ok(())
@@ -38,7 +38,8 @@ impl LocalModelConfig {
 pub const MIN_RCOND: f64 = 1e-6;
 
 /// Which exact neighbour index backs the memory (both give the same answers, bit for bit).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
 pub enum IndexKind {
     /// Boxes over runs of consecutive samples (`block_index.rs`), the default.
     Blocks,

@@ -1,5 +1,5 @@
 //! The configuration of least joint norm that puts the end effector on a goal, within the joint
-//! limits: min |theta|^2 subject to f(theta) = x_g and |theta_i| <= limit (SPEC "Evaluation":
+//! limits: min |theta|^2 subject to f(theta) = x_g and |theta_i| <= limit (docs/reproduction.md, "What is measured":
 //! the forward-model metric's test configurations).
 //!
 //! Only the body's forward kinematics is used (the Jacobian by finite differences), so the same

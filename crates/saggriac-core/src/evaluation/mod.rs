@@ -1,4 +1,4 @@
-//! Evaluation (SPEC.md "Evaluation"): reaching error of the learnt inverse model on fixed test
+//! Evaluation (docs/reproduction.md, "What is measured"): reaching error of the learnt inverse model on fixed test
 //! goals, and prediction error of the learnt forward model on fixed test configurations. It gets
 //! the model as a `ModelView` (shared references only: it cannot write what was learnt) and its
 //! micro-actions run on a scratch copy of the body, so evaluation neither counts as time nor
@@ -19,7 +19,6 @@ use std::sync::Arc;
 
 use serde::{Deserialize, Serialize};
 
-use crate::body::arm::ArmState;
 use crate::body::Body;
 pub use crate::config::evaluation::EvalConfig;
 use crate::config::{EpisodicConfig, RunConfig};
@@ -263,11 +262,22 @@ impl Evaluator {
     }
 }
 
-/// The evaluator's part of a checkpoint.
+/// The evaluator's part of a checkpoint; `Body` is the scratch body's saved state (its bytes; a
+/// checkpoint of format 5 held an arm's state inline).
 #[derive(Serialize, Deserialize)]
-pub(crate) struct EvaluatorState {
+pub(crate) struct EvaluatorStateAs<Body> {
     next_eval: usize,
-    scratch: Option<ArmState>,
+    scratch: Option<Body>,
     true_x: Vec<Point>,
     true_dx: Vec<Point>,
+}
+
+pub(crate) type EvaluatorState = EvaluatorStateAs<Vec<u8>>;
+
+impl<B: Into<Vec<u8>>> EvaluatorStateAs<B> {
+    /// The same state with the scratch body's bytes as `Body::save` writes them today.
+    pub(crate) fn upgraded(self) -> EvaluatorState {
+        let EvaluatorStateAs { next_eval, scratch, true_x, true_dx } = self;
+        EvaluatorStateAs { next_eval, scratch: scratch.map(Into::into), true_x, true_dx }
+    }
 }

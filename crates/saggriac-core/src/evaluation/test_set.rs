@@ -1,4 +1,4 @@
-//! The fixed test sets of an evaluation (SPEC.md "Evaluation") and what one evaluation measures.
+//! The fixed test sets of an evaluation (docs/reproduction.md, "What is measured") and what one evaluation measures.
 
 use crate::body::arm::{Arm, ArmConfig};
 use crate::body::Body;

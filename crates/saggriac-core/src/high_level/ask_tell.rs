@@ -4,15 +4,18 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::error::{invalid, Error, Result};
+use crate::error::{invalid, Error, Num, Result};
 use crate::high_level::goal_selection::{GoalChoice, GoalSelector, ModeProbabilities};
 use crate::high_level::region_tree::RegionTreeConfig;
+use crate::config::teachers::{RandomConfig, SaggRiacConfig, Teacher};
 use crate::high_level::teachers::TeacherSpec;
 
-/// Bumped whenever the saved layout changes. Format 3: each teacher's state in its own encoding.
-/// Formats 2 (saggriac 0.3-0.4, one enum of every teacher's state) and 1 (saggriac <= 0.2, before
-/// SAGG-RIAC's tree had an eq.-2 divisor, read as the `Window` reading it ran) are still read.
-const FORMAT: u32 = 3;
+/// Bumped whenever the saved layout changes. Format 4: the teacher's parameters as the one
+/// `Teacher` enum beside the box and the seed. Formats 3 (saggriac 0.5, each teacher's state in
+/// its own encoding), 2 (saggriac 0.3-0.4, one enum of every teacher's state) and 1 (saggriac
+/// <= 0.2, before SAGG-RIAC's tree had an eq.-2 divisor, read as the `Window` reading it ran) are
+/// still read.
+const FORMAT: u32 = 4;
 /// Told competences are bounded so that every teacher's sums, squares and mixtures of them stay
 /// finite (a mixture teacher squares differences of competences).
 pub const MAX_COMPETENCE: f64 = 1e100;
@@ -55,16 +58,43 @@ fn decode<T: serde::de::DeserializeOwned>(bytes: &[u8]) -> std::result::Result<T
     }
 }
 
-/// The layouts of formats 1 (saggriac <= 0.2: SAGG-RIAC's tree parameters without the divisor)
-/// and 2 (saggriac 0.3-0.4), whose teachers' states were variants of one enum.
+/// The layouts of formats 1 (saggriac <= 0.2: SAGG-RIAC's tree parameters without the divisor),
+/// 2 (saggriac 0.3-0.4, whose teachers' states were variants of one enum) and 3 (saggriac 0.5,
+/// the parameters as one enum of teachers with their boxes and seeds).
 mod legacy {
     use super::*;
     use crate::config::high_level::InterestDivisor;
+    use crate::config::teachers::{RandomConfig, SaggRiacConfig, Teacher};
     use crate::high_level::teachers::alp_gmm::AlpGmmConfig;
     use crate::high_level::teachers::covar_gmm::CovarGmmConfig;
     use crate::high_level::teachers::discrete_lp::DiscreteLpConfig;
     use crate::high_level::teachers::riac::RiacConfig;
     use crate::rng::CoreRng;
+
+    /// `TeacherSpec` as formats 2 and 3 wrote it.
+    #[derive(Deserialize)]
+    pub enum SpecV3 {
+        SaggRiac { low: Vec<f64>, high: Vec<f64>, tree: RegionTreeConfig, modes: ModeProbabilities, seed: u64 },
+        Random { low: Vec<f64>, high: Vec<f64>, seed: u64 },
+        Riac { low: Vec<f64>, high: Vec<f64>, cfg: RiacConfig, seed: u64 },
+        DiscreteLp { cfg: DiscreteLpConfig, seed: u64 },
+        AlpGmm { low: Vec<f64>, high: Vec<f64>, cfg: AlpGmmConfig, seed: u64 },
+        CovarGmm { low: Vec<f64>, high: Vec<f64>, cfg: CovarGmmConfig, seed: u64 },
+    }
+
+    impl From<SpecV3> for TeacherSpec {
+        fn from(s: SpecV3) -> Self {
+            let (teacher, low, high, seed) = match s {
+                SpecV3::SaggRiac { low, high, tree, modes, seed } => (Teacher::SaggRiac(SaggRiacConfig { tree, modes }), low, high, seed),
+                SpecV3::Random { low, high, seed } => (Teacher::Random(RandomConfig {}), low, high, seed),
+                SpecV3::Riac { low, high, cfg, seed } => (Teacher::Riac(cfg), low, high, seed),
+                SpecV3::DiscreteLp { cfg, seed } => (Teacher::DiscreteLp(cfg), Vec::new(), Vec::new(), seed),
+                SpecV3::AlpGmm { low, high, cfg, seed } => (Teacher::AlpGmm(cfg), low, high, seed),
+                SpecV3::CovarGmm { low, high, cfg, seed } => (Teacher::CovarGmm(cfg), low, high, seed),
+            };
+            TeacherSpec { teacher, low, high, seed }
+        }
+    }
 
     #[derive(Deserialize)]
     pub struct TreeV1 {
@@ -97,11 +127,11 @@ mod legacy {
         Mixture { rng: CoreRng, fit_rng: CoreRng, points: Vec<f64>, values: Vec<f64>, window: Vec<f64>, gmm: Option<GmmV2> },
     }
 
-    impl StateV2 {
+    impl From<StateV2> for Vec<u8> {
         /// The same state in its teacher's own encoding: a variant's fields in order, which is
         /// how each teacher encodes its state struct.
-        fn encoded(self) -> Vec<u8> {
-            let r = match self {
+        fn from(s: StateV2) -> Vec<u8> {
+            let r = match s {
                 StateV2::SaggRiac { rng, points, values } | StateV2::Riac { rng, points, values } => postcard::to_stdvec(&(rng, points, values)),
                 StateV2::Random { rng } => postcard::to_stdvec(&(rng,)),
                 StateV2::DiscreteLp { rng, fast, slow } => postcard::to_stdvec(&(rng, fast, slow)),
@@ -112,29 +142,36 @@ mod legacy {
     }
 
     pub type SavedV1 = SavedAs<SpecV1, StateV2>;
-    pub type SavedV2 = SavedAs<TeacherSpec, StateV2>;
+    pub type SavedV2 = SavedAs<SpecV3, StateV2>;
+    pub type SavedV3 = SavedAs<SpecV3, Vec<u8>>;
 
     impl From<SpecV1> for TeacherSpec {
+        fn from(s: SpecV1) -> Self {
+            SpecV3::from(s).into()
+        }
+    }
+
+    impl From<SpecV1> for SpecV3 {
         fn from(s: SpecV1) -> Self {
             match s {
                 // saggriac <= 0.2 divided a young region's eq. 2 by its own window.
                 SpecV1::SaggRiac { low, high, tree, modes, seed } => {
                     let tree = RegionTreeConfig { g_max: tree.g_max, zeta: tree.zeta, min_child: tree.min_child, divisor: InterestDivisor::Window };
-                    TeacherSpec::SaggRiac { low, high, tree, modes, seed }
+                    SpecV3::SaggRiac { low, high, tree, modes, seed }
                 }
-                SpecV1::Random { low, high, seed } => TeacherSpec::Random { low, high, seed },
-                SpecV1::Riac { low, high, cfg, seed } => TeacherSpec::Riac { low, high, cfg, seed },
-                SpecV1::DiscreteLp { cfg, seed } => TeacherSpec::DiscreteLp { cfg, seed },
-                SpecV1::AlpGmm { low, high, cfg, seed } => TeacherSpec::AlpGmm { low, high, cfg, seed },
-                SpecV1::CovarGmm { low, high, cfg, seed } => TeacherSpec::CovarGmm { low, high, cfg, seed },
+                SpecV1::Random { low, high, seed } => SpecV3::Random { low, high, seed },
+                SpecV1::Riac { low, high, cfg, seed } => SpecV3::Riac { low, high, cfg, seed },
+                SpecV1::DiscreteLp { cfg, seed } => SpecV3::DiscreteLp { cfg, seed },
+                SpecV1::AlpGmm { low, high, cfg, seed } => SpecV3::AlpGmm { low, high, cfg, seed },
+                SpecV1::CovarGmm { low, high, cfg, seed } => SpecV3::CovarGmm { low, high, cfg, seed },
             }
         }
     }
 
     /// A saved teacher of an older format in this format's terms.
-    pub fn upgrade<Spec: Into<TeacherSpec>>(s: SavedAs<Spec, StateV2>) -> Saved {
+    pub fn upgrade<Spec: Into<TeacherSpec>, State: Into<Vec<u8>>>(s: SavedAs<Spec, State>) -> Saved {
         let SavedAs { version, spec, state, asked, asked_mode, asked_region, told, told_competence, told_region, .. } = s;
-        SavedAs { format: FORMAT, version, spec: spec.into(), state: state.encoded(), asked, asked_mode, asked_region, told, told_competence, told_region }
+        SavedAs { format: FORMAT, version, spec: spec.into(), state: state.into(), asked, asked_mode, asked_region, told, told_competence, told_region }
     }
 }
 
@@ -160,12 +197,12 @@ impl AskTell {
 
     /// SAGG-RIAC over the box [low, high] of any dimension.
     pub fn sagg_riac(low: &[f64], high: &[f64], tree: RegionTreeConfig, modes: ModeProbabilities, seed: u64) -> Result<Self> {
-        Self::new(TeacherSpec::SaggRiac { low: low.to_vec(), high: high.to_vec(), tree, modes, seed })
+        Self::new(TeacherSpec { teacher: Teacher::SaggRiac(SaggRiacConfig { tree, modes }), low: low.to_vec(), high: high.to_vec(), seed })
     }
 
     /// Goals uniform in [low, high] (SAGG-Random's high level).
     pub fn random(low: &[f64], high: &[f64], seed: u64) -> Result<Self> {
-        Self::new(TeacherSpec::Random { low: low.to_vec(), high: high.to_vec(), seed })
+        Self::new(TeacherSpec { teacher: Teacher::Random(RandomConfig {}), low: low.to_vec(), high: high.to_vec(), seed })
     }
 
     pub fn spec(&self) -> &TeacherSpec {
@@ -199,6 +236,7 @@ impl AskTell {
         let decoded = match format {
             1 => decode::<legacy::SavedV1>(bytes).map(legacy::upgrade),
             2 => decode::<legacy::SavedV2>(bytes).map(legacy::upgrade),
+            3 => decode::<legacy::SavedV3>(bytes).map(legacy::upgrade),
             _ => decode::<Saved>(bytes),
         };
         let s = match decoded {
@@ -259,12 +297,12 @@ impl AskTell {
             return Err(Error::InvalidInput(format!("goal{at} must have {d} coordinates, the dimension of the goal space; got {}.", goal.len())));
         }
         if !(competence.is_finite() && competence.abs() <= MAX_COMPETENCE) {
-            return Err(Error::InvalidInput(format!("competence{at} must be a finite float with |competence| <= 1e100; got {competence}.")));
+            return Err(Error::InvalidInput(format!("competence{at} must be a finite float with |competence| <= 1e100; got {}.", Num(competence))));
         }
         let (lo, hi) = (self.selector.low(), self.selector.high());
         for i in 0..d {
             if !(goal[i] >= lo[i] && goal[i] <= hi[i]) {
-                return Err(Error::InvalidInput(format!("goal{at} must lie in the goal space [low, high]; coordinate {i} is {} but the bounds are [{}, {}].", goal[i], lo[i], hi[i])));
+                return Err(Error::InvalidInput(format!("goal{at} must lie in the goal space [low, high]; coordinate {i} is {} but the bounds are [{}, {}].", Num(goal[i]), Num(lo[i]), Num(hi[i]))));
             }
         }
         self.selector.check_told(goal, competence).map_err(|e| match (e, row) {
@@ -314,7 +352,7 @@ mod tests {
         let bytes = include_bytes!("../../tests/data/teacher_v1_sagg_riac.bin");
         let next = include_str!("../../tests/data/teacher_v1_sagg_riac.next");
         let mut a = AskTell::restore(bytes).unwrap();
-        let TeacherSpec::SaggRiac { tree, .. } = a.spec() else { panic!("not SAGG-RIAC") };
+        let Teacher::SaggRiac(SaggRiacConfig { tree, .. }) = a.spec().teacher else { panic!("not SAGG-RIAC") };
         assert_eq!((tree.g_max, tree.zeta, tree.min_child, tree.divisor), (12, 8, 2, InterestDivisor::Window));
         assert_eq!(a.told_competence.len(), 200);
         // The competences 0.2.0's generator drew, replayed: the first 200 went into the save.
@@ -334,11 +372,18 @@ mod tests {
     }
 
     /// A teacher of every kind saved by saggriac 0.4 (format 2, one enum of all states; written at
-    /// 4316e31)
-    /// restores into its own state type and asks the 20 goals 0.4 asked next, to the bit.
+    /// 4316e31) or 0.5 (format 3, one enum of teachers with their boxes; written at 4ffeabf by
+    /// tests/data/teachers_v3.py) restores into today's types and asks the 20 goals 0.4 or 0.5
+    /// asked next, to the bit.
     #[test]
-    fn teachers_saved_by_saggriac_0_4_continue_exactly() {
-        let files: [(&str, &[u8], &str); 6] = [
+    fn teachers_saved_by_saggriac_0_4_and_0_5_continue_exactly() {
+        let files: [(&str, &[u8], &str); 12] = [
+            ("sagg_riac", include_bytes!("../../tests/data/teacher_v3_sagg_riac.bin"), include_str!("../../tests/data/teacher_v3_sagg_riac.next")),
+            ("random", include_bytes!("../../tests/data/teacher_v3_random.bin"), include_str!("../../tests/data/teacher_v3_random.next")),
+            ("riac", include_bytes!("../../tests/data/teacher_v3_riac.bin"), include_str!("../../tests/data/teacher_v3_riac.next")),
+            ("alp_gmm", include_bytes!("../../tests/data/teacher_v3_alp_gmm.bin"), include_str!("../../tests/data/teacher_v3_alp_gmm.next")),
+            ("covar_gmm", include_bytes!("../../tests/data/teacher_v3_covar_gmm.bin"), include_str!("../../tests/data/teacher_v3_covar_gmm.next")),
+            ("discrete_lp", include_bytes!("../../tests/data/teacher_v3_discrete_lp.bin"), include_str!("../../tests/data/teacher_v3_discrete_lp.next")),
             ("sagg_riac", include_bytes!("../../tests/data/teacher_v2_sagg_riac.bin"), include_str!("../../tests/data/teacher_v2_sagg_riac.next")),
             ("random", include_bytes!("../../tests/data/teacher_v2_random.bin"), include_str!("../../tests/data/teacher_v2_random.next")),
             ("riac", include_bytes!("../../tests/data/teacher_v2_riac.bin"), include_str!("../../tests/data/teacher_v2_riac.next")),

@@ -202,7 +202,7 @@ impl GoalSelector for SaggRiac {
     fn update(&mut self, point: &[f64], competence: f64) -> Option<usize> {
         Some(self.tree.add(point, competence).0)
     }
-    /// R-IAC in the current context (SPEC "ACTUATOR-RIAC, faithfully"): each candidate is
+    /// R-IAC in the current context (docs/parameters.md, "ACTUATOR-RIAC"): each candidate is
     /// located in its leaf, and the three modes choose among the candidates through their
     /// leaves: mode 1 with probability |interest - min interest| (eq. 3, the minimum over all
     /// leaves), mode 2 uniformly, mode 3 the candidate in the leaf of lowest mean competence.

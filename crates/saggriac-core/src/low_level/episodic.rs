@@ -11,7 +11,6 @@ use crate::config::{Condition, RunConfig};
 use crate::high_level::competence::{competence_of, CompetenceConfig};
 use crate::high_level::goal_selection::GoalChoice;
 use crate::low_level::LowLevel;
-use crate::model::episodic_memory::EpisodicMemory;
 use crate::model::neighbours::Neighbour;
 use crate::parts::Parts;
 use crate::rng::{normal, uniform};
@@ -43,9 +42,6 @@ impl Episodic {
     }
 }
 
-fn episodes(parts: &Parts) -> &EpisodicMemory {
-    parts.model().episodes().expect("the episodic paradigm's model holds movements")
-}
 
 impl LowLevel for Episodic {
     fn asks_high_level(&self) -> bool {
@@ -73,7 +69,10 @@ impl LowLevel for Episodic {
                 let g = goal.expect("a goal for the SAGG conditions");
                 let t1 = std::time::Instant::now();
                 // Before any movement the inverse model knows nothing: start from rest.
-                episodes(parts).inverse(&g, &self.cfg, self.rcond, &mut self.nb, &mut theta);
+                // (No memory of movements: a run of the other paradigm, refused by `movement`.)
+                if let Some(e) = parts.model().episodes() {
+                    e.inverse(&g, &self.cfg, self.rcond, &mut self.nb, &mut theta);
+                }
                 parts.timers_mut().knn += t1.elapsed().as_secs_f64();
                 let s = self.cfg.noise;
                 if s > 0.0 {
@@ -83,9 +82,9 @@ impl LowLevel for Episodic {
         }
         theta.iter_mut().for_each(|t| *t = t.clamp(-lim, lim));
         // ACTUATOR-RIAC's interest: progress of the forward model's error on this movement.
-        let predicted = if self.condition == Condition::ActuatorRiac { episodes(parts).predict(&theta, &self.cfg, &mut self.nb) } else { None };
+        let predicted = if self.condition == Condition::ActuatorRiac { parts.model().episodes().and_then(|e| e.predict(&theta, &self.cfg, &mut self.nb)) } else { None };
         let step_start = parts.recorder().steps();
-        let x = parts.movement(&theta);
+        let Ok(x) = parts.movement(&theta) else { return };
         let c = parts.counters_mut();
         c.babbling_steps += u64::from(goal.is_none());
         c.reaching_steps += u64::from(goal.is_some());

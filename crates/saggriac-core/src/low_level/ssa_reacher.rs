@@ -5,8 +5,8 @@
 //! model exists yet), until the target is reached or the attempt times out. Each subgoal's
 //! competence goes to the high level.
 
-use crate::config::low_level::ExplorationConfig;
 pub use crate::config::low_level::ReachingConfig;
+use crate::config::low_level::{ExplorationConfig, ExplorationTrigger};
 use crate::config::RunConfig;
 use crate::high_level::competence::{clip, cost_of, CompetenceConfig};
 use crate::high_level::goal_selection::GoalChoice;
@@ -81,11 +81,21 @@ impl SsaReacher {
                         break;
                     }
                     Some(dx) => {
-                        // Compare with what the model expected of the command actually executed:
-                        // the same as the desired dx unless the joint-step bound or a joint limit
-                        // cut the command, which is no fault of the model.
+                        // By default compare with what the model expected of the command actually
+                        // executed, so a command cut by the joint-step bound or a joint limit is no
+                        // fault of the model; `Desired` compares with the desired step, as printed.
+                        // Both are counted, so a run measures how often they disagree.
                         let expected = parts.model().expected_dx(&self.dtheta);
-                        if distance(&dx, &expected) > rc.eps_max {
+                        let (on_executed, on_desired) = (distance(&dx, &expected) > rc.eps_max, distance(&dx, &dx_des) > rc.eps_max);
+                        let counters = parts.counters_mut();
+                        counters.trigger_only_executed += (on_executed && !on_desired) as u64;
+                        counters.trigger_only_desired += (on_desired && !on_executed) as u64;
+                        counters.trigger_gap_sum += distance(&expected, &dx_des);
+                        let fire = match rc.trigger {
+                            ExplorationTrigger::Executed => on_executed,
+                            ExplorationTrigger::Desired => on_desired,
+                        };
+                        if fire {
                             parts.counters_mut().explorations += 1;
                             explore(parts, &self.exploration, &mut self.dtheta, deadline);
                         }

@@ -5,6 +5,7 @@
 use nalgebra::{DMatrix, DVector};
 
 pub use crate::config::model::{LocalModelConfig, MIN_RCOND};
+use crate::model::gram::{gram_and_rhs, prefetch, LANES, TILE_ROWS};
 use crate::model::memory::SensorimotorMemory;
 use crate::model::neighbours::Neighbour;
 
@@ -18,10 +19,6 @@ pub enum FitFailure {
     Degenerate,
 }
 
-/// Columns of the Gram matrix accumulated together by `fit`: enough independent sums to keep
-/// the floating-point units busy, few enough to stay in registers.
-const LANES: usize = 8;
-
 /// Workspace for local fits; reused across calls so the hot loop does not allocate matrices.
 pub struct LocalModel {
     pub cfg: LocalModelConfig,
@@ -33,8 +30,10 @@ pub struct LocalModel {
     rhs: Vec<f64>,
     /// The current Jacobian estimate (m x n).
     jac: DMatrix<f64>,
-    /// Per neighbour, its weighted joint motion w dtheta (n values).
+    /// Per neighbour, its weighted joint motion w dtheta (n values, padded with zeros to
+    /// `wstride`, a multiple of `TILE_ROWS`).
     wd: Vec<f64>,
+    wstride: usize,
     /// Per neighbour, dtheta then dx, padded to `stride` values (plus `LANES` at the end).
     rows: Vec<f64>,
     stride: usize,
@@ -43,7 +42,8 @@ pub struct LocalModel {
 impl LocalModel {
     pub fn new(n: usize, m: usize, cfg: LocalModelConfig) -> Self {
         let stride = (n + m).div_ceil(LANES) * LANES;
-        LocalModel { cfg, n, m, gram: vec![0.0; n * n], rhs: vec![0.0; n * m], jac: DMatrix::zeros(m, n), wd: Vec::new(), rows: Vec::new(), stride }
+        let wstride = n.div_ceil(TILE_ROWS) * TILE_ROWS;
+        LocalModel { cfg, n, m, gram: vec![0.0; n * n], rhs: vec![0.0; n * m], jac: DMatrix::zeros(m, n), wd: Vec::new(), wstride, rows: Vec::new(), stride }
     }
 
     pub fn jacobian(&self) -> &DMatrix<f64> {
@@ -60,40 +60,27 @@ impl LocalModel {
         // Gaussian weights with a bandwidth set by the median neighbour: the Jacobian changes
         // across the neighbourhood, so the closest samples should dominate.
         let h2 = neighbours[neighbours.len() / 2].dist_sq.max(1e-300) * self.cfg.bandwidth;
-        self.wd.resize(k * n, 0.0);
+        // Padding entries (a >= n) are never written, so they stay 0.0.
+        self.wd.resize(k * self.wstride, 0.0);
         self.rows.resize(k * stride + LANES, 0.0);
+        // The neighbours' rows lie anywhere in a memory much larger than the caches: ask for
+        // all of them at once, so that their misses overlap instead of following each other.
+        for nb in neighbours {
+            let id = nb.id as usize;
+            prefetch(mem.dtheta(id));
+            prefetch(mem.dx(id));
+        }
         for (i, nb) in neighbours.iter().enumerate() {
             let w = if self.cfg.bandwidth > 0.0 { (-nb.dist_sq / h2).exp() } else { 1.0 };
             let dth = mem.dtheta(nb.id as usize);
-            for (o, d) in self.wd[i * n..(i + 1) * n].iter_mut().zip(dth) {
+            for (o, d) in self.wd[i * self.wstride..i * self.wstride + n].iter_mut().zip(dth) {
                 *o = w * d;
             }
             let row = &mut self.rows[i * stride..i * stride + width];
             row[..n].copy_from_slice(dth);
             row[n..].copy_from_slice(mem.dx(nb.id as usize));
         }
-        // Entry (a, b) of [Gram | rhs] is sum_i wd_i[a] * row_i[b], summed over the neighbours
-        // in order from 0.0 as a plain running sum would; each sum is kept in a register across
-        // the neighbours instead of being loaded and stored per neighbour. Rows b >= a of column
-        // a of `gram` form the lower triangle, which is all the Cholesky factorisation reads.
-        for a in 0..n {
-            for b0 in (a..width).step_by(LANES) {
-                let mut acc = [0.0f64; LANES];
-                for (row, &da) in self.rows[b0..].chunks(stride).zip(self.wd[a..].iter().step_by(n)) {
-                    let r: &[f64; LANES] = row[..LANES].try_into().unwrap();
-                    for (s, x) in acc.iter_mut().zip(r) {
-                        *s += da * x;
-                    }
-                }
-                for (b, &v) in (b0..width.min(b0 + LANES)).zip(&acc) {
-                    if b < n {
-                        self.gram[a * n + b] = v;
-                    } else {
-                        self.rhs[(b - n) * n + a] = v;
-                    }
-                }
-            }
-        }
+        gram_and_rhs(&self.wd, self.wstride, &self.rows, stride, k, n, width, &mut self.gram, &mut self.rhs);
         let trace: f64 = (0..n).map(|a| self.gram[a * n + a]).sum();
         if !(trace.is_finite() && trace > 0.0) {
             return Err(FitFailure::Degenerate);
@@ -106,9 +93,7 @@ impl LocalModel {
         if !cholesky_in_place(&mut self.gram, n) {
             return Err(FitFailure::Degenerate);
         }
-        for b in self.rhs.chunks_exact_mut(n) {
-            cholesky_solve_in_place(&self.gram, n, b);
-        }
+        cholesky_solve_in_place(&self.gram, n, &mut self.rhs);
         if !self.rhs.iter().all(|v| v.is_finite()) {
             return Err(FitFailure::Degenerate);
         }
@@ -180,19 +165,25 @@ fn cholesky_in_place(g: &mut [f64], n: usize) -> bool {
     true
 }
 
-/// nalgebra 0.35's `Cholesky::solve_mut` for one column `b`, given the factor from
-/// `cholesky_in_place`: forward substitution, then back substitution with its dot product.
+/// nalgebra 0.35's `Cholesky::solve_mut` for each column of `b` (n rows, column-major), given
+/// the factor from `cholesky_in_place`: forward substitution, then back substitution with its
+/// dot product. Every column gets the operations nalgebra gives it; the columns go through the
+/// rows side by side so that their chains of divisions overlap.
 fn cholesky_solve_in_place(l: &[f64], n: usize, b: &mut [f64]) {
     for i in 0..n {
-        let coeff = b[i] / l[i * n + i];
-        b[i] = coeff;
-        for (y, x) in b[i + 1..].iter_mut().zip(&l[i * n + i + 1..(i + 1) * n]) {
-            *y += -coeff * x;
+        for b in b.chunks_exact_mut(n) {
+            let coeff = b[i] / l[i * n + i];
+            b[i] = coeff;
+            for (y, x) in b[i + 1..].iter_mut().zip(&l[i * n + i + 1..(i + 1) * n]) {
+                *y += -coeff * x;
+            }
         }
     }
     for i in (0..n).rev() {
-        let dot = nalgebra_dot(&l[i * n + i + 1..(i + 1) * n], &b[i + 1..n]);
-        b[i] = (b[i] - dot) / l[i * n + i];
+        for b in b.chunks_exact_mut(n) {
+            let dot = nalgebra_dot(&l[i * n + i + 1..(i + 1) * n], &b[i + 1..n]);
+            b[i] = (b[i] - dot) / l[i * n + i];
+        }
     }
 }
 
@@ -370,6 +361,54 @@ mod tests {
         mem.knn(&vec![0.0; n], 30, &mut nb);
         lm.fit(&mem, &nb).unwrap();
         assert!((lm.jacobian() - &truth).norm() < 1e-5);
+    }
+
+    /// The fit's kernels (tiled Gram sums, prefetches, solves side by side) give the bits of
+    /// the plain formula: running sums over the neighbours in order, nalgebra's Cholesky.
+    #[test]
+    fn fit_gives_the_bits_of_the_plain_formula() {
+        let (n, m, k) = (15, 2, 45);
+        let mut mem = SensorimotorMemory::new(n, m, IndexKind::Blocks);
+        let mut r = rng_from_seed(7);
+        for _ in 0..3000 {
+            let th: Vec<f64> = (0..n).map(|_| uniform(&mut r, -1.0, 1.0)).collect();
+            let d: Vec<f64> = (0..n).map(|_| uniform(&mut r, -0.05, 0.05)).collect();
+            let dx: Vec<f64> = (0..m).map(|j| d.iter().enumerate().map(|(a, v)| v * ((a + j) as f64).cos()).sum::<f64>() + uniform(&mut r, -1e-3, 1e-3)).collect();
+            mem.add(&th, &d, &dx, &[0.0; 2]);
+        }
+        let cfg = LocalModelConfig { k_neighbours: k, ridge: 1e-3, pinv_rcond: 1e-2, bandwidth: 1.0 };
+        let mut lm = LocalModel::new(n, m, cfg.clone());
+        let mut nb = Vec::new();
+        for q in 0..20 {
+            let query: Vec<f64> = (0..n).map(|a| ((q * n + a) as f64).sin()).collect();
+            mem.knn(&query, k, &mut nb);
+            lm.fit(&mem, &nb).unwrap();
+            let h2 = nb[k / 2].dist_sq.max(1e-300) * cfg.bandwidth;
+            let (mut g, mut rhs) = (DMatrix::<f64>::zeros(n, n), DMatrix::<f64>::zeros(n, m));
+            for e in &nb {
+                let w = (-e.dist_sq / h2).exp();
+                let (dth, dx) = (mem.dtheta(e.id as usize), mem.dx(e.id as usize));
+                for a in 0..n {
+                    for b in 0..n {
+                        // Column a, row b: the product the fit forms for its lower triangle.
+                        g[(b, a)] += (w * dth[a]) * dth[b];
+                    }
+                    for j in 0..m {
+                        rhs[(a, j)] += (w * dth[a]) * dx[j];
+                    }
+                }
+            }
+            let trace: f64 = (0..n).map(|a| g[(a, a)]).sum();
+            for a in 0..n {
+                g[(a, a)] += cfg.ridge * trace / n as f64;
+            }
+            let jt = g.cholesky().unwrap().solve(&rhs);
+            for a in 0..n {
+                for j in 0..m {
+                    assert_eq!(lm.jacobian()[(j, a)].to_bits(), jt[(a, j)].to_bits(), "query {q}, J[{j}, {a}]");
+                }
+            }
+        }
     }
 
     #[test]

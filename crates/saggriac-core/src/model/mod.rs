@@ -1,7 +1,7 @@
 //! The sensorimotor model (paper III.B): the memory of what was done and what happened
 //! (`memory`, stored in chunks, `chunked`), its exact nearest-neighbour index (`neighbours`,
 //! `block_index`; `kd_tree` kept as the measured alternative), the local linear models fitted to
-//! the neighbours (`local_model`), one query of the inverse model through them (`local_query`,
+//! the neighbours (`local_model`, its kernels in `gram`), one query of the inverse model through them (`local_query`,
 //! shared by the learner and the evaluator), the episodic paradigm's memory of whole movements
 //! (`episodic_memory`), and the model the learner and the evaluator use through them
 //! (`sensorimotor_model`).
@@ -9,6 +9,7 @@
 pub mod block_index;
 pub mod chunked;
 pub mod episodic_memory;
+pub(crate) mod gram;
 pub mod kd_tree;
 pub mod local_model;
 pub mod local_query;

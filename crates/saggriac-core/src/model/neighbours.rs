@@ -44,6 +44,49 @@ unsafe fn block_dist_sq_avx2(q: &[f64], coords: &[f64], cap: usize, len: usize, 
     block_dist_sq(q, coords, cap, len, acc)
 }
 
+/// `block_dist_sq` for a search with a bound: the sums are the same, but halfway through the
+/// dimensions, if every point's partial sum is already above `bound`, it stops and returns
+/// false (the squares are not negative, so no later term brings a sum back under it; a sum
+/// that survives is finished in the same order, with the same bits).
+#[inline(always)]
+fn block_dist_sq_within(q: &[f64], coords: &[f64], cap: usize, len: usize, acc: &mut [f64], bound: f64) -> bool {
+    let acc = &mut acc[..len];
+    acc.iter_mut().for_each(|a| *a = 0.0);
+    let half = q.len() / 2;
+    for (d, &qd) in q.iter().enumerate() {
+        if d == half && acc.iter().fold(true, |all, &a| all & (a > bound)) {
+            return false;
+        }
+        let row = &coords[d * cap..d * cap + len];
+        for (a, c) in acc.iter_mut().zip(row) {
+            let e = qd - c;
+            *a += e * e;
+        }
+    }
+    true
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn block_dist_sq_within_avx2(q: &[f64], coords: &[f64], cap: usize, len: usize, acc: &mut [f64], bound: f64) -> bool {
+    // As `block_dist_sq_avx2`: 4-wide lanes, no FMA, the same bits.
+    block_dist_sq_within(q, coords, cap, len, acc, bound)
+}
+
+/// `block_dist_sq_within` in AVX2 lanes where the CPU has them: false when no point of the
+/// block can be within `bound` (the distances in `acc` are then unfinished).
+#[inline]
+pub(crate) fn distances_within(q: &[f64], coords: &[f64], cap: usize, len: usize, acc: &mut [f64], bound: f64) -> bool {
+    #[cfg(target_arch = "x86_64")]
+    {
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the CPU supports AVX2, checked just above.
+            return unsafe { block_dist_sq_within_avx2(q, coords, cap, len, acc, bound) };
+        }
+    }
+    block_dist_sq_within(q, coords, cap, len, acc, bound)
+}
+
 /// `block_dist_sq` in AVX2 lanes where the CPU has them.
 #[inline]
 pub(crate) fn distances(q: &[f64], coords: &[f64], cap: usize, len: usize, acc: &mut [f64]) {
@@ -84,18 +127,25 @@ impl<'a> TopK<'a> {
         if d > self.bound() {
             return;
         }
-        let full = self.out.len() >= self.k;
-        if full {
+        if self.out.len() >= self.k {
             let w = self.out[self.k - 1];
             if d == w.dist_sq && id > w.id {
                 return;
             }
-        }
-        let pos = self.out.partition_point(|n| n.dist_sq < d || (n.dist_sq == d && n.id < id));
-        if full {
             self.out.pop();
         }
-        self.out.insert(pos, Neighbour { id, dist_sq: d });
+        // One step of insertion sort from the back: most newcomers land near the end, and a
+        // compare-and-move loop costs less than a binary search's unpredictable branches and a
+        // call to memmove.
+        let new = Neighbour { id, dist_sq: d };
+        self.out.push(new);
+        let v = &mut self.out[..];
+        let mut j = v.len() - 1;
+        while j > 0 && (v[j - 1].dist_sq > d || (v[j - 1].dist_sq == d && v[j - 1].id > id)) {
+            v[j] = v[j - 1];
+            j -= 1;
+        }
+        v[j] = new;
     }
 }
 

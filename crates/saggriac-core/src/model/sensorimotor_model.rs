@@ -15,8 +15,8 @@ use crate::model::episodic_memory::EpisodicMemory;
 use crate::model::local_model::FitFailure;
 use crate::model::local_query::LocalQuery;
 use crate::model::memory::SensorimotorMemory;
-use crate::recorder::Timers;
 use crate::task_space::{Point, MAX_TASK_DIM};
+use crate::timers::Timers;
 
 pub struct SensorimotorModel {
     samples: SensorimotorMemory,
@@ -83,9 +83,10 @@ impl SensorimotorModel {
         self.samples.add(theta, dtheta, dx, x)
     }
 
-    /// Store one movement of the episodic paradigm.
-    pub fn store_movement(&mut self, theta: &[f64], x: &[f64]) -> bool {
-        self.episodes.as_mut().expect("the episodic paradigm's model stores movements").add(theta, x)
+    /// Store one movement of the episodic paradigm (None: this model, of the micro-action
+    /// paradigm, has no memory of movements).
+    pub fn store_movement(&mut self, theta: &[f64], x: &[f64]) -> Option<bool> {
+        self.episodes.as_mut().map(|e| e.add(theta, x))
     }
 
     /// The arm jumped (back to rest): the trajectory's warm start no longer applies.

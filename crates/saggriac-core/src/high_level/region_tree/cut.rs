@@ -15,11 +15,12 @@ pub struct Cuts<'a> {
 }
 
 impl Cuts<'_> {
-    /// Interest of the last zeta (in time order) of a leaf's measurements whose bit in `left`
+    /// Interest of the last zeta (zeta + 1 when `Printed`), in time order, of a leaf's measurements whose bit in `left`
     /// equals `side`; `vals` are their values in time order. Bits are read from the top, so the
     /// scan stops after zeta members without visiting the others.
     fn window_interest(&self, vals: &[f64], left: &[u64], side: bool, window: &mut Vec<f64>) -> f64 {
         let zeta = self.zeta;
+        let len = self.divisor.window_len(zeta);
         window.clear();
         'words: for w in (0..left.len()).rev() {
             let mut word = if side { left[w] } else { !left[w] };
@@ -27,10 +28,10 @@ impl Cuts<'_> {
             if tail < 64 {
                 word &= (1u64 << tail) - 1;
             }
-            while word != 0 && zeta > 0 {
+            while word != 0 && len > 0 {
                 let b = 63 - word.leading_zeros() as usize;
                 window.push(vals[64 * w + b]);
-                if window.len() == zeta {
+                if window.len() == len {
                     break 'words;
                 }
                 word &= !(1u64 << b);

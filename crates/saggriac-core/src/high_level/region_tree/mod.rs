@@ -225,7 +225,7 @@ impl RegionTree {
 
     fn refresh_interest(&mut self, leaf: usize, zeta: usize) {
         let reg = &self.regions[leaf];
-        let start = reg.entries.len().saturating_sub(zeta);
+        let start = reg.entries.len().saturating_sub(self.cfg.divisor.window_len(zeta));
         self.window.clear();
         self.window.extend(reg.entries[start..].iter().map(|&e| self.values[e as usize]));
         self.regions[leaf].interest = interest(&self.window, zeta, self.cfg.divisor);

@@ -16,7 +16,8 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::error::{invalid, Check, Result, MAX_COUNT};
+pub use crate::config::teachers::DiscreteLpConfig;
+use crate::error::Result;
 use crate::high_level::goal_selection::{load_state, save_state, GoalChoice, GoalSelector, Mode};
 use crate::rng::{rng_from_seed, unit, CoreRng};
 
@@ -26,28 +27,6 @@ struct DiscreteLpState {
     rng: CoreRng,
     fast: Vec<f64>,
     slow: Vec<f64>,
-}
-
-/// Parameters of the discrete learning-progress teacher.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct DiscreteLpConfig {
-    pub n_tasks: usize,
-    /// Step of both moving averages (the paper's and Syllabus's 0.1).
-    pub alpha: f64,
-    /// theta of the reweighting (0.1 in the paper); 0.5 makes r the identity.
-    pub theta: f64,
-}
-
-impl DiscreteLpConfig {
-    pub fn validate(&self) -> Result<()> {
-        let c = Check { owner: "DiscreteLpSelector" };
-        c.within("n_tasks", self.n_tasks, 1, MAX_COUNT)?;
-        c.in_open_closed("alpha", self.alpha, 0.0, 1.0)?;
-        if !(self.theta.is_finite() && self.theta > 0.0 && self.theta < 1.0) {
-            return Err(invalid("DiscreteLpSelector", "theta", "a float in (0, 1)", self.theta));
-        }
-        Ok(())
-    }
 }
 
 #[derive(Debug, Clone)]
@@ -104,10 +83,10 @@ impl DiscreteLp {
 
     pub fn check_goal(&self, goal: &[f64], competence: f64) -> Result<()> {
         if self.task(goal).is_none() {
-            return Err(crate::Error::InvalidInput(format!("goal must be a task index, a whole number in [0, {}); got {}.", self.cfg.n_tasks, goal[0])));
+            return Err(crate::Error::InvalidInput(format!("goal must be a task index, a whole number in [0, {}); got {}.", self.cfg.n_tasks, crate::error::Num(goal[0]))));
         }
         if !(0.0..=1.0).contains(&competence) {
-            return Err(crate::Error::InvalidInput(format!("competence must be a success rate in [0, 1] for the discrete learning-progress teacher; got {competence}.")));
+            return Err(crate::Error::InvalidInput(format!("competence must be a success rate in [0, 1] for the discrete learning-progress teacher; got {}.", crate::error::Num(competence))));
         }
         Ok(())
     }

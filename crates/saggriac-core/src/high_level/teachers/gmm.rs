@@ -52,6 +52,23 @@ fn logsumexp(v: &[f64]) -> f64 {
     m + v.iter().map(|x| (x - m).exp()).sum::<f64>().ln()
 }
 
+/// Samples of a fit as one row-major array (n x d): the E and M steps read them many times.
+struct Samples {
+    x: Vec<f64>,
+    d: usize,
+}
+
+impl Samples {
+    fn new(data: &[DVector<f64>]) -> Self {
+        let d = data.first().map_or(0, |x| x.len());
+        Samples { x: data.iter().flat_map(|x| x.iter().copied()).collect(), d }
+    }
+
+    fn n(&self) -> usize {
+        self.x.len() / self.d.max(1)
+    }
+}
+
 impl Gmm {
     /// A mixture of flat arrays: weights (k), means (k x d row by row), covariances (k x d x d).
     pub fn from_flat(d: usize, weights: &[f64], means: &[f64], covariances: &[f64]) -> Gmm {
@@ -73,10 +90,11 @@ impl Gmm {
         self.weights.len()
     }
 
-    /// log(weight_k) + log N(x | mean_k, cov_k) for every sample (rows) and component. The
-    /// hot loop of every fit: triangular solves into one reused buffer, no allocation per sample.
-    fn weighted_log_prob(&self, data: &[DVector<f64>]) -> Vec<Vec<f64>> {
-        let d = self.means[0].len();
+    /// log(weight_k) + log N(x | mean_k, cov_k) for every sample and component, row-major (n x
+    /// k). The hot loop of every fit: triangular solves into one reused buffer, no allocation
+    /// per sample.
+    fn weighted_log_prob(&self, data: &Samples) -> Vec<f64> {
+        let d = data.d;
         let k = self.n_components();
         // Per component: its Cholesky factor row-major, its log-determinant, its log weight.
         let factors: Vec<(Vec<f64>, f64, f64)> = self
@@ -94,59 +112,65 @@ impl Gmm {
             .collect();
         let constant = d as f64 * LN_2PI;
         let mut y = vec![0.0; d];
-        data.iter()
-            .map(|x| {
-                let x = x.as_slice();
-                let mut row = Vec::with_capacity(k);
-                for ((l, logdet, lw), m) in factors.iter().zip(&self.means) {
-                    let m = m.as_slice();
-                    let mut sq = 0.0;
-                    for i in 0..d {
-                        let mut v = x[i] - m[i];
-                        for j in 0..i {
-                            v -= l[i * d + j] * y[j];
-                        }
-                        v /= l[i * d + i];
-                        y[i] = v;
-                        sq += v * v;
+        let mut out = Vec::with_capacity(data.n() * k);
+        for x in data.x.chunks_exact(d) {
+            for ((l, logdet, lw), m) in factors.iter().zip(&self.means) {
+                let m = m.as_slice();
+                let mut sq = 0.0;
+                for i in 0..d {
+                    let mut v = x[i] - m[i];
+                    for j in 0..i {
+                        v -= l[i * d + j] * y[j];
                     }
-                    row.push(lw - 0.5 * (constant + logdet + sq));
+                    v /= l[i * d + i];
+                    y[i] = v;
+                    sq += v * v;
                 }
-                row
-            })
-            .collect()
+                out.push(lw - 0.5 * (constant + logdet + sq));
+            }
+        }
+        out
     }
 
     /// Mean log-likelihood per sample.
     pub fn score(&self, data: &[DVector<f64>]) -> f64 {
+        self.score_of(&Samples::new(data))
+    }
+
+    fn score_of(&self, data: &Samples) -> f64 {
         let lp = self.weighted_log_prob(data);
-        lp.iter().map(|r| logsumexp(r)).sum::<f64>() / data.len() as f64
+        lp.chunks_exact(self.n_components()).map(logsumexp).sum::<f64>() / data.n() as f64
     }
 
     /// Akaike's information criterion, -2 log L + 2 p (scikit-learn's `aic`).
     pub fn aic(&self, data: &[DVector<f64>]) -> f64 {
+        self.aic_of(&Samples::new(data))
+    }
+
+    fn aic_of(&self, data: &Samples) -> f64 {
         let (k, d) = (self.n_components() as f64, self.means[0].len() as f64);
         let params = k * d * (d + 1.0) / 2.0 + k * d + k - 1.0;
-        -2.0 * self.score(data) * data.len() as f64 + 2.0 * params
+        -2.0 * self.score_of(data) * data.n() as f64 + 2.0 * params
     }
 
     /// Weights, means and covariances from responsibilities (the M step).
-    fn from_responsibilities(data: &[DVector<f64>], resp: &[Vec<f64>], reg_covar: f64) -> Gmm {
-        let (n, k, d) = (data.len(), resp[0].len(), data[0].len());
+    /// `resp` is row-major, n x k.
+    fn from_responsibilities(data: &Samples, resp: &[f64], k: usize, reg_covar: f64) -> Gmm {
+        let (n, d) = (data.n(), data.d);
         let mut gmm = Gmm { weights: Vec::with_capacity(k), means: Vec::with_capacity(k), covariances: Vec::with_capacity(k) };
         let mut diff = vec![0.0; d];
         for j in 0..k {
-            let nk = resp.iter().map(|r| r[j]).sum::<f64>() + 10.0 * f64::EPSILON;
+            let nk = resp.chunks_exact(k).map(|r| r[j]).sum::<f64>() + 10.0 * f64::EPSILON;
             let mut mean = vec![0.0; d];
-            for (x, r) in data.iter().zip(resp) {
-                for (m, v) in mean.iter_mut().zip(x.iter()) {
+            for (x, r) in data.x.chunks_exact(d).zip(resp.chunks_exact(k)) {
+                for (m, v) in mean.iter_mut().zip(x) {
                     *m += r[j] * v;
                 }
             }
             mean.iter_mut().for_each(|m| *m /= nk);
             // The lower triangle of sum r (x - mean)(x - mean)^T, mirrored after.
             let mut cov = vec![0.0; d * d];
-            for (x, r) in data.iter().zip(resp) {
+            for (x, r) in data.x.chunks_exact(d).zip(resp.chunks_exact(k)) {
                 let w = r[j];
                 if w == 0.0 {
                     continue;
@@ -193,6 +217,10 @@ pub fn rows(data: &[f64], d: usize) -> Vec<DVector<f64>> {
 
 /// EM from `start`.
 pub fn fit_from(data: &[DVector<f64>], start: Gmm, cfg: EmConfig) -> GmmFit {
+    fit_samples(&Samples::new(data), start, cfg)
+}
+
+fn fit_samples(data: &Samples, start: Gmm, cfg: EmConfig) -> GmmFit {
     let mut gmm = start;
     let mut lower_bound = f64::NEG_INFINITY;
     let mut converged = false;
@@ -200,18 +228,17 @@ pub fn fit_from(data: &[DVector<f64>], start: Gmm, cfg: EmConfig) -> GmmFit {
     for it in 1..=cfg.max_iter {
         n_iter = it;
         let previous = lower_bound;
-        let lp = gmm.weighted_log_prob(data);
+        let k = gmm.n_components();
+        // The log-probabilities become the responsibilities in place.
+        let mut resp = gmm.weighted_log_prob(data);
         let mut total = 0.0;
-        let resp: Vec<Vec<f64>> = lp
-            .iter()
-            .map(|r| {
-                let norm = logsumexp(r);
-                total += norm;
-                r.iter().map(|v| (v - norm).exp()).collect()
-            })
-            .collect();
-        lower_bound = total / data.len() as f64;
-        gmm = Gmm::from_responsibilities(data, &resp, cfg.reg_covar);
+        for r in resp.chunks_exact_mut(k) {
+            let norm = logsumexp(r);
+            total += norm;
+            r.iter_mut().for_each(|v| *v = (*v - norm).exp());
+        }
+        lower_bound = total / data.n() as f64;
+        gmm = Gmm::from_responsibilities(data, &resp, k, cfg.reg_covar);
         if (lower_bound - previous).abs() < cfg.tol {
             converged = true;
             break;
@@ -223,6 +250,21 @@ pub fn fit_from(data: &[DVector<f64>], start: Gmm, cfg: EmConfig) -> GmmFit {
 /// k clusters by k-means++ seeding and Lloyd's iterations; the start of EM (hard
 /// responsibilities), as scikit-learn's default `init_params="kmeans"`.
 pub fn kmeans_start(data: &[DVector<f64>], k: usize, reg_covar: f64, rng: &mut CoreRng) -> Gmm {
+    let labels = kmeans_labels(data, k, rng);
+    kmeans_gmm(&Samples::new(data), &labels, k, reg_covar)
+}
+
+/// The mixture of hard responsibilities: each sample all in its cluster.
+fn kmeans_gmm(data: &Samples, labels: &[usize], k: usize, reg_covar: f64) -> Gmm {
+    let mut resp = vec![0.0; labels.len() * k];
+    for (r, &l) in resp.chunks_exact_mut(k).zip(labels) {
+        r[l] = 1.0;
+    }
+    Gmm::from_responsibilities(data, &resp, k, reg_covar)
+}
+
+/// The cluster of each sample after k-means++ seeding and Lloyd's iterations.
+fn kmeans_labels(data: &[DVector<f64>], k: usize, rng: &mut CoreRng) -> Vec<usize> {
     let n = data.len();
     let mut centres = vec![data[index(rng, n)].clone()];
     while centres.len() < k {
@@ -271,18 +313,20 @@ pub fn kmeans_start(data: &[DVector<f64>], k: usize, reg_covar: f64, rng: &mut C
             break;
         }
     }
-    let resp: Vec<Vec<f64>> = labels.iter().map(|&l| (0..k).map(|j| if j == l { 1.0 } else { 0.0 }).collect()).collect();
-    Gmm::from_responsibilities(data, &resp, reg_covar)
+    labels
 }
 
 /// The mixture with the lowest AIC among `ks` components (each from a k-means start), as ALP-GMM
 /// and Covar-GMM choose theirs. None if no k is at most the number of samples.
 pub fn best_by_aic(data: &[DVector<f64>], ks: &[usize], cfg: EmConfig, rng: &mut CoreRng) -> Option<Gmm> {
     let mut best: Option<(f64, Gmm)> = None;
+    // The samples in one flat array, shared by the fits of every k.
+    let samples = Samples::new(data);
     for &k in ks.iter().filter(|&&k| k >= 1 && k <= data.len()) {
-        let start = kmeans_start(data, k, cfg.reg_covar, rng);
-        let fit = fit_from(data, start, cfg);
-        let aic = fit.gmm.aic(data);
+        let labels = kmeans_labels(data, k, rng);
+        let start = kmeans_gmm(&samples, &labels, k, cfg.reg_covar);
+        let fit = fit_samples(&samples, start, cfg);
+        let aic = fit.gmm.aic_of(&samples);
         if best.as_ref().is_none_or(|(a, _)| aic < *a) {
             best = Some((aic, fit.gmm));
         }

@@ -80,9 +80,18 @@ pub(crate) struct MixtureCore {
     pub gmm: Option<Gmm>,
 }
 
+/// The most dimensions a mixture teacher takes: EM's cost per refit grows as d^3 (10^4
+/// dimensions did not finish 300 updates in 2 minutes); teacher-student curricula use a few to a
+/// few tens.
+pub const MAX_MIXTURE_DIM: usize = 100;
+
 impl MixtureCore {
     pub fn new(owner: &'static str, low: &[f64], high: &[f64], cfg: AlpGmmConfig, seed: u64) -> Result<Self> {
         check_bounds(owner, low, high)?;
+        if low.len() > MAX_MIXTURE_DIM {
+            let rule = format!("bounds of at most {MAX_MIXTURE_DIM} dimensions (each refit runs EM on full covariance matrices, whose cost grows as the cube of the dimension)");
+            return Err(crate::error::invalid(owner, "bounds", rule, format!("{} dimensions", low.len())));
+        }
         cfg.validate(owner)?;
         Ok(MixtureCore {
             cfg,

@@ -1,75 +1,71 @@
 //! The teachers: goal selectors of the curriculum literature behind one ask/tell API
-//! (`crate::high_level::ask_tell`). A `TeacherSpec` names a teacher and every parameter it was built with, so
-//! that a saved teacher (`AskTell::save`) can be rebuilt and continue exactly where it stopped.
+//! (`crate::high_level::ask_tell`). A `TeacherSpec` names a teacher and every parameter it was
+//! built with, so that a saved teacher (`AskTell::save`) can be rebuilt and continue exactly
+//! where it stopped. Adding a teacher: its file here, its parameters and one variant in
+//! `crate::config::teachers::Teacher`, one line in `TeacherSpec::build` (docs/teachers.md).
 
+pub mod adr;
 pub mod alp_gmm;
 pub mod covar_gmm;
 pub mod discrete_lp;
 pub mod gmm;
+pub mod goal_gan;
 pub(crate) mod mixture;
+pub mod mlp;
+pub mod plr;
 pub mod riac;
+pub mod spdl;
 
 use serde::{Deserialize, Serialize};
 
+pub use crate::config::teachers::Teacher;
 use crate::error::Result;
-use crate::high_level::goal_selection::{GoalSelector, ModeProbabilities, RandomGoals, SaggRiac};
-use crate::high_level::region_tree::RegionTreeConfig;
-use alp_gmm::{AlpGmm, AlpGmmConfig};
-use covar_gmm::{CovarGmm, CovarGmmConfig};
-use discrete_lp::{DiscreteLp, DiscreteLpConfig};
-use riac::{Riac, RiacConfig};
+use crate::high_level::goal_selection::{GoalSelector, RandomGoals, SaggRiac};
+use adr::Adr;
+use alp_gmm::AlpGmm;
+use covar_gmm::CovarGmm;
+use discrete_lp::DiscreteLp;
+use goal_gan::GoalGan;
+use plr::Plr;
+use riac::Riac;
+use spdl::Spdl;
 
-/// A teacher and its parameters.
+/// A teacher built over a goal space: which teacher with which parameters (`Teacher`, the one
+/// declaration), its box [low, high] (empty for the task-list teacher, whose goals are task
+/// indices) and its seed.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub enum TeacherSpec {
-    /// SAGG-RIAC's high level (Baranes & Oudeyer, IROS 2010).
-    SaggRiac { low: Vec<f64>, high: Vec<f64>, tree: RegionTreeConfig, modes: ModeProbabilities, seed: u64 },
-    /// Goals uniform in the box (SAGG-Random).
-    Random { low: Vec<f64>, high: Vec<f64>, seed: u64 },
-    /// RIAC as the baseline of Portelas et al. (CoRL 2019).
-    Riac { low: Vec<f64>, high: Vec<f64>, cfg: RiacConfig, seed: u64 },
-    /// Learning progress over a task list (Kanitscheider et al., 2021).
-    DiscreteLp { cfg: DiscreteLpConfig, seed: u64 },
-    /// ALP-GMM (Portelas et al., CoRL 2019).
-    AlpGmm { low: Vec<f64>, high: Vec<f64>, cfg: AlpGmmConfig, seed: u64 },
-    /// Covar-GMM (Moulin-Frier, Nguyen & Oudeyer, 2014).
-    CovarGmm { low: Vec<f64>, high: Vec<f64>, cfg: CovarGmmConfig, seed: u64 },
+pub struct TeacherSpec {
+    pub teacher: Teacher,
+    pub low: Vec<f64>,
+    pub high: Vec<f64>,
+    pub seed: u64,
 }
 
 impl TeacherSpec {
     /// The teacher's name, as the Python classes and the CLI know it.
     pub fn kind(&self) -> &'static str {
-        match self {
-            TeacherSpec::SaggRiac { .. } => "sagg_riac",
-            TeacherSpec::Random { .. } => "random",
-            TeacherSpec::Riac { .. } => "riac",
-            TeacherSpec::DiscreteLp { .. } => "discrete_lp",
-            TeacherSpec::AlpGmm { .. } => "alp_gmm",
-            TeacherSpec::CovarGmm { .. } => "covar_gmm",
-        }
+        self.teacher.kind()
     }
 
     /// The seed of the teacher's generator.
     pub fn seed(&self) -> u64 {
-        match self {
-            TeacherSpec::SaggRiac { seed, .. }
-            | TeacherSpec::Random { seed, .. }
-            | TeacherSpec::Riac { seed, .. }
-            | TeacherSpec::DiscreteLp { seed, .. }
-            | TeacherSpec::AlpGmm { seed, .. }
-            | TeacherSpec::CovarGmm { seed, .. } => *seed,
-        }
+        self.seed
     }
 
-    /// A new teacher with these parameters (checked).
+    /// A new teacher with these parameters (checked): one line per teacher.
     pub fn build(&self) -> Result<Box<dyn GoalSelector>> {
-        Ok(match self {
-            TeacherSpec::SaggRiac { low, high, tree, modes, seed } => Box::new(SaggRiac::new(low, high, *tree, *modes, *seed)?),
-            TeacherSpec::Random { low, high, seed } => Box::new(RandomGoals::new(low, high, *seed)?),
-            TeacherSpec::Riac { low, high, cfg, seed } => Box::new(Riac::new(low, high, *cfg, *seed)?),
-            TeacherSpec::DiscreteLp { cfg, seed } => Box::new(DiscreteLp::new(*cfg, *seed)?),
-            TeacherSpec::AlpGmm { low, high, cfg, seed } => Box::new(AlpGmm::new(low, high, *cfg, *seed)?),
-            TeacherSpec::CovarGmm { low, high, cfg, seed } => Box::new(CovarGmm::new(low, high, *cfg, *seed)?),
+        let (low, high, seed) = (&self.low, &self.high, self.seed);
+        Ok(match self.teacher {
+            Teacher::SaggRiac(c) => Box::new(SaggRiac::new(low, high, c.tree, c.modes, seed)?),
+            Teacher::Random(_) => Box::new(RandomGoals::new(low, high, seed)?),
+            Teacher::Riac(c) => Box::new(Riac::new(low, high, c, seed)?),
+            Teacher::DiscreteLp(c) => Box::new(DiscreteLp::new(c, seed)?),
+            Teacher::AlpGmm(c) => Box::new(AlpGmm::new(low, high, c, seed)?),
+            Teacher::CovarGmm(c) => Box::new(CovarGmm::new(low, high, c, seed)?),
+            Teacher::Adr(c) => Box::new(Adr::new(low, high, c, seed)?),
+            Teacher::Plr(c) => Box::new(Plr::new(c, seed)?),
+            Teacher::Spdl(c) => Box::new(Spdl::new(low, high, c, seed)?),
+            Teacher::GoalGan(c) => Box::new(GoalGan::new(low, high, c, seed)?),
         })
     }
 }

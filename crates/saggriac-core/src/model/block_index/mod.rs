@@ -28,7 +28,7 @@ mod tests;
 use bounds::{bounds, outward, Query, BATCH, FANOUT};
 
 use crate::model::chunked::Chunked;
-use crate::model::neighbours::{distances, Neighbour, NeighbourIndex, PointIndex, TopK};
+use crate::model::neighbours::{distances, distances_within, Neighbour, NeighbourIndex, PointIndex, TopK};
 
 /// Samples per block (the unit whose distances are computed together).
 const BLOCK: usize = 16;
@@ -107,9 +107,11 @@ impl BlockIndex {
     fn visit_block(&self, b: usize, q: &[f64], best: &mut TopK<'_>, acc: &mut [f64; BLOCK]) {
         let first = b * BLOCK;
         let count = (self.len - first).min(BLOCK);
-        distances(q, self.coords.row(b), BLOCK, count, acc);
-        // Most points are beyond the k-th distance: test them against it before offering.
         let mut bound = best.bound();
+        if !distances_within(q, self.coords.row(b), BLOCK, count, acc, bound) {
+            return;
+        }
+        // Most points are beyond the k-th distance: test them against it before offering.
         for (j, &d) in acc.iter().enumerate().take(count) {
             if d <= bound {
                 best.offer((first + j) as u32, d);

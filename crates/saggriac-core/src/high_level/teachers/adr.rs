@@ -1,0 +1,262 @@
+//! Automatic Domain Randomization (OpenAI: Akkaya et al., "Solving Rubik's Cube with a Robot
+//! Hand", 2019, Algorithm 1).
+//!
+//! Each dimension i of the box has a current range [phi_L_i, phi_H_i], starting at an initial
+//! region (the paper's single value by default). Goals are uniform in the current ranges; with
+//! probability `boundary_prob` (the paper's p_b) one dimension i is drawn uniformly and set to
+//! its low or its high bound (1/2 each): a boundary sample. The competence told for a boundary
+//! sample goes to that bound's buffer; once the buffer holds `buffer_size` values (m) its mean
+//! is compared with the thresholds and the buffer is cleared: a mean >= `t_high` moves the bound
+//! outwards by `step` (within the box), a mean <= `t_low` moves it inwards (never past the other
+//! bound).
+//!
+//! Readings of what the paper leaves open, and where we depart from TeachMyAgent's ADR:
+//! - A told goal counts for the bound it was boundary-sampled at, and for nothing else (the
+//!   paper's D_i). The teacher remembers its pending boundary samples by their bits (as
+//!   float32, so that a goal told back in a float32 box still finds its sample);
+//!   TeachMyAgent instead credits every bound a coordinate equals, so from a single initial
+//!   value each goal fills all 2d buffers.
+//! - A bound already at the box's edge can still be boundary-sampled (the paper draws i and the
+//!   side uniformly); TeachMyAgent skips capped bounds.
+//! - A pending boundary sample whose bound has moved since it was asked is not credited: its
+//!   performance was measured at a value that is no longer the bound.
+//! - `step` is a share of each dimension's width, so one value fits every box.
+
+use std::collections::BTreeMap;
+
+use serde::{Deserialize, Serialize};
+
+use crate::config::high_level::check_bounds;
+pub use crate::config::teachers::AdrConfig;
+use crate::error::Result;
+use crate::high_level::goal_selection::{load_state, save_state, GoalChoice, GoalSelector, LeafRow, Mode};
+use crate::rng::{index, rng_from_seed, uniform, unit, CoreRng};
+
+/// Boundary samples asked and not yet told, beyond which the oldest are forgotten (a learner
+/// that never tells would otherwise grow the teacher without bound).
+const MAX_PENDING: usize = 1_000_000;
+
+/// The teacher's state: its generator, the current ranges, both buffers of every dimension and
+/// the boundary samples not yet told (goal bits -> (dimension, high side), in asking order).
+#[derive(Debug, Clone, Serialize, Deserialize)]
+struct AdrState {
+    rng: CoreRng,
+    phi_low: Vec<f64>,
+    phi_high: Vec<f64>,
+    buf_low: Vec<Vec<f64>>,
+    buf_high: Vec<Vec<f64>>,
+    pending: BTreeMap<Vec<u64>, Vec<(u64, u32, bool)>>,
+    n_pending: usize,
+    asked: u64,
+}
+
+#[derive(Debug, Clone)]
+pub struct Adr {
+    cfg: AdrConfig,
+    low: Vec<f64>,
+    high: Vec<f64>,
+    s: AdrState,
+}
+
+impl Adr {
+    pub fn new(low: &[f64], high: &[f64], cfg: AdrConfig, seed: u64) -> Result<Self> {
+        check_bounds("AdrSelector", low, high)?;
+        cfg.validate()?;
+        let d = low.len();
+        let (mut pl, mut ph) = (vec![0.0; d], vec![0.0; d]);
+        for i in 0..d {
+            let w = high[i] - low[i];
+            let c = low[i] + cfg.initial * w;
+            let half = 0.5 * cfg.initial_width * w;
+            pl[i] = (c - half).max(low[i]);
+            ph[i] = (c + half).min(high[i]);
+        }
+        let s = AdrState { rng: rng_from_seed(seed), phi_low: pl, phi_high: ph, buf_low: vec![Vec::new(); d], buf_high: vec![Vec::new(); d], pending: BTreeMap::new(), n_pending: 0, asked: 0 };
+        Ok(Adr { cfg, low: low.to_vec(), high: high.to_vec(), s })
+    }
+
+    /// The current ranges [phi_L, phi_H] of every dimension.
+    pub fn bounds(&self) -> (&[f64], &[f64]) {
+        (&self.s.phi_low, &self.s.phi_high)
+    }
+
+    fn forget_oldest(&mut self) {
+        if self.s.n_pending <= MAX_PENDING {
+            return;
+        }
+        // The oldest ask among the pending ones goes.
+        let oldest = self.s.pending.iter().filter_map(|(k, v)| v.iter().map(|e| e.0).min().map(|a| (a, k.clone()))).min();
+        if let Some((a, k)) = oldest {
+            let v = self.s.pending.get_mut(&k).expect("present");
+            v.retain(|e| e.0 != a);
+            if v.is_empty() {
+                self.s.pending.remove(&k);
+            }
+            self.s.n_pending -= 1;
+        }
+    }
+
+    /// Put `p` in the buffer of dimension `i`'s low or high bound; move the bound once full.
+    fn record(&mut self, i: usize, high_side: bool, p: f64) {
+        let m = self.cfg.buffer_size;
+        let buf = if high_side { &mut self.s.buf_high[i] } else { &mut self.s.buf_low[i] };
+        buf.push(p);
+        if buf.len() < m {
+            return;
+        }
+        let mean = buf.iter().sum::<f64>() / buf.len() as f64;
+        buf.clear();
+        let delta = self.cfg.step * (self.high[i] - self.low[i]);
+        let (pl, ph) = (&mut self.s.phi_low[i], &mut self.s.phi_high[i]);
+        if mean >= self.cfg.t_high {
+            if high_side {
+                *ph = (*ph + delta).min(self.high[i]);
+            } else {
+                *pl = (*pl - delta).max(self.low[i]);
+            }
+        } else if mean <= self.cfg.t_low {
+            if high_side {
+                *ph = (*ph - delta).max(*pl);
+            } else {
+                *pl = (*pl + delta).min(*ph);
+            }
+        }
+    }
+}
+
+/// A goal's key among the pending boundary samples: its coordinates rounded to float32, so that
+/// a goal told back as float32 (Syllabus's and Gymnasium's boxes) finds the sample it came from.
+fn bits(goal: &[f64]) -> Vec<u64> {
+    goal.iter().map(|v| (*v as f32).to_bits() as u64).collect()
+}
+
+impl GoalSelector for Adr {
+    fn low(&self) -> &[f64] {
+        &self.low
+    }
+    fn high(&self) -> &[f64] {
+        &self.high
+    }
+    fn sample(&mut self) -> GoalChoice {
+        let d = self.low.len();
+        let s = &mut self.s;
+        let mut goal: Vec<f64> = (0..d).map(|i| uniform(&mut s.rng, s.phi_low[i], s.phi_high[i])).collect();
+        if unit(&mut s.rng) >= self.cfg.boundary_prob {
+            return GoalChoice { goal, mode: Mode::Random, region: None };
+        }
+        let i = index(&mut s.rng, d);
+        let high_side = unit(&mut s.rng) >= 0.5;
+        goal[i] = if high_side { s.phi_high[i] } else { s.phi_low[i] };
+        s.asked += 1;
+        let ask = s.asked;
+        s.pending.entry(bits(&goal)).or_default().push((ask, i as u32, high_side));
+        s.n_pending += 1;
+        self.forget_oldest();
+        GoalChoice { goal, mode: Mode::Interest, region: Some(2 * i + high_side as usize) }
+    }
+    fn update(&mut self, point: &[f64], competence: f64) -> Option<usize> {
+        let key = bits(point);
+        let (i, high_side) = {
+            let v = self.s.pending.get_mut(&key)?;
+            let (_, i, h) = v.remove(0);
+            if v.is_empty() {
+                self.s.pending.remove(&key);
+            }
+            self.s.n_pending -= 1;
+            (i as usize, h)
+        };
+        // Measured at a value that is no longer the bound: not this bound's performance.
+        let bound = if high_side { self.s.phi_high[i] } else { self.s.phi_low[i] };
+        if (point[i] as f32).to_bits() != (bound as f32).to_bits() {
+            return None;
+        }
+        self.record(i, high_side, competence);
+        Some(2 * i + high_side as usize)
+    }
+    /// The current ranges as one region, with the boundary samples held in the buffers.
+    fn leaf_table(&self) -> Vec<LeafRow> {
+        let held = self.s.buf_low.iter().chain(&self.s.buf_high).map(Vec::len).sum();
+        vec![LeafRow { low: self.s.phi_low.clone(), high: self.s.phi_high.clone(), interest: 0.0, n_measurements: held }]
+    }
+    fn save(&self) -> Option<Vec<u8>> {
+        save_state(&self.s)
+    }
+    fn load(&mut self, state: &[u8]) -> bool {
+        let d = self.low.len();
+        match load_state::<AdrState>(state) {
+            Some(mut s) if s.phi_low.len() == d && s.phi_high.len() == d && s.buf_low.len() == d && s.buf_high.len() == d => {
+                s.n_pending = s.pending.values().map(Vec::len).sum();
+                self.s = s;
+                true
+            }
+            _ => false,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn cfg() -> AdrConfig {
+        AdrConfig { buffer_size: 3, step: 0.1, ..AdrConfig::default() }
+    }
+
+    /// Tell every boundary sample `perf(goal)`, and nothing for the others.
+    fn run(t: &mut Adr, n: usize, perf: impl Fn(&[f64]) -> f64) {
+        for _ in 0..n {
+            let g = t.sample();
+            t.update(&g.goal, perf(&g.goal));
+        }
+    }
+
+    #[test]
+    fn starts_at_the_initial_value_and_grows_where_performance_is_high() {
+        let mut t = Adr::new(&[0.0, 0.0], &[1.0, 2.0], cfg(), 3).unwrap();
+        assert_eq!(t.bounds(), (&[0.5, 1.0][..], &[0.5, 1.0][..]));
+        // Competence 1 everywhere: every bound grows to the box's edge.
+        run(&mut t, 2000, |_| 1.0);
+        assert_eq!(t.bounds(), (&[0.0, 0.0][..], &[1.0, 2.0][..]));
+        for _ in 0..200 {
+            let g = t.sample().goal;
+            assert!(g[0] >= 0.0 && g[0] <= 1.0 && g[1] >= 0.0 && g[1] <= 2.0);
+        }
+    }
+
+    #[test]
+    fn grows_above_t_high_shrinks_below_t_low_and_never_crosses() {
+        // Performance high below x0 = 0.7, low above: the high bound of dimension 0 settles near
+        // 0.7 and the low bound reaches 0; dimension 1 grows everywhere.
+        let mut t = Adr::new(&[0.0, 0.0], &[1.0, 1.0], cfg(), 5).unwrap();
+        run(&mut t, 20_000, |g| if g[0] <= 0.7 + 1e-9 { 1.0 } else { 0.0 });
+        let (l, h) = t.bounds();
+        assert_eq!(l[0], 0.0);
+        assert!((0.6..=0.8 + 1e-9).contains(&h[0]), "{h:?}");
+        assert_eq!((l[1], h[1]), (0.0, 1.0));
+        // Competence 0 everywhere: bounds shrink but never cross.
+        run(&mut t, 20_000, |_| 0.0);
+        let (l, h) = t.bounds();
+        assert!(l[0] <= h[0] && l[1] <= h[1], "{l:?} {h:?}");
+        assert!(h[0] - l[0] <= 0.1 + 1e-9 && h[1] - l[1] <= 0.1 + 1e-9, "{l:?} {h:?}");
+    }
+
+    #[test]
+    fn only_boundary_samples_fill_buffers_and_in_between_keeps_bounds() {
+        let mut t = Adr::new(&[0.0], &[1.0], AdrConfig { initial: 0.0, initial_width: 0.5, ..cfg() }, 1).unwrap();
+        assert_eq!(t.bounds(), (&[0.0][..], &[0.25][..]));
+        // A goal never asked is not credited; a mean strictly between the thresholds moves nothing.
+        assert_eq!(t.update(&[0.1], 1.0), None);
+        run(&mut t, 3000, |_| 0.5);
+        assert_eq!(t.bounds(), (&[0.0][..], &[0.25][..]));
+    }
+
+    #[test]
+    fn bad_parameters_are_named() {
+        let e = Adr::new(&[0.0], &[1.0], AdrConfig { t_low: 0.9, t_high: 0.1, ..cfg() }, 0).unwrap_err().to_string();
+        assert!(e.contains("'t_low' parameter of AdrSelector"), "{e}");
+        let e = Adr::new(&[0.0], &[1.0], AdrConfig { buffer_size: 0, ..cfg() }, 0).unwrap_err().to_string();
+        assert!(e.contains("'buffer_size'"), "{e}");
+        let e = Adr::new(&[0.0], &[1.0], AdrConfig { step: 0.0, ..cfg() }, 0).unwrap_err().to_string();
+        assert!(e.contains("'step'"), "{e}");
+    }
+}

@@ -1,0 +1,268 @@
+//! SPDL, self-paced deep RL (Klink, Abdulsamad, Belousov & Peters, NeurIPS 2020), in the form
+//! with a performance threshold of Klink et al. (JMLR 2021, "A probabilistic interpretation of
+//! self-paced learning with applications to reinforcement learning"):
+//!
+//!   min_p KL(p || mu)  s.t.  E_p[competence] >= delta,  KL(p || p_old) <= epsilon,
+//!
+//! over Gaussian context distributions p with a diagonal covariance, mu the target. The
+//! expectation under a candidate p is the importance-weighted mean of the competences told since
+//! the last update (weights p(x) / p_old(x) at the told goals). An update runs every
+//! `update_every` told goals once `warmup` goals were told; while the mean competence told is
+//! below delta it keeps p (the learner is not ready for harder contexts). Everything is computed
+//! in the box scaled to [0, 1]; goals are drawn from p and clipped to the box (as the paper's
+//! environments and its reference do).
+//!
+//! The optimiser is COBYLA (the `cobyla` crate): derivative-free, deterministic, with the two
+//! constraints handled one by one; 2 d variables (the means and log standard deviations).
+
+use crate::config::high_level::check_bounds;
+use crate::error::Result;
+use crate::high_level::goal_selection::{load_state, save_state, GoalChoice, GoalSelector, LeafRow, Mode};
+use crate::high_level::teachers::mixture::UnitBox;
+use crate::rng::{normal, rng_from_seed, CoreRng};
+
+pub use crate::config::teachers::SpdlConfig;
+
+/// A Gaussian with a diagonal covariance in the unit box: means and log standard deviations.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct DiagGaussian {
+    pub mean: Vec<f64>,
+    pub log_std: Vec<f64>,
+}
+
+impl DiagGaussian {
+    fn log_pdf(&self, x: &[f64]) -> f64 {
+        let mut s = 0.0;
+        for ((xi, m), ls) in x.iter().zip(&self.mean).zip(&self.log_std) {
+            let z = (xi - m) / ls.exp();
+            s += -0.5 * z * z - ls - 0.5 * (2.0 * std::f64::consts::PI).ln();
+        }
+        s
+    }
+
+    /// KL(self || other), closed form.
+    pub fn kl(&self, other: &DiagGaussian) -> f64 {
+        let mut s = 0.0;
+        for i in 0..self.mean.len() {
+            let (v1, v2) = ((2.0 * self.log_std[i]).exp(), (2.0 * other.log_std[i]).exp());
+            let dm = self.mean[i] - other.mean[i];
+            s += 0.5 * ((v1 + dm * dm) / v2 - 1.0) + other.log_std[i] - self.log_std[i];
+        }
+        s
+    }
+
+    fn from_vars(v: &[f64]) -> DiagGaussian {
+        let d = v.len() / 2;
+        DiagGaussian { mean: v[..d].to_vec(), log_std: v[d..].to_vec() }
+    }
+
+    fn vars(&self) -> Vec<f64> {
+        self.mean.iter().chain(&self.log_std).copied().collect()
+    }
+}
+
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+struct SpdlState {
+    rng: CoreRng,
+    dist: DiagGaussian,
+    /// Goals (unit box, flattened) and competences told since the last update.
+    buf_goals: Vec<f64>,
+    buf_values: Vec<f64>,
+    told: u64,
+    updates: u64,
+}
+
+pub struct Spdl {
+    cfg: SpdlConfig,
+    unit_box: UnitBox,
+    target: DiagGaussian,
+    st: SpdlState,
+}
+
+impl Spdl {
+    pub fn new(low: &[f64], high: &[f64], cfg: SpdlConfig, seed: u64) -> Result<Self> {
+        check_bounds("SpdlSelector", low, high)?;
+        cfg.validate()?;
+        let d = low.len();
+        let g = |m: f64, s: f64| DiagGaussian { mean: vec![m; d], log_std: vec![s.ln(); d] };
+        Ok(Spdl {
+            cfg,
+            unit_box: UnitBox { low: low.to_vec(), high: high.to_vec() },
+            target: g(cfg.target_mean, cfg.target_std),
+            st: SpdlState { rng: rng_from_seed(seed), dist: g(cfg.init_mean, cfg.init_std), buf_goals: Vec::new(), buf_values: Vec::new(), told: 0, updates: 0 },
+        })
+    }
+
+    /// The current context distribution (unit box).
+    pub fn distribution(&self) -> &DiagGaussian {
+        &self.st.dist
+    }
+
+    /// The target distribution (unit box).
+    pub fn target(&self) -> &DiagGaussian {
+        &self.target
+    }
+
+    /// Updates that ran (a kept distribution counts as one).
+    pub fn n_updates(&self) -> u64 {
+        self.st.updates
+    }
+
+    fn update_distribution(&mut self) {
+        let d = self.unit_box.low.len();
+        let old = self.st.dist.clone();
+        let goals = std::mem::take(&mut self.st.buf_goals);
+        let xs: Vec<&[f64]> = goals.chunks_exact(d).collect();
+        let cs = std::mem::take(&mut self.st.buf_values);
+        self.st.updates += 1;
+        let n = cs.len() as f64;
+        if cs.iter().sum::<f64>() / n < self.cfg.delta {
+            return; // not ready: the performance constraint cannot hold at p_old itself
+        }
+        let old_lp: Vec<f64> = xs.iter().map(|x| old.log_pdf(x)).collect();
+        let perf = |v: &[f64]| {
+            let p = DiagGaussian::from_vars(v);
+            // Importance weights capped at exp(20): a far candidate must not overflow.
+            xs.iter().zip(&old_lp).zip(&cs).map(|((x, lo), c)| (p.log_pdf(x) - lo).min(20.0).exp() * c).sum::<f64>() / n
+        };
+        let (target, delta, eps) = (&self.target, self.cfg.delta, self.cfg.epsilon);
+        let objective = |v: &[f64], _: &mut ()| DiagGaussian::from_vars(v).kl(target);
+        let c_perf = |v: &[f64], _: &mut ()| perf(v) - delta;
+        let c_kl = |v: &[f64], _: &mut ()| eps - DiagGaussian::from_vars(v).kl(&old);
+        let cons: [&dyn Fn(&[f64], &mut ()) -> f64; 2] = [&c_perf, &c_kl];
+        // Means within a box around the unit box, standard deviations in [1e-4, 10].
+        let bounds: Vec<(f64, f64)> = (0..d).map(|_| (-1.0, 2.0)).chain((0..d).map(|_| (1e-4f64.ln(), 10f64.ln()))).collect();
+        let x0 = old.vars();
+        let tol = cobyla::StopTols { ftol_rel: 1e-8, ftol_abs: 1e-10, xtol_rel: 1e-8, ..Default::default() };
+        let out = cobyla::minimize(objective, &x0, &bounds, &cons, (), 2000, cobyla::RhoBeg::All(0.05), Some(tol));
+        let x = match out {
+            Ok((_, x, _)) | Err((_, x, _)) => x,
+        };
+        // Keep a candidate only if it meets both constraints (COBYLA may stop slightly outside).
+        let ok = x.iter().all(|v| v.is_finite()) && c_perf(&x, &mut ()) >= -1e-9 && c_kl(&x, &mut ()) >= -1e-6;
+        if ok && objective(&x, &mut ()) < objective(&x0, &mut ()) {
+            self.st.dist = DiagGaussian::from_vars(&x);
+        }
+    }
+}
+
+impl GoalSelector for Spdl {
+    fn low(&self) -> &[f64] {
+        &self.unit_box.low
+    }
+    fn high(&self) -> &[f64] {
+        &self.unit_box.high
+    }
+    fn sample(&mut self) -> GoalChoice {
+        let dist = &self.st.dist;
+        let u: Vec<f64> = dist.mean.iter().zip(&dist.log_std).map(|(m, ls)| m + ls.exp() * normal(&mut self.st.rng)).collect();
+        GoalChoice { goal: self.unit_box.scale_back(&u), mode: Mode::Interest, region: None }
+    }
+    fn update(&mut self, point: &[f64], competence: f64) -> Option<usize> {
+        self.st.buf_goals.extend(self.unit_box.to_unit(point));
+        self.st.buf_values.push(competence);
+        self.st.told += 1;
+        if self.st.told >= self.cfg.warmup as u64 && self.st.buf_values.len() >= self.cfg.update_every {
+            self.update_distribution();
+        }
+        None
+    }
+    /// One row: the context distribution as the box mean +- one standard deviation (in the
+    /// task box), its KL to the target as `interest`, the goals told since the last update.
+    fn leaf_table(&self) -> Vec<LeafRow> {
+        let d = &self.st.dist;
+        let lo: Vec<f64> = d.mean.iter().zip(&d.log_std).map(|(m, s)| m - s.exp()).collect();
+        let hi: Vec<f64> = d.mean.iter().zip(&d.log_std).map(|(m, s)| m + s.exp()).collect();
+        let raw = |u: &[f64]| u.iter().zip(self.unit_box.low.iter().zip(&self.unit_box.high)).map(|(v, (l, h))| l + v * (h - l)).collect();
+        vec![LeafRow { low: raw(&lo), high: raw(&hi), interest: d.kl(&self.target), n_measurements: self.st.buf_values.len() }]
+    }
+    fn save(&self) -> Option<Vec<u8>> {
+        save_state(&self.st)
+    }
+    fn load(&mut self, state: &[u8]) -> bool {
+        let Some(st) = load_state::<SpdlState>(state) else { return false };
+        let d = self.unit_box.low.len();
+        if st.dist.mean.len() != d || st.dist.log_std.len() != d || st.buf_goals.len() != st.buf_values.len() * d {
+            return false;
+        }
+        self.st = st;
+        true
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn run(cfg: SpdlConfig, skill: impl Fn(&[f64], usize) -> f64, n: usize) -> (Spdl, Vec<DiagGaussian>) {
+        let mut t = Spdl::new(&[0.0, 0.0], &[1.0, 1.0], cfg, 3).unwrap();
+        let mut traj = vec![t.distribution().clone()];
+        for k in 0..n {
+            let g = t.sample().goal;
+            let u = t.n_updates();
+            t.update(&g, skill(&g, k));
+            if t.n_updates() > u {
+                traj.push(t.distribution().clone());
+            }
+        }
+        (t, traj)
+    }
+
+    #[test]
+    fn kl_is_zero_on_itself_and_matches_a_known_value() {
+        let p = DiagGaussian { mean: vec![0.0], log_std: vec![0.0] };
+        let q = DiagGaussian { mean: vec![1.0], log_std: vec![2f64.ln()] };
+        assert_eq!(p.kl(&p), 0.0);
+        // KL(N(0,1) || N(1,4)) = ln 2 + (1 + 1) / 8 - 1/2.
+        assert!((p.kl(&q) - (2f64.ln() + 0.25 - 0.5)).abs() < 1e-12);
+    }
+
+    #[test]
+    fn moves_to_the_target_when_every_context_is_easy_within_the_kl_bound() {
+        let cfg = SpdlConfig { init_mean: 0.2, init_std: 0.05, update_every: 50, warmup: 50, ..SpdlConfig::default() };
+        let (t, traj) = run(cfg, |_, _| 1.0, 5000);
+        for w in traj.windows(2) {
+            assert!(w[1].kl(&w[0]) <= cfg.epsilon + 1e-6, "{}", w[1].kl(&w[0]));
+        }
+        let kls: Vec<f64> = traj.iter().map(|p| p.kl(t.target())).collect();
+        assert!(kls.windows(2).all(|w| w[1] <= w[0] + 1e-9));
+        assert!(*kls.last().unwrap() < 1e-2 * kls[0], "{kls:?}");
+    }
+
+    #[test]
+    fn stays_where_competence_is_below_delta_and_moves_as_it_grows() {
+        let cfg = SpdlConfig { init_mean: 0.2, init_std: 0.05, update_every: 50, warmup: 50, ..SpdlConfig::default() };
+        // Competence 1 within radius r(k) of the corner, 0 beyond; r grows with practice.
+        let skill = |g: &[f64], k: usize| {
+            let r = 0.3 + k as f64 / 4000.0;
+            if (g[0].powi(2) + g[1].powi(2)).sqrt() < r { 1.0 } else { 0.0 }
+        };
+        let (t, traj) = run(cfg, skill, 4000);
+        let kls: Vec<f64> = traj.iter().map(|p| p.kl(t.target())).collect();
+        assert!(kls.last().unwrap() < &(0.5 * kls[0]), "{kls:?}");
+        // Never told to harder contexts than the learner can do on average: the performance at
+        // each accepted distribution was estimated >= delta; here the mean moves outward slowly.
+        let (t2, _) = run(cfg, |_, _| 0.2, 2000);
+        assert_eq!(t2.distribution(), &DiagGaussian { mean: vec![0.2; 2], log_std: vec![0.05f64.ln(); 2] });
+    }
+
+    #[test]
+    fn save_and_load_continue_exactly() {
+        let cfg = SpdlConfig { update_every: 20, warmup: 20, ..SpdlConfig::default() };
+        let mut a = Spdl::new(&[-1.0, 0.0, 2.0], &[1.0, 3.0, 5.0], cfg, 9).unwrap();
+        for k in 0..95 {
+            let g = a.sample().goal;
+            a.update(&g, (k % 3) as f64 / 2.0);
+        }
+        let mut b = Spdl::new(&[-1.0, 0.0, 2.0], &[1.0, 3.0, 5.0], cfg, 0).unwrap();
+        assert!(b.load(&a.save().unwrap()));
+        for k in 0..100 {
+            let (ga, gb) = (a.sample().goal, b.sample().goal);
+            assert_eq!(ga, gb);
+            assert!(ga.iter().zip([-1.0, 0.0, 2.0].iter().zip([1.0, 3.0, 5.0])).all(|(g, (l, h))| *l <= *g && *g <= h));
+            a.update(&ga, (k % 4) as f64 / 3.0);
+            b.update(&gb, (k % 4) as f64 / 3.0);
+        }
+        assert!(!b.load(&[1, 2, 3]));
+    }
+}

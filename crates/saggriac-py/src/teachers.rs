@@ -1,0 +1,151 @@
+//! Teachers as data, the one file of the binding about teachers: the core's `Teacher` (one
+//! variant per teacher, serde-derived) to and from Python dicts of parameters, by name. No
+//! teacher and no parameter is named here: the names, types and defaults are read from the
+//! core's defaults, and the rules are the core's.
+
+use pyo3::prelude::*;
+use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyString};
+use pythonize::{depythonize, pythonize};
+use saggriac_core::config::teachers::Teacher;
+use saggriac_core::error::invalid;
+use saggriac_core::Error;
+
+use crate::errors::{to_py, wrap};
+
+/// The teacher's parameters as one flat dict, in order (the fields of a nested parameter
+/// struct, such as SAGG-RIAC's tree and modes, in its place).
+pub fn params<'py>(py: Python<'py>, t: &Teacher) -> PyResult<Bound<'py, PyDict>> {
+    let out = PyDict::new(py);
+    for (k, v) in nested(py, t)?.iter() {
+        match v.cast::<PyDict>() {
+            Ok(inner) => inner.iter().try_for_each(|(k, v)| out.set_item(k, v))?,
+            Err(_) => out.set_item(k, v)?,
+        }
+    }
+    Ok(out)
+}
+
+/// The teacher's parameters as serde gives them (nested structs as dicts).
+fn nested<'py>(py: Python<'py>, t: &Teacher) -> PyResult<Bound<'py, PyDict>> {
+    let outer = pythonize(py, t).map_err(PyErr::from)?;
+    Ok(outer.cast_into::<PyDict>()?.get_item(t.kind())?.ok_or_else(|| pyo3::exceptions::PyRuntimeError::new_err("a teacher without parameters"))?.cast_into::<PyDict>()?)
+}
+
+/// The rule a value must follow to stand where `default` stands, if it does not.
+pub fn wrong_type(value: &Bound<'_, PyAny>, default: &Bound<'_, PyAny>) -> Option<&'static str> {
+    let is_bool = value.is_instance_of::<PyBool>();
+    if default.is_instance_of::<PyBool>() {
+        (!is_bool).then_some("a bool")
+    } else if default.is_instance_of::<PyInt>() {
+        (is_bool || !value.is_instance_of::<PyInt>() || value.extract::<u64>().is_err()).then_some("an int >= 0")
+    } else if default.is_instance_of::<PyFloat>() {
+        (is_bool || !(value.is_instance_of::<PyFloat>() || value.is_instance_of::<PyInt>())).then_some("a float")
+    } else {
+        (!value.is_instance_of::<PyString>()).then_some("a str")
+    }
+}
+
+/// The teacher `kind` with the parameters `given` names, the others at their defaults. Messages
+/// are `owner`'s: `what` for the dict itself, `prefix` + the name for a parameter. Only the
+/// types are checked here; `Teacher::validate` checks the rules.
+pub fn teacher(py: Python<'_>, default: Teacher, given: Option<&Bound<'_, PyDict>>, owner: &'static str, what: &str, prefix: &str) -> PyResult<Teacher> {
+    let kind = default.kind();
+    let Some(given) = given.filter(|g| !g.is_empty()) else { return Ok(default) };
+    let flat = params(py, &default)?;
+    let nested = nested(py, &default)?;
+    for (k, v) in given.iter() {
+        let key: String = k.extract().map_err(|_| to_py(py, invalid(owner, what, "a dict with str keys", "a key that is not a str")))?;
+        let Some(d) = flat.get_item(&key)? else {
+            let names: Vec<String> = flat.keys().iter().map(|k| k.to_string()).collect();
+            let rule = format!("a dict of the '{kind}' teacher's parameters (those of saggriac.{}: {})", default.class(), names.join(", "));
+            return Err(to_py(py, invalid(owner, what, rule, format!("a dict with key '{key}'"))));
+        };
+        let shown = || v.repr().map(|r| r.to_string()).unwrap_or_else(|_| "?".into());
+        if let Some(rule) = wrong_type(&v, &d) {
+            // The parameter's own rule where the core states one: the text a value out of range is told.
+            let rule = saggriac_core::config::teachers::param_rule(&key).unwrap_or_else(|| rule.to_string());
+            return Err(to_py(py, invalid(owner, &format!("{prefix}{key}"), rule, shown())));
+        }
+        // Where serde expects it: at the top, or in the nested struct holding it.
+        let mut placed = false;
+        for (_, inner) in nested.iter() {
+            if let Ok(inner) = inner.cast::<PyDict>() {
+                if inner.contains(&key)? {
+                    inner.set_item(&key, &v)?;
+                    placed = true;
+                }
+            }
+        }
+        if !placed {
+            nested.set_item(&key, &v)?;
+        }
+        // A value of the right type serde still refuses (a str naming no choice) is named here.
+        let one = PyDict::new(py);
+        one.set_item(kind, &nested)?;
+        if let Err(e) = depythonize::<Teacher>(&one) {
+            return Err(to_py(py, invalid(owner, &format!("{prefix}{key}"), serde_rule(&e.to_string()), shown())));
+        }
+    }
+    let outer = PyDict::new(py);
+    outer.set_item(kind, nested)?;
+    depythonize::<Teacher>(&outer).map_err(|e| to_py(py, Error::InvalidInput(format!("{e}"))))
+}
+
+/// Every teacher's default parameters, by name (`_core.teacher_defaults()`).
+pub fn defaults(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
+    let out = PyDict::new(py);
+    for t in Teacher::all() {
+        out.set_item(t.kind(), params(py, &t)?)?;
+    }
+    Ok(out)
+}
+
+/// The rule in serde's words for a value it refused ("unknown variant `w`, expected `zeta` or
+/// `window`" -> "one of 'zeta', 'window'").
+pub fn serde_rule(e: &str) -> String {
+    let e = e.replace('`', "'");
+    match e.split_once("expected ").map(|(_, x)| x) {
+        Some("u64" | "usize" | "u32") => "an int >= 0".into(),
+        Some("f64") => "a float".into(),
+        Some("a boolean") => "a bool".into(),
+        Some(choices) => format!("one of {}", choices.trim_start_matches("one of ").replace(" or ", ", ")),
+        // Python's own words when a value does not convert at all.
+        None if e.contains("as an integer") => "an int >= 0".into(),
+        None if e.contains("real number") => "a float".into(),
+        None => e,
+    }
+}
+
+/// The teacher of `Config`'s `teacher` and `teacher_params` (None: "own").
+/// `min_c` is the run's: the papers' thresholds are for competences in [0, 1], a run's lie in
+/// [min_c, 0], and the defaults move there (`Teacher::scaled_to_competences`).
+pub fn of_config(d: &Bound<'_, PyDict>, min_c: f64) -> PyResult<Option<Teacher>> {
+    let py = d.py();
+    let kind: String = match d.get_item("teacher")?.filter(|t| !t.is_none()) {
+        Some(t) => t.extract().map_err(|_| to_py(py, invalid("Config", "teacher", "a str", t.repr().map(|r| r.to_string()).unwrap_or_default())))?,
+        None => "own".into(),
+    };
+    let given = match d.get_item("teacher_params")?.filter(|p| !p.is_none()) {
+        Some(p) => Some(p.cast_into::<PyDict>().map_err(|_| to_py(py, invalid("Config", "teacher_params", "a dict of the teacher's parameters", "not a dict")))?),
+        None => None,
+    };
+    Ok(match kind.as_str() {
+        "own" => match given.filter(|p| !p.is_empty()) {
+            None => None,
+            Some(p) => {
+                let own: Vec<String> = params(py, &Teacher::SaggRiac(Default::default()))?.keys().iter().map(|k| k.to_string()).collect();
+                let rule = format!("empty with teacher 'own' (SAGG-RIAC's own high level is set by {})", own.join(", "));
+                let key = p.keys().get_item(0).map(|k| k.to_string()).unwrap_or_default();
+                return Err(to_py(py, invalid("Config", "teacher_params", rule, format!("a dict with key '{key}'"))));
+            }
+        },
+        kind => {
+            let default = Teacher::parse("Config", "teacher", kind).map_err(|e| match e {
+                Error::InvalidParameter { owner, param, rule, value } => Error::InvalidParameter { owner, param, rule: rule.replacen("one of ", "one of 'own', ", 1), value },
+                other => other,
+            });
+            let default = wrap(py, default)?.scaled_to_competences(min_c, 0.0);
+            Some(teacher(py, default, given.as_ref(), "Config", "teacher_params", "teacher_params.")?)
+        }
+    })
+}

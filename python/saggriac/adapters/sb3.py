@@ -1,0 +1,196 @@
+"""A saggriac teacher for Stable-Baselines3 (extra ``sb3``): one teacher, in the main process, for
+any vector environment SB3 trains on, ``SubprocVecEnv`` included.
+
+:class:`TeacherCallback` is an SB3 callback. It hands every sub-environment its next goal through
+``VecEnv.env_method("set_next_goal", g)`` (saggriac's goal environments and
+:class:`saggriac.adapters.gym.GoalSlot` have it; else ``set_attr(goal_attr, g)``), read on reset, reads the end of each episode from the step's ``dones`` and
+``infos``, checks that the environment pursued the goal it was given, and tells the teacher the
+episode's competence. A teacher captured by the workers instead would be copied into each of them
+and the one in the main process told nothing; saggriac's wrappers refuse such copies.
+
+SB3 resets a sub-environment as soon as its episode ends, so the goal of episode k + 1 is handed
+out while episode k runs; the first episode of each sub-environment pursues the environment's own
+goal and is not told.
+
+The callback records the teacher's figures through SB3's logger (``teacher/...``, beside SB3's
+own in stdout, CSV and TensorBoard), and, given SB3's ``CheckpointCallback`` as ``save_with``,
+saves the teacher beside every model checkpoint (:func:`teacher_path` names the file), so that a
+resumed training continues the same teacher.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+from pathlib import Path
+from typing import Any, Callable
+
+import numpy as np
+
+from ..errors import ConformanceError, ParameterError
+from ..files import check_flag
+from .gym.goals import check_fits, check_goal_shape, check_goal_taken
+from ..teachers import ownership
+
+try:
+    from stable_baselines3.common.callbacks import BaseCallback, CheckpointCallback
+    from stable_baselines3.common.vec_env import VecEnvWrapper
+except ImportError as e:  # pragma: no cover - exercised without the extra
+    raise ImportError(f'saggriac.adapters.sb3 needs Stable-Baselines3, which is not installed ({e}). Install it with: pip install "saggriac[sb3]"') from e
+
+COMPETENCES = ("success", "distance")
+#: The range of what each competence tells: a teacher's thresholds are checked against it.
+TOLD = {"success": (0.0, 1.0), "distance": (-float("inf"), 0.0)}
+
+#: Modes in which a teacher draws a goal from its whole box rather than from what it learnt.
+_UNIFORM_MODES = ("initial", "global", "random")
+
+
+def teacher_path(model_path: str | os.PathLike[str]) -> Path:
+    """The teacher saved beside the model checkpoint ``model_path`` by a :class:`TeacherCallback`
+    with ``save_with=`` a ``CheckpointCallback``: ``rl_model_1000_steps.zip`` ->
+    ``rl_model_teacher_1000_steps.saggriac`` (as SB3 names its replay buffer and VecNormalize
+    files). Read it back with :func:`saggriac.load_selector`."""
+    p = Path(model_path)
+    m = re.fullmatch(r"(.*)_(\d+)_steps(\.zip)?", p.name)
+    if m is None:
+        raise ParameterError(f"The 'model_path' parameter of teacher_path must name a model saved by SB3's CheckpointCallback, '<prefix>_<steps>_steps.zip'. Got {str(model_path)!r} instead.", "model_path", repr(str(model_path)))
+    return p.with_name(f"{m.group(1)}_teacher_{m.group(2)}_steps.saggriac")
+
+
+def _raw_observations(venv: Any, new_obs: Any) -> tuple[Any, str]:
+    """The observations as the environments gave them: a VecNormalize (any VecEnvWrapper with
+    ``get_original_obs``) normalises what the callback sees, goals included."""
+    raw, how, env = new_obs, "", venv
+    while isinstance(env, VecEnvWrapper):
+        if callable(getattr(env, "get_original_obs", None)):
+            raw, how = env.get_original_obs(), f" (read before {type(env).__name__} through get_original_obs())"
+        env = env.venv
+    return raw, how
+
+
+class TeacherCallback(BaseCallback):
+    """Let ``teacher`` (anything with ``sample()`` and ``update(goal, competence)``) choose the
+    goal of every episode of the model's vector environment.
+
+    ``competence`` says what the teacher is told when an episode ends: ``"success"`` (1.0 if the
+    final ``info["is_success"]`` is true, else 0.0), ``"distance"`` (minus the final
+    ``info["distance"]``) or a function of the final ``info``. ``goal_attr`` is the attribute the
+    environments read their next goal from. ``history`` lists (goal, competence) as told.
+
+    SB3's logger gets ``teacher/asked`` and ``teacher/told`` (counts so far),
+    ``teacher/competence`` (mean of what was told since the last dump), ``teacher/uniform_share``
+    (share of goals drawn uniformly from the teacher's box rather than from what it learnt, for
+    teachers that say, as saggriac's do) and ``teacher/regions`` (leaves of a region tree, for
+    the teachers that have one). ``save_with`` takes SB3's ``CheckpointCallback``: the teacher is
+    saved at each of its checkpoints, to :func:`teacher_path` of the model's file.
+    ``allow_copy`` is :class:`saggriac.adapters.gym.SelectorGoals`'s."""
+
+    def __init__(self, teacher: Any, competence: str | Callable[[dict[str, Any]], float] = "success", goal_attr: str = "next_goal", verbose: int = 0, *, save_with: CheckpointCallback | None = None, allow_copy: bool = False) -> None:
+        super().__init__(verbose)
+        if not (callable(getattr(teacher, "sample", None)) and callable(getattr(teacher, "update", None))):
+            raise ConformanceError(f"TeacherCallback needs a teacher with sample() and update(goal, competence); got {teacher!r}.")
+        check_flag(allow_copy, "allow_copy", "TeacherCallback")
+        if isinstance(competence, str) and competence in TOLD and callable(getattr(teacher, "check_competences", None)):
+            teacher.check_competences(*TOLD[competence], f"TeacherCallback(competence={competence!r}) tells")
+        ownership.claim(teacher, "TeacherCallback", allow_copy)
+        if save_with is not None:
+            if not isinstance(save_with, CheckpointCallback):
+                raise ParameterError(f"The 'save_with' parameter of TeacherCallback must be Stable-Baselines3's CheckpointCallback (the teacher is saved at its checkpoints). Got {save_with!r} instead.", "save_with", repr(save_with))
+            if not callable(getattr(teacher, "save", None)):
+                raise ConformanceError(f"TeacherCallback(save_with=...) saves the teacher with its save(path) method, and {teacher!r} has none; give it one, or save the teacher yourself.")
+        if not callable(competence) and competence not in COMPETENCES:
+            raise ParameterError(f"The 'competence' parameter of TeacherCallback must be one of {', '.join(map(repr, COMPETENCES))} or a function of an episode's final info. Got {competence!r} instead.", "competence", repr(competence))
+        if not isinstance(goal_attr, str) or not goal_attr:
+            raise ParameterError(f"The 'goal_attr' parameter of TeacherCallback must be an attribute name. Got {goal_attr!r} instead.", "goal_attr", repr(goal_attr))
+        self.teacher = teacher
+        self.competence = competence
+        self.goal_attr = goal_attr
+        self.save_with = save_with
+        self.allow_copy = allow_copy
+        self.asked = 0
+        self.history: list[tuple[np.ndarray, float]] = []
+        self._queued: list[np.ndarray] = []
+        self._by_method = False
+        self._current: list[np.ndarray | None] = []
+
+    def _score(self, info: dict[str, Any]) -> float:
+        if callable(self.competence):
+            return float(self.competence(info))
+        key = "is_success" if self.competence == "success" else "distance"
+        if key not in info:
+            raise ConformanceError(f"TeacherCallback(competence={self.competence!r}) reads info[{key!r}] at the end of an episode, and this environment's info has only {sorted(info)}; pass competence=a function of the info.")
+        return float(bool(info[key])) if key == "is_success" else -float(info[key])
+
+    def _hand_out(self, i: int) -> None:
+        goal = check_goal_shape(np.asarray(self.teacher.sample(), dtype=np.float64), self.training_env.observation_space["desired_goal"], "TeacherCallback")
+        self.asked += 1
+        mode = getattr(self.teacher, "last_mode", None)
+        if isinstance(mode, str):
+            self.logger.record_mean("teacher/uniform_share", float(mode in _UNIFORM_MODES))
+        if self._by_method:
+            # env_method finds the method through every wrapper; set_attr would set it on the
+            # outermost wrapper (SB3's Monitor), where the environment never reads it.
+            self.training_env.env_method("set_next_goal", goal, indices=[i])
+        else:
+            self.training_env.set_attr(self.goal_attr, goal, indices=[i])
+        self._queued[i] = goal
+
+    def _on_training_start(self) -> None:
+        ownership.claim(self.teacher, "TeacherCallback", self.allow_copy)
+        env = self.training_env
+        if "desired_goal" not in getattr(env.observation_space, "spaces", {}):
+            raise ConformanceError(f"TeacherCallback needs a goal-conditioned environment: a Dict observation space with 'desired_goal'; got {env.observation_space}.")
+        check_fits(self.teacher, env.observation_space["desired_goal"], "TeacherCallback")
+        self._by_method = self.goal_attr == "next_goal" and env.has_attr("set_next_goal")
+        if not (self._by_method or env.has_attr(self.goal_attr)):
+            raise ConformanceError(f"The environments have no '{self.goal_attr}' attribute to take their next goal from; wrap each in saggriac.adapters.gym.GoalSlot (it reads it on reset and passes options={{'goal': ...}}).")
+        n = env.num_envs
+        self._queued = [np.empty(0)] * n
+        self._current = [None] * n
+        for i in range(n):
+            self._hand_out(i)
+
+    @property
+    def _route(self) -> str:
+        return "env_method('set_next_goal', ...)" if self._by_method else f"set_attr({self.goal_attr!r}, ...)"
+
+    def _on_step(self) -> bool:
+        dones = self.locals["dones"]
+        infos = self.locals["infos"]
+        new_obs = self.locals.get("new_obs")
+        raw, how = (None, "") if new_obs is None or not np.any(dones) else _raw_observations(self.training_env, new_obs)
+        for i in np.flatnonzero(dones):
+            finished = self._current[i]
+            if finished is not None:
+                c = self._score(infos[i])
+                self.teacher.update(finished, c)
+                self.history.append((finished, c))
+                self.logger.record_mean("teacher/competence", c)
+            # The sub-environment has already reset, with the goal queued for it.
+            self._current[i] = self._queued[i]
+            if raw is not None:
+                check_goal_taken(self._queued[i], {"desired_goal": np.asarray(raw["desired_goal"])[i]}, f"TeacherCallback (sub-environment {i})", self._route + how)
+            self._hand_out(i)
+        self.logger.record("teacher/asked", self.asked)
+        self.logger.record("teacher/told", len(self.history))
+        if self.save_with is not None and self.n_calls % self.save_with.save_freq == 0:
+            self.save(teacher_path(Path(self.save_with.save_path) / f"{self.save_with.name_prefix}_{self.num_timesteps}_steps.zip"))
+        return True
+
+    def _on_rollout_end(self) -> None:
+        regions = getattr(self.teacher, "regions", None)
+        leaves = np.asarray(regions().get("is_leaf", ()), dtype=bool) if callable(regions) else np.zeros(0, dtype=bool)
+        if leaves.size:  # a teacher without a region tree has none
+            self.logger.record("teacher/regions", int(leaves.sum()))
+
+    def save(self, path: str | os.PathLike[str]) -> Path:
+        """Save the teacher to ``path`` (replacing an earlier save of it); read it back with
+        :func:`saggriac.load_selector` and pass it to a new TeacherCallback to continue."""
+        out = self.teacher.save(path, overwrite=True)
+        if self.verbose >= 2:
+            print(f"Saving the teacher to {out}")
+        return out
+
+
+__all__ = ["TeacherCallback", "teacher_path"]
