@@ -1,12 +1,15 @@
-"""The RL curriculum study's one command (docs/rl_curriculum.md) runs end to end on a tiny
-budget: every teacher, two seeds, the tables, the statistics and the figure. Skipped without
+"""The RL curriculum study's command (docs/rl_curriculum.md) on a tiny budget: the sparse reward,
+teachers given by name with the oracle, the per-run tables, resuming without rerunning, a clash
+of budgets refused, and --analyse recomputing the tables from curves.csv alone. Skipped without
 the SB3 extra, unless SAGGRIAC_REQUIRE_EXTRAS=1 (CI sets it)."""
 
+import importlib.util
 import os
 import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pandas as pd
 import pytest
 
@@ -14,19 +17,90 @@ if os.environ.get("SAGGRIAC_REQUIRE_EXTRAS") != "1":
     pytest.importorskip("stable_baselines3", reason='the SB3 extra is not installed (pip install "saggriac[sb3]")')
 
 SCRIPT = Path(__file__).resolve().parents[2] / "benchmarks" / "rl_curriculum.py"
+ENV = {**os.environ, "TQDM_DISABLE": "1"}
 
 
-def test_the_study_runs_and_reports(tmp_path):
+def bench():
+    spec = importlib.util.spec_from_file_location("rl_curriculum", SCRIPT)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def run(*args, timeout=600):
+    return subprocess.run([sys.executable, str(SCRIPT), *map(str, args)], capture_output=True, text=True, timeout=timeout, env=ENV)
+
+
+def test_a_tiny_sparse_study_runs_resumes_and_reanalyses(tmp_path):
     out = tmp_path / "rl"
-    cmd = [sys.executable, str(SCRIPT), "--out", str(out), "--seeds", "0,1", "--steps", "4096", "--every", "4096", "--workers", "2"]
-    done = subprocess.run(cmd, capture_output=True, text=True, timeout=900, env={**os.environ, "TQDM_DISABLE": "1"})
-    assert done.returncode == 0, done.stderr[-2000:]
+    # PPO collects 4 x 2048 steps per rollout, so a budget of 8192 is one rollout.
+    args = ["--out", out, "--reward", "sparse", "--seeds", "7,8", "--steps", 8192, "--every", 4096, "--teachers", "random", "oracle"]
+    done = run(*args)
+    assert done.returncode == 0, done.stderr[-3000:]
     runs = pd.read_csv(out / "runs.csv")
-    assert sorted(runs["teacher"].unique()) == ["alp_gmm", "covar_gmm", "random", "riac", "sagg_riac"] and len(runs) == 10
-    assert runs["final"].between(0, 1).all()
-    comparisons = pd.read_csv(out / "comparisons.csv")
-    assert set(comparisons["family"]) == {"primary", "secondary"} and (comparisons["family"] == "primary").sum() == 4
-    assert (out / "rl_curriculum.png").stat().st_size > 10_000 and "Holm" in (out / "results.md").read_text()
-    # Finished runs are kept and not run again.
-    again = subprocess.run(cmd, capture_output=True, text=True, timeout=300, env={**os.environ, "TQDM_DISABLE": "1"})
-    assert again.returncode == 0 and pd.read_csv(out / "runs.csv").equals(runs)
+    assert {"teacher", "seed", "reward", "final_success", "final_distance", "auc"} <= set(runs.columns)
+    assert sorted(zip(runs["teacher"], runs["seed"])) == [("oracle", 7), ("oracle", 8), ("random", 7), ("random", 8)]
+    assert (runs["reward"] == "sparse").all() and runs["final_success"].between(0, 1).all() and (runs["final_distance"] > 0).all()
+    curves = pd.read_csv(out / "curves.csv")
+    assert sorted(curves["step"].unique()) == [0, 4096, 8192]
+    # The oracle asks only for goals in reach; random for goals anywhere in the box (a fifth in reach).
+    assert (runs.loc[runs["teacher"] == "oracle", "final_reachable_share"] == 1.0).all()
+    assert (runs.loc[runs["teacher"] == "random", "final_reachable_share"] < 0.5).all()
+    text = (out / "results.md").read_text()
+    assert "Interim" in text and "oracle" in text and (out / "rl_curriculum.png").stat().st_size > 10_000
+
+    # Resuming skips what is done: nothing is run again, nothing changes.
+    before = (out / "curves.csv").read_bytes()
+    again = run(*args)
+    assert again.returncode == 0 and "0 runs to do, 4 already" in again.stderr
+    assert (out / "curves.csv").read_bytes() == before
+
+    # Another budget in the same folder would mix incomparable runs: refused, nothing written.
+    clash = run(*[x if x != 8192 else 16384 for x in args])
+    assert clash.returncode != 0 and "budget" in clash.stderr and (out / "curves.csv").read_bytes() == before
+
+    # --analyse recomputes the tables from curves.csv alone.
+    (out / "runs.csv").unlink()
+    (out / "results.md").unlink()
+    redo = run("--out", out, "--analyse")
+    assert redo.returncode == 0, redo.stderr[-3000:]
+    pd.testing.assert_frame_equal(pd.read_csv(out / "runs.csv"), runs)
+    assert (out / "results.md").read_text() == text
+
+
+def test_teachers_are_found_by_name_and_bad_names_refused(tmp_path):
+    names = bench().teacher_names()
+    assert {"random", "oracle", "sagg_riac", "riac", "alp_gmm", "covar_gmm"} <= set(names) and "discrete_lp" not in names
+    bad = run("--out", tmp_path, "--teachers", "random", "nosuch")
+    assert bad.returncode != 0 and "nosuch" in bad.stderr and "sagg_riac" in bad.stderr
+    bad = run("--out", tmp_path, "--reward", "shaped")
+    assert bad.returncode != 0 and "shaped" in bad.stderr
+
+
+def test_the_oracle_draws_uniformly_from_the_reachable_set():
+    b = bench()
+    teacher = b.make_teacher("oracle", 3)
+    goals = np.array([teacher.sample() for _ in range(4000)])
+    radius = np.linalg.norm(goals, axis=1)
+    assert radius.max() <= 1.0  # the arm's reach
+    # Uniform in the disc: the share within radius r is r^2.
+    assert abs(np.mean(radius <= 0.5) - 0.25) < 0.03
+    # Every point of the disc is reachable by the arm itself (3 equal links, joints of +-pi).
+    from saggriac.bodies.environments import PlanarArm
+
+    arm = PlanarArm(n_joints=3, arm_length=1.0, joint_limit=np.pi)
+    tips = np.array([arm.forward(t) for t in np.random.default_rng(0).uniform(-np.pi, np.pi, (4000, 3))])
+    assert np.linalg.norm(tips, axis=1).max() <= 1.0 + 1e-9 and np.mean(np.linalg.norm(tips, axis=1) < 0.2) > 0.01
+    again = b.make_teacher("oracle", 3)
+    assert np.array_equal(goals[:5], [again.sample() for _ in range(5)])
+
+
+def test_the_sparse_reward_reaches_the_student():
+    b = bench()
+    env = b.make_env("sparse", 0.2)
+    env.reset(options={"goal": np.array([1.8, 1.8])})
+    rewards = {env.step(env.action_space.sample())[1] for _ in range(10)}
+    assert rewards == {-1.0}
+    dense = b.make_env("dense", 0.2)
+    dense.reset(options={"goal": np.array([1.8, 1.8])})
+    assert dense.step(dense.action_space.sample())[1] < -1.0
