@@ -3,7 +3,7 @@ the same told scores. Distribution: both are driven through the same level seque
 Syllabus's state is forced to the same draws and scores); at checkpoints, Syllabus's
 sample_weights() is compared with the empirical distribution of one draw from each of M copies
 of our teacher. Speed: sample + update, interleaved blocks in one sitting."""
-import copy, pickle, sys, time
+import time
 import numpy as np
 import saggriac as sg
 from syllabus.curricula.plr.task_sampler import TaskSampler
@@ -20,7 +20,6 @@ def ours(n, seed):
 def visits(kind, n, draws, seed, level_score):
     """Each implementation samples on its own; every draw is told its level's score (fixed per
     level, so ranks are fixed): the share of draws per level after the unseen phase."""
-    rng = np.random.default_rng(10_000 + seed)
     if kind == "ours":
         t = ours(n, seed)
         draw, tell = t.sample_task, t.update

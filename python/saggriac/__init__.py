@@ -87,12 +87,12 @@ class _FormerPaths(importlib.abc.MetaPathFinder, importlib.abc.Loader):
         new = _moved_to(spec.name)
         warnings.warn(f"{spec.name} is now {new}: import it from there (the former path will be removed).", DeprecationWarning, stacklevel=2)
         module = import_module(new)
-        self._spec = module.__spec__
+        spec.loader_state = module.__spec__  # kept with this import, not on the shared finder
         return module
 
     def exec_module(self, module: Any) -> None:
         # The import system set the former path's spec on the module: give it its own back.
-        module.__spec__ = self._spec
+        module.__spec__ = module.__spec__.loader_state
 
 
 if not any(isinstance(f, _FormerPaths) for f in sys.meta_path):

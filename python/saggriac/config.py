@@ -20,7 +20,6 @@ from fractions import Fraction
 from pathlib import Path
 from typing import Any
 
-import numpy as np
 
 from . import _core
 from .bodies.pusher import PUSHER_CHAIN

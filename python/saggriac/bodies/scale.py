@@ -26,7 +26,6 @@ unreached, said only in run.json).
 
 from __future__ import annotations
 
-import math
 import warnings
 from dataclasses import dataclass
 from typing import Any
