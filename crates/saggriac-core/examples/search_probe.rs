@@ -1,7 +1,8 @@
 //! What an exact search of the evaluation must visit, by brute force: the memory's identical
 //! points, and for the queries of the first 20 test reaches (warm-started, as the evaluation
 //! asks them) the points within the final k-th distance T, the blocks of 16 holding them, the
-//! blocks and groups of 128 whose exact boxes reach within T (no box search can skip those).
+//! blocks and groups of 128 whose exact boxes reach within T (no box search can skip those),
+//! and the blocks that a ball or a capsule around each block, or all three bounds, cannot skip.
 //!
 //!     cargo run --release -p saggriac-core --example search_probe -- exp1|exp2 CONDITION
 #[path = "probe_setup/mod.rs"]
@@ -54,6 +55,8 @@ fn main() {
     let mut nb: Vec<Neighbour> = Vec::new();
     let mut dtheta = vec![0.0; n];
     let (mut nq, mut in_t, mut in_t_dup, mut blocks_pts, mut blocks_box, mut l1_box, mut blocks_dup_only) = (0usize, 0usize, 0usize, 0usize, 0usize, 0usize, 0usize);
+    let (mut blocks_ball, mut blocks_capsule, mut blocks_both) = (0usize, 0usize, 0usize);
+    let shapes: Vec<Shapes> = (0..npts.div_ceil(16)).map(|b| Shapes::new(&thetas, n, b * 16..((b + 1) * 16).min(npts))).collect();
     let mut d = vec![0.0; npts];
     for (i, g) in tests.goals.iter().enumerate() {
         if i % 2 == 0 {
@@ -86,9 +89,14 @@ fn main() {
                             blocks_dup_only += 1;
                         }
                     }
-                    if box_dist_sq(&thetas, n, r, &th) <= t {
+                    let boxd = box_dist_sq(&thetas, n, r, &th);
+                    if boxd <= t {
                         blocks_box += 1;
                     }
+                    let (ball, capsule) = shapes[b].bounds(&th);
+                    blocks_ball += usize::from(ball <= t);
+                    blocks_capsule += usize::from(capsule <= t);
+                    blocks_both += usize::from(boxd.max(ball).max(capsule) <= t);
                 }
                 for b in 0..npts.div_ceil(128) {
                     let r = b * 128..((b + 1) * 128).min(npts);
@@ -119,6 +127,49 @@ fn main() {
         f(l1_box),
         npts.div_ceil(128)
     );
+    println!(
+        "blocks within T by other bounds: ball {:.1}, capsule (segment first..last + radius) {:.1}, the largest of box, ball and capsule {:.1}",
+        f(blocks_ball),
+        f(blocks_capsule),
+        f(blocks_both)
+    );
+}
+
+/// A block's ball (centre = mean, radius = farthest point) and capsule (the segment from its
+/// first to its last point, radius = farthest point from that segment).
+struct Shapes {
+    centre: Vec<f64>,
+    ball_r: f64,
+    a: Vec<f64>,
+    ab: Vec<f64>,
+    ab2: f64,
+    cap_r: f64,
+}
+
+impl Shapes {
+    fn new(thetas: &[f64], n: usize, r: std::ops::Range<usize>) -> Self {
+        let pts: Vec<&[f64]> = r.map(|j| &thetas[j * n..(j + 1) * n]).collect();
+        let centre: Vec<f64> = (0..n).map(|d| pts.iter().map(|p| p[d]).sum::<f64>() / pts.len() as f64).collect();
+        let ball_r = pts.iter().map(|p| dist_sq(p, &centre).sqrt()).fold(0.0, f64::max);
+        let a = pts[0].to_vec();
+        let ab: Vec<f64> = (0..n).map(|d| pts[pts.len() - 1][d] - a[d]).collect();
+        let ab2: f64 = ab.iter().map(|v| v * v).sum();
+        let mut s = Shapes { centre, ball_r, a, ab, ab2, cap_r: 0.0 };
+        s.cap_r = pts.iter().map(|p| s.segment_dist(p)).fold(0.0, f64::max);
+        s
+    }
+
+    fn segment_dist(&self, q: &[f64]) -> f64 {
+        let t = if self.ab2 > 0.0 { (q.iter().zip(&self.a).zip(&self.ab).map(|((q, a), ab)| (q - a) * ab).sum::<f64>() / self.ab2).clamp(0.0, 1.0) } else { 0.0 };
+        q.iter().zip(&self.a).zip(&self.ab).map(|((q, a), ab)| (q - a - t * ab) * (q - a - t * ab)).sum::<f64>().sqrt()
+    }
+
+    /// Lower bounds of the squared distance from q to any point of the block.
+    fn bounds(&self, q: &[f64]) -> (f64, f64) {
+        let ball = (dist_sq(q, &self.centre).sqrt() - self.ball_r).max(0.0);
+        let capsule = (self.segment_dist(q) - self.cap_r).max(0.0);
+        (ball * ball, capsule * capsule)
+    }
 }
 
 /// Squared distance from q to the exact bounding box of points `r` (rows of `n` in `thetas`).
