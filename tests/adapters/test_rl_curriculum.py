@@ -104,3 +104,20 @@ def test_the_sparse_reward_reaches_the_student():
     dense = b.make_env("dense", 0.2)
     dense.reset(options={"goal": np.array([1.8, 1.8])})
     assert dense.step(dense.action_space.sample())[1] < -1.0
+
+
+def test_the_committed_tables_and_the_pages_tables_recompute_from_curves(tmp_path):
+    """docs/figures/rl_curriculum holds the study's curves; --analyse on them alone gives the
+    committed runs.csv and comparisons.csv, and every table row under the page's results."""
+    root = Path(__file__).resolve().parents[2]
+    figures = root / "docs" / "figures" / "rl_curriculum"
+    (tmp_path / "curves.csv").write_bytes((figures / "curves.csv").read_bytes())
+    text = bench().analyse(tmp_path)
+    for name in ("runs.csv", "comparisons.csv"):
+        pd.testing.assert_frame_equal(pd.read_csv(tmp_path / name), pd.read_csv(figures / name), rtol=1e-9, obj=name)
+    page = (root / "docs" / "rl_curriculum.md").read_text()
+    results = page[page.index("## Results of the second study") : page.index("### Diagnostics")]
+    rows = [line for line in results.splitlines() if line.startswith("| ") and not line.startswith("| teacher |") and not line.startswith("| metric |")]
+    assert len(rows) >= 20
+    missing = [row for row in rows if row not in text]
+    assert not missing, f"rows of the page that --analyse does not give: {missing[:3]}"
