@@ -32,7 +32,7 @@ def main() -> None:
     rows = study.one_run((a.reward, a.teacher, a.seed, study.BUDGET, study.BUDGET // 10, study.THRESHOLDS[a.reward], "trace"))
     t = kept["teacher"]
     print(f"final distance {rows[-1]['distance']!r}, success {rows[-1]['success']}")
-    print("bounds" if hasattr(t, "bounds") else "regions", getattr(t, "bounds", None) if hasattr(t, "bounds") else t.regions())
+    print("bounds", t.bounds) if hasattr(t, "bounds") else print("regions", t.regions())
 
 
 if __name__ == "__main__":
