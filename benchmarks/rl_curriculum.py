@@ -171,6 +171,7 @@ def one_run(job: tuple[str, str, int, int, int, float, str]) -> list[dict]:
     import torch
     from stable_baselines3 import PPO
     from stable_baselines3.common.callbacks import BaseCallback, CallbackList
+    from stable_baselines3.common.logger import Logger
     from stable_baselines3.common.vec_env import DummyVecEnv
 
     from saggriac.adapters.sb3 import TeacherCallback
@@ -180,6 +181,7 @@ def one_run(job: tuple[str, str, int, int, int, float, str]) -> list[dict]:
     env = DummyVecEnv([lambda: make_env(reward, threshold)] * N_ENVS)
     env.seed(env_seed)
     model = PPO("MultiInputPolicy", env, seed=model_seed, device="cpu", verbose=0)
+    model.set_logger(Logger(folder=None, output_formats=[]))  # else SB3 leaves a folder in /tmp per run
     reach = float(env.envs[0].unwrapped.reach)
     goals = test_goals(reach)
     teacher = TeacherCallback(make_teacher(name, teacher_seed), competence=lambda info: max(0.0, 1.0 - info["distance"] / reach))

@@ -7,3 +7,18 @@ import saggriac
 def small_config():
     """A short exp1 run that still shows learning (a few seconds)."""
     return saggriac.Config.from_preset("exp1", n_steps=4000, n_test_goals=30, n_test_configs=30, n_evals=20)
+
+
+@pytest.fixture(scope="session", autouse=True)
+def _sb3_logs_in_pytests_tmp(tmp_path_factory):
+    """Stable-Baselines3 makes a log folder per learn() in the system temp dir unless told where;
+    point it at pytest's own temp dir, which pytest prunes."""
+    import os
+
+    before = os.environ.get("SB3_LOGDIR")
+    os.environ["SB3_LOGDIR"] = str(tmp_path_factory.mktemp("sb3-logs"))
+    yield
+    if before is None:
+        os.environ.pop("SB3_LOGDIR", None)
+    else:
+        os.environ["SB3_LOGDIR"] = before
