@@ -2,7 +2,10 @@
 //! points, and for the queries of the first 20 test reaches (warm-started, as the evaluation
 //! asks them) the points within the final k-th distance T, the blocks of 16 holding them, the
 //! blocks and groups of 128 whose exact boxes reach within T (no box search can skip those),
-//! and the blocks that a ball or a capsule around each block, or all three bounds, cannot skip.
+//! the blocks that a ball or a capsule around each block, or all three bounds, cannot skip, the
+//! leaves whose boxes reach within T when the memory is regrouped in space (a static k-d
+//! partition, leaves of 16), and the blocks of 4, 8, 32 and 64 consecutive samples whose boxes
+//! reach within T. (Blocks of 16 are the probe's fixed unit, whatever the index's own size.)
 //!
 //!     cargo run --release -p saggriac-core --example search_probe -- exp1|exp2 CONDITION
 #[path = "probe_setup/mod.rs"]
@@ -56,6 +59,10 @@ fn main() {
     let mut dtheta = vec![0.0; n];
     let (mut nq, mut in_t, mut in_t_dup, mut blocks_pts, mut blocks_box, mut l1_box, mut blocks_dup_only) = (0usize, 0usize, 0usize, 0usize, 0usize, 0usize, 0usize);
     let (mut blocks_ball, mut blocks_capsule, mut blocks_both) = (0usize, 0usize, 0usize);
+    let (mut leaves_box, mut leaves_pts) = (0usize, 0usize);
+    let sizes = [4usize, 8, 32, 64];
+    let mut by_size = [0usize; 4];
+    let leaves = SpatialLeaves::new(&thetas, n, 16);
     let shapes: Vec<Shapes> = (0..npts.div_ceil(16)).map(|b| Shapes::new(&thetas, n, b * 16..((b + 1) * 16).min(npts))).collect();
     let mut d = vec![0.0; npts];
     for (i, g) in tests.goals.iter().enumerate() {
@@ -98,6 +105,13 @@ fn main() {
                     blocks_capsule += usize::from(capsule <= t);
                     blocks_both += usize::from(boxd.max(ball).max(capsule) <= t);
                 }
+                for (c, &sz) in by_size.iter_mut().zip(&sizes) {
+                    *c += (0..npts.div_ceil(sz)).filter(|b| box_dist_sq(&thetas, n, b * sz..((b + 1) * sz).min(npts), &th) <= t).count();
+                }
+                for (lo, hi, members) in leaves.iter() {
+                    leaves_box += usize::from(leaves.box_dist_sq(lo, hi, &th) <= t);
+                    leaves_pts += usize::from(members.iter().any(|&j| d[j] <= t));
+                }
                 for b in 0..npts.div_ceil(128) {
                     let r = b * 128..((b + 1) * 128).min(npts);
                     if box_dist_sq(&thetas, n, r, &th) <= t {
@@ -133,6 +147,70 @@ fn main() {
         f(blocks_capsule),
         f(blocks_both)
     );
+    println!(
+        "the same memory regrouped in space (median splits on the widest joint down to {} leaves of at most 16): leaves whose box is within T {:.1}, leaves holding points within T {:.1}",
+        leaves.ranges.len(),
+        f(leaves_box),
+        f(leaves_pts)
+    );
+    for (c, sz) in by_size.iter().zip(sizes) {
+        println!("blocks of {sz} consecutive samples whose box is within T: {:.1} ({:.0} points to rank)", f(*c), f(*c) * sz as f64);
+    }
+}
+
+/// The memory grouped by space rather than by time: median splits on the joint of widest spread
+/// until at most `leaf` points remain, each leaf with its exact box (a static k-d partition).
+struct SpatialLeaves {
+    n: usize,
+    order: Vec<usize>,
+    ranges: Vec<std::ops::Range<usize>>,
+    boxes: Vec<f64>,
+}
+
+impl SpatialLeaves {
+    fn new(thetas: &[f64], n: usize, leaf: usize) -> Self {
+        let npts = thetas.len() / n;
+        let mut order: Vec<usize> = (0..npts).collect();
+        let mut ranges = Vec::new();
+        let mut stack = vec![0..npts];
+        while let Some(r) = stack.pop() {
+            if r.len() <= leaf {
+                ranges.push(r);
+                continue;
+            }
+            let idx = &mut order[r.clone()];
+            let spread = |d: usize| {
+                let (lo, hi) = idx.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &j| (lo.min(thetas[j * n + d]), hi.max(thetas[j * n + d])));
+                hi - lo
+            };
+            let dim = (0..n).max_by(|&a, &b| spread(a).total_cmp(&spread(b))).unwrap();
+            let mid = idx.len() / 2;
+            idx.select_nth_unstable_by(mid, |&a, &b| thetas[a * n + dim].total_cmp(&thetas[b * n + dim]));
+            stack.push(r.start..r.start + mid);
+            stack.push(r.start + mid..r.end);
+        }
+        let mut boxes = Vec::with_capacity(ranges.len() * 2 * n);
+        for r in &ranges {
+            for d in 0..n {
+                boxes.push(order[r.clone()].iter().map(|&j| thetas[j * n + d]).fold(f64::INFINITY, f64::min));
+            }
+            for d in 0..n {
+                boxes.push(order[r.clone()].iter().map(|&j| thetas[j * n + d]).fold(f64::NEG_INFINITY, f64::max));
+            }
+        }
+        SpatialLeaves { n, order, ranges, boxes }
+    }
+
+    fn iter(&self) -> impl Iterator<Item = (&[f64], &[f64], &[usize])> + '_ {
+        self.ranges.iter().enumerate().map(|(i, r)| {
+            let b = &self.boxes[i * 2 * self.n..(i + 1) * 2 * self.n];
+            (&b[..self.n], &b[self.n..], &self.order[r.clone()])
+        })
+    }
+
+    fn box_dist_sq(&self, lo: &[f64], hi: &[f64], q: &[f64]) -> f64 {
+        (0..self.n).map(|d| (lo[d] - q[d]).max(0.0) + (q[d] - hi[d]).max(0.0)).map(|g| g * g).sum()
+    }
 }
 
 /// A block's ball (centre = mean, radius = farthest point) and capsule (the segment from its
