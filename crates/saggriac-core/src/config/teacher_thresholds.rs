@@ -36,15 +36,11 @@ impl Teacher {
                     return Err(invalid(owner, "t_low", format!("a float >= {lo} ({told}, and a bound shrinks only when the mean competence at it is <= t_low)"), c.t_low));
                 }
             }
-            Teacher::Spdl(c) => {
-                if !(lo..=hi).contains(&c.delta) {
-                    return Err(invalid(owner, "delta", format!("a float in [{lo}, {hi}] ({told}; the distribution moves only while the expected competence is >= delta, so outside it would never move, or never be held back)"), c.delta));
-                }
+            Teacher::Spdl(c) if !(lo..=hi).contains(&c.delta) => {
+                return Err(invalid(owner, "delta", format!("a float in [{lo}, {hi}] ({told}; the distribution moves only while the expected competence is >= delta, so outside it would never move, or never be held back)"), c.delta));
             }
-            Teacher::GoalGan(c) => {
-                if !(c.success_threshold > lo && c.success_threshold <= hi) {
-                    return Err(invalid(owner, "success_threshold", format!("a float in ({lo}, {hi}] ({told}; a competence >= success_threshold is a success, so outside every attempt would fail, or succeed)"), c.success_threshold));
-                }
+            Teacher::GoalGan(c) if !(c.success_threshold > lo && c.success_threshold <= hi) => {
+                return Err(invalid(owner, "success_threshold", format!("a float in ({lo}, {hi}] ({told}; a competence >= success_threshold is a success, so outside every attempt would fail, or succeed)"), c.success_threshold));
             }
             _ => {}
         }

@@ -179,7 +179,7 @@ impl GoalSelector for GoalGan {
         GoalChoice { goal, mode: if mode == 1 { Mode::Interest } else if mode == 2 { Mode::Global } else { Mode::Initial }, region: None }
     }
     fn update(&mut self, point: &[f64], competence: f64) -> Option<usize> {
-        let Some(k) = self.st.pending.iter().position(|p| self.matches(&p.goal, point)) else { return None };
+        let k = self.st.pending.iter().position(|p| self.matches(&p.goal, point))?;
         let p = &mut self.st.pending[k];
         p.successes.push(competence >= self.cfg.success_threshold);
         if p.successes.len() >= self.cfg.n_rollouts {

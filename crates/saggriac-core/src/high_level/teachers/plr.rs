@@ -119,7 +119,7 @@ impl Plr {
         let m = self.order.len();
         if unit(&mut self.s.rng) < self.cfg.staleness_coef {
             let total = self.staleness_total();
-            if !(total > 0.0) {
+            if total.is_nan() || total <= 0.0 {
                 return self.order[index(&mut self.s.rng, m)];
             }
             let mut u = unit(&mut self.s.rng) * total;

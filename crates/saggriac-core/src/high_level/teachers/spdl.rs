@@ -21,6 +21,9 @@ use crate::high_level::goal_selection::{load_state, save_state, GoalChoice, Goal
 use crate::high_level::teachers::mixture::UnitBox;
 use crate::rng::{normal, rng_from_seed, CoreRng};
 
+/// A constraint of the COBYLA step: feasible where it is >= 0.
+type Constraint<'a> = &'a dyn Fn(&[f64], &mut ()) -> f64;
+
 pub use crate::config::teachers::SpdlConfig;
 
 /// A Gaussian with a diagonal covariance in the unit box: means and log standard deviations.
@@ -129,7 +132,7 @@ impl Spdl {
         let objective = |v: &[f64], _: &mut ()| DiagGaussian::from_vars(v).kl(target);
         let c_perf = |v: &[f64], _: &mut ()| perf(v) - delta;
         let c_kl = |v: &[f64], _: &mut ()| eps - DiagGaussian::from_vars(v).kl(&old);
-        let cons: [&dyn Fn(&[f64], &mut ()) -> f64; 2] = [&c_perf, &c_kl];
+        let cons: [Constraint<'_>; 2] = [&c_perf, &c_kl];
         // Means within a box around the unit box, standard deviations in [1e-4, 10].
         let bounds: Vec<(f64, f64)> = (0..d).map(|_| (-1.0, 2.0)).chain((0..d).map(|_| (1e-4f64.ln(), 10f64.ln()))).collect();
         let x0 = old.vars();
