@@ -339,8 +339,17 @@ fn kmeans_gmm(data: &Samples, labels: &[usize], k: usize, reg_covar: f64) -> Gmm
 fn kmeans_labels(data: &[DVector<f64>], k: usize, rng: &mut CoreRng) -> Vec<usize> {
     let n = data.len();
     let mut centres = vec![data[index(rng, n)].clone()];
+    // Each sample's squared distance to its nearest centre so far, brought up to date with the
+    // newest centre only (a running minimum: the same values as a minimum over all centres).
+    let mut d2 = vec![f64::INFINITY; n];
+    let mut seen = 0;
     while centres.len() < k {
-        let d2: Vec<f64> = data.iter().map(|x| centres.iter().map(|c| (x - c).norm_squared()).fold(f64::INFINITY, f64::min)).collect();
+        for c in &centres[seen..] {
+            for (m, x) in d2.iter_mut().zip(data) {
+                *m = m.min((x - c).norm_squared());
+            }
+        }
+        seen = centres.len();
         let total: f64 = d2.iter().sum();
         if total <= 0.0 || total.is_nan() {
             centres.push(data[index(rng, n)].clone());
@@ -360,11 +369,15 @@ fn kmeans_labels(data: &[DVector<f64>], k: usize, rng: &mut CoreRng) -> Vec<usiz
     let mut labels = vec![0usize; n];
     let d = data[0].len();
     let (mut sums, mut counts) = (vec![0.0; k * d], vec![0usize; k]);
+    let mut dist = vec![0.0; k];
     for _ in 0..100 {
         let mut changed = false;
         for (i, x) in data.iter().enumerate() {
-            let dist = |c: &DVector<f64>| x.iter().zip(c.iter()).map(|(a, b)| (a - b) * (a - b)).sum::<f64>();
-            let best = (0..k).min_by(|&a, &b| dist(&centres[a]).total_cmp(&dist(&centres[b]))).unwrap_or(0);
+            // Each distance once (the comparison below would otherwise compute two per step).
+            for (dc, c) in dist.iter_mut().zip(&centres) {
+                *dc = x.iter().zip(c.iter()).map(|(a, b)| (a - b) * (a - b)).sum::<f64>();
+            }
+            let best = (0..k).min_by(|&a, &b| dist[a].total_cmp(&dist[b])).unwrap_or(0);
             changed |= best != labels[i];
             labels[i] = best;
         }
