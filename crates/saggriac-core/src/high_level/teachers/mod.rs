@@ -9,6 +9,7 @@ pub mod alp_gmm;
 pub mod covar_gmm;
 pub mod discrete_lp;
 pub mod gmm;
+mod gmm_lanes;
 pub mod goal_gan;
 pub(crate) mod mixture;
 pub mod mlp;
