@@ -13,12 +13,6 @@ def small_config():
 def _sb3_logs_in_pytests_tmp(tmp_path_factory):
     """Stable-Baselines3 makes a log folder per learn() in the system temp dir unless told where;
     point it at pytest's own temp dir, which pytest prunes."""
-    import os
-
-    before = os.environ.get("SB3_LOGDIR")
-    os.environ["SB3_LOGDIR"] = str(tmp_path_factory.mktemp("sb3-logs"))
-    yield
-    if before is None:
-        os.environ.pop("SB3_LOGDIR", None)
-    else:
-        os.environ["SB3_LOGDIR"] = before
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setenv("SB3_LOGDIR", str(tmp_path_factory.mktemp("sb3-logs")))
+        yield

@@ -157,7 +157,6 @@ impl Gmm {
     fn from_responsibilities(data: &Samples, resp: &[f64], k: usize, reg_covar: f64) -> Gmm {
         let (n, d) = (data.n(), data.d);
         let mut gmm = Gmm { weights: Vec::with_capacity(k), means: Vec::with_capacity(k), covariances: Vec::with_capacity(k) };
-        let mut diff = vec![0.0; d];
         for j in 0..k {
             let nk = resp.chunks_exact(k).map(|r| r[j]).sum::<f64>() + 10.0 * f64::EPSILON;
             let mut mean = vec![0.0; d];
@@ -169,7 +168,7 @@ impl Gmm {
             mean.iter_mut().for_each(|m| *m /= nk);
             // The lower triangle of sum r (x - mean)(x - mean)^T, mirrored after.
             let mut cov = vec![0.0; d * d];
-            weighted_scatter(&data.x, resp, k, j, &mean, &mut diff, &mut cov);
+            weighted_scatter(&data.x, resp, k, j, &mean, &mut cov);
             let mut c = DMatrix::zeros(d, d);
             for a in 0..d {
                 for b in 0..=a {

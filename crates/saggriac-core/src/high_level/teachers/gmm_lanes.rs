@@ -53,8 +53,9 @@ pub(super) fn mahalanobis_sq(rows: &[&[f64]; LANES], m: &[f64], l: &[f64], y: &m
 /// summed over the samples in order; a row's entries are independent sums, so they run in SIMD
 /// lanes with the bits of the one-by-one loop.
 #[inline(always)]
-fn weighted_scatter_generic(x: &[f64], resp: &[f64], k: usize, j: usize, mean: &[f64], diff: &mut [f64], cov: &mut [f64]) {
+fn weighted_scatter_generic(x: &[f64], resp: &[f64], k: usize, j: usize, mean: &[f64], cov: &mut [f64]) {
     let d = mean.len();
+    let mut diff = vec![0.0; d];
     for (x, r) in x.chunks_exact(d).zip(resp.chunks_exact(k)) {
         let w = r[j];
         if w == 0.0 {
@@ -74,18 +75,18 @@ fn weighted_scatter_generic(x: &[f64], resp: &[f64], k: usize, j: usize, mean: &
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn weighted_scatter_avx2(x: &[f64], resp: &[f64], k: usize, j: usize, mean: &[f64], diff: &mut [f64], cov: &mut [f64]) {
+unsafe fn weighted_scatter_avx2(x: &[f64], resp: &[f64], k: usize, j: usize, mean: &[f64], cov: &mut [f64]) {
     // The same code in 4-wide lanes; no FMA is enabled, so the bits are the same.
-    weighted_scatter_generic(x, resp, k, j, mean, diff, cov)
+    weighted_scatter_generic(x, resp, k, j, mean, cov)
 }
 
-pub(super) fn weighted_scatter(x: &[f64], resp: &[f64], k: usize, j: usize, mean: &[f64], diff: &mut [f64], cov: &mut [f64]) {
+pub(super) fn weighted_scatter(x: &[f64], resp: &[f64], k: usize, j: usize, mean: &[f64], cov: &mut [f64]) {
     #[cfg(target_arch = "x86_64")]
     {
         if std::arch::is_x86_feature_detected!("avx2") {
             // SAFETY: the CPU supports AVX2, checked just above.
-            return unsafe { weighted_scatter_avx2(x, resp, k, j, mean, diff, cov) };
+            return unsafe { weighted_scatter_avx2(x, resp, k, j, mean, cov) };
         }
     }
-    weighted_scatter_generic(x, resp, k, j, mean, diff, cov)
+    weighted_scatter_generic(x, resp, k, j, mean, cov)
 }
