@@ -10,8 +10,15 @@ claim is an exclusive ``flock`` on a file named by the identity: the kernel drop
 process ends, so a teacher pickled to disk and restored after its first process ended is free
 again, and a teacher that lives in exactly one worker (one per worker of a pool) is allowed.
 A second process claiming the same identity while the first holds it is refused, whatever the
-start method; ``allow_copy=True`` on the wrapper says that the copies are meant to be
-independent.
+start method, and so is a second copy of a teacher in one process; ``allow_copy=True`` on the
+wrapper says that the copies are meant to be independent.
+
+The claims live in a private folder, ``$TMPDIR/saggriac-teachers-UID`` (mode 0700). It is a
+security boundary: a folder that is a link, belongs to another user or is open to others is not
+used, lock files are opened without following links, and only a file this process created is
+ever written. Where the claim cannot be taken safely (no such folder can be made, a read-only or
+full temporary directory, something else at a lock's place), the wrapper still works but warns
+with :class:`OwnershipWarning`, saying why and what goes unchecked.
 
 Teachers without an identity (a user's own class) are not tracked.
 """
@@ -20,19 +27,42 @@ from __future__ import annotations
 
 import errno
 import fcntl
+import itertools
+import multiprocessing
 import os
+import stat
 import tempfile
 import threading
+import time
 import uuid
+import warnings
 import weakref
+from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, Callable
 
 from ..errors import ConformanceError
 
-#: identity -> (pid that claimed it, open file holding the lock)
-_claims: dict[str, tuple[int, int]] = {}
+
+class OwnershipWarning(UserWarning):
+    """A wrapper could not check that its teacher is used by one process only."""
+
+
+@dataclass
+class _Claim:
+    pid: int
+    fd: int | None  # None: the check could not be made here (warned once)
+    teacher: Callable[[], Any]  # a weak reference to the object that holds the claim
+    token: int
+
+
+#: identity -> this process's claim
+_claims: dict[str, _Claim] = {}
 _lock = threading.Lock()
+_tokens = itertools.count()
+_HOLDER_BYTES = 64  # "pid ppid worker": the most a holder's note is read
+_SWEEP_MAX = 256  # stale lock files removed at most per claim
+_SETTLE_SECONDS = 1.0  # how long a lock held with no live holder's note is looked at again
 
 
 def new_identity() -> str:
@@ -42,93 +72,283 @@ def new_identity() -> str:
 def _drop_inherited_claims() -> None:
     # A forked child shares its parent's open files, and with them the parent's locks: it must
     # not count them as its own (the parent still holds them), so it closes its copies.
-    for _, fd in _claims.values():
-        try:
-            os.close(fd)
-        except OSError:
-            pass
+    for held in _claims.values():
+        if held.fd is not None:
+            try:
+                os.close(held.fd)
+            except OSError:
+                pass
     _claims.clear()
 
 
 os.register_at_fork(after_in_child=_drop_inherited_claims)
 
 
-def _claims_dir() -> Path:
-    d = Path(tempfile.gettempdir()) / f"saggriac-teachers-{os.getuid()}"
-    d.mkdir(mode=0o700, exist_ok=True)
-    return d
+def claims_dir() -> Path:
+    """Where the claims live: a folder of this user's in the temporary directory."""
+    return Path(tempfile.gettempdir()) / f"saggriac-teachers-{os.getuid()}"
 
 
-def _holder(path: Path) -> str:
+class _Unchecked(Exception):
+    """The claim cannot be taken safely; the message says why and what the user can do."""
+
+
+def _open_claims_dir(make: bool = True) -> int:
+    """A descriptor of the private claims folder, made if missing; _Unchecked if it is unsafe."""
+    d = claims_dir()
+    if os.path.islink(d):
+        raise _Unchecked(f"{d} is a symbolic link, and saggriac uses only a private folder of its own there; remove it, or point TMPDIR elsewhere")
     try:
-        return path.read_text().strip() or "unknown"
+        if make:
+            os.mkdir(d, 0o700)
+    except FileExistsError:
+        pass
+    except OSError as e:
+        raise _Unchecked(f"its folder {d} cannot be made ({e.strerror}); point TMPDIR at a writable folder of yours") from None
+    try:
+        dfd = os.open(d, os.O_RDONLY | os.O_DIRECTORY | os.O_NOFOLLOW | os.O_CLOEXEC)
+    except OSError as e:
+        kind = "a symbolic link" if e.errno == errno.ELOOP else "not a folder" if e.errno == errno.ENOTDIR else None
+        why = f"{d} is {kind}" if kind else f"{d} cannot be opened ({e.strerror})"
+        raise _Unchecked(f"{why}, and saggriac uses only a private folder of its own there; remove it, or point TMPDIR elsewhere") from None
+    st = os.fstat(dfd)
+    if st.st_uid != os.getuid():
+        os.close(dfd)
+        raise _Unchecked(f"{d} belongs to another user (uid {st.st_uid}), who could read and plant files in it; remove it, or point TMPDIR at a folder of yours")
+    if st.st_mode & 0o077:
+        os.close(dfd)
+        raise _Unchecked(f"{d} is open to other users (mode {stat.S_IMODE(st.st_mode):04o}; saggriac makes it 0700), who could plant files in it; remove it, or make it private with chmod 700")
+    return dfd
+
+
+def _is_worker() -> bool:
+    """Whether this process was started by multiprocessing (a pool's or a vector env's worker)."""
+    return multiprocessing.parent_process() is not None
+
+
+def _read_holder(dfd: int, name: str) -> tuple[int, int, int] | None:
+    """The pid, parent pid and worker flag written by the holder of a lock file, or None."""
+    try:
+        fd = os.open(name, os.O_RDONLY | os.O_NOFOLLOW | os.O_NONBLOCK | os.O_CLOEXEC, dir_fd=dfd)
     except OSError:
-        return "unknown"
+        return None
+    try:
+        if not stat.S_ISREG(os.fstat(fd).st_mode):
+            return None
+        parts = os.read(fd, _HOLDER_BYTES).split()
+        return (int(parts[0]), int(parts[1]), int(parts[2])) if len(parts) == 3 else None
+    except (OSError, ValueError):
+        return None
+    finally:
+        os.close(fd)
 
 
-def _refusal(owner: str, teacher: Any, holder: str) -> ConformanceError:
+def _open_lock(dfd: int, name: str) -> tuple[int, bool]:
+    """Open the lock file ``name``: made here (True) or left by a saggriac process before (False).
+    Never follows a link; refuses anything but a regular file of this user's with one name."""
+    flags = os.O_RDWR | os.O_NOFOLLOW | os.O_NONBLOCK | os.O_CLOEXEC
+    where = f"{claims_dir() / name}"
+    try:
+        return os.open(name, flags | os.O_CREAT | os.O_EXCL, 0o600, dir_fd=dfd), True
+    except FileExistsError:
+        pass
+    except OSError as e:
+        raise _Unchecked(f"the lock file {where} cannot be made ({e.strerror}); free space in the temporary directory, or point TMPDIR at a writable folder") from None
+    try:
+        fd = os.open(name, flags, dir_fd=dfd)
+    except FileNotFoundError:
+        raise InterruptedError from None  # removed meanwhile: try again
+    except OSError as e:
+        kind = {errno.ELOOP: "a symbolic link", errno.EISDIR: "a folder"}.get(e.errno or 0)
+        raise _Unchecked(f"{where} is {kind or f'not usable ({e.strerror})'}, not a lock file saggriac made; remove it") from None
+    st = os.fstat(fd)
+    if not stat.S_ISREG(st.st_mode) or st.st_uid != os.getuid() or st.st_nlink != 1:
+        os.close(fd)
+        what = "not a regular file" if not stat.S_ISREG(st.st_mode) else "not yours" if st.st_uid != os.getuid() else "a file with another name too (a hard link)"
+        raise _Unchecked(f"{where} is {what}, not a lock file saggriac made; remove it")
+    return fd, False
+
+
+def _alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except OSError:
+        return True  # alive, but another user's
+    return pid > 0
+
+
+def _same_file(dfd: int, name: str, fd: int) -> bool:
+    try:
+        return os.fstat(fd).st_ino == os.stat(name, dir_fd=dfd, follow_symlinks=False).st_ino
+    except FileNotFoundError:
+        return False
+
+
+def _take(dfd: int, identity: str) -> int | tuple[int, int, int]:
+    """Take the lock of ``identity``: its descriptor, or the holder's note (pid, ppid, worker
+    flag; pid 0 when unknown) if another process holds it."""
+    name = f"{identity}.lock"
+    deadline = time.monotonic() + _SETTLE_SECONDS
+    while True:
+        try:
+            fd, made = _open_lock(dfd, name)
+        except InterruptedError:
+            continue
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError as e:
+            os.close(fd)
+            if e.errno not in (errno.EWOULDBLOCK, errno.EAGAIN, errno.EACCES):
+                raise _Unchecked(f"the temporary directory's file system cannot lock files ({e.strerror})") from None
+            holder = _read_holder(dfd, name)
+            if holder is not None and _alive(holder[0]):
+                return holder
+            # No live holder has written its note: another process is between its flock and its
+            # note, or clearing a stale file. Look again before calling the teacher taken.
+            if time.monotonic() < deadline:
+                time.sleep(0.01)
+                continue
+            return (0, 0, 0)
+        if not _same_file(dfd, name, fd):
+            os.close(fd)  # the releasing holder removed it between our open and flock
+            continue
+        if not made:
+            # A lock file left by a process that ended: ours must be a file made here, so that
+            # nothing but saggriac's own file is ever written. Remove it and make a new one.
+            os.unlink(name, dir_fd=dfd)
+            os.close(fd)
+            continue
+        try:
+            os.write(fd, f"{os.getpid()} {os.getppid()} {int(_is_worker())}\n".encode())
+        except OSError:
+            pass  # a full disk: the lock holds all the same, the holder is then "unknown"
+        return fd
+
+
+def _sweep(dfd: int) -> None:
+    # Lock files of processes that ended (killed, os._exit) pile up: remove those nobody holds.
+    try:
+        names = [n for n in itertools.islice(os.listdir(dfd), 4 * _SWEEP_MAX) if n.endswith(".lock")][:_SWEEP_MAX]
+    except OSError:
+        return
+    for name in names:
+        try:
+            fd = os.open(name, os.O_RDONLY | os.O_NOFOLLOW | os.O_NONBLOCK | os.O_CLOEXEC, dir_fd=dfd)
+        except OSError:
+            continue
+        try:
+            st = os.fstat(fd)
+            if stat.S_ISREG(st.st_mode) and st.st_uid == os.getuid() and st.st_nlink == 1:
+                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+                if _same_file(dfd, name, fd):
+                    os.unlink(name, dir_fd=dfd)
+        except OSError:
+            pass
+        finally:
+            os.close(fd)
+
+
+def _who(holder: tuple[int, int, int]) -> str:
+    pid, ppid, worker = holder
+    if pid == 0:
+        return "another process (its pid is unknown)"
+    if pid == os.getppid():
+        return f"the process that started this one (pid {pid}) and handed it a copy"
+    if ppid == os.getpid():
+        return f"a worker this process started (pid {pid}) with a copy of it"
+    if worker and ppid == os.getppid():
+        return f"a sibling worker (pid {pid}) started from the same parent with a copy of it"
+    if worker or _is_worker():
+        return f"another process (pid {pid}) that received a copy of it"
+    return f"another process (pid {pid}), no worker of this one: two jobs each loaded the same saved teacher (pickle keeps a teacher's identity)"
+
+
+def _refusal(owner: str, teacher: Any, holder: tuple[int, int, int] | None) -> ConformanceError:
+    where = "another copy of the same teacher in this process" if holder is None else _who(holder)
     return ConformanceError(
-        f"{owner} (pid {os.getpid()}) was given a teacher, {teacher!r}, that a saggriac wrapper in another process (pid {holder}) already uses: "
-        "it was copied into worker processes (a SubprocVecEnv, an AsyncVectorEnv or a process pool capturing it), so each copy would learn "
-        "from its own worker only and the original would be told nothing. To keep one teacher for all workers, keep it in the main process: "
-        "saggriac.adapters.sb3.TeacherCallback(teacher) for Stable-Baselines3, or saggriac.adapters.gym.VectorSelectorGoals around a Gymnasium vector "
-        "environment. If each process is meant to have its own independent teacher, build it there, give each its own copy "
-        "(copy.deepcopy(teacher) in the parent), or pass allow_copy=True."
+        f"{owner} (pid {os.getpid()}) was given a teacher, {teacher!r}, that a saggriac wrapper already uses through {where}. "
+        "Each copy would learn from its own episodes only, and the other would be told nothing. To keep one teacher for all workers, keep it in the "
+        "main process: saggriac.adapters.sb3.TeacherCallback(teacher) for Stable-Baselines3, or saggriac.adapters.gym.VectorSelectorGoals around a "
+        "Gymnasium vector environment. If each process or job is meant to have its own independent teacher, build it there, give each its own copy "
+        "(copy.deepcopy(teacher), or saggriac.load_selector(path) for a saved one), or pass allow_copy=True."
+    )
+
+
+def _unchecked_warning(owner: str, teacher: Any, why: str) -> None:
+    warnings.warn(
+        f"{owner} cannot check that {teacher!r} is used by this process only: {why}. Unchecked, a copy of this teacher in another process "
+        "(a worker of a SubprocVecEnv, an AsyncVectorEnv or a pool capturing it) would learn alone while this one is told nothing.",
+        OwnershipWarning,
+        stacklevel=4,
     )
 
 
 def claim(teacher: Any, owner: str, allow_copy: bool = False) -> None:
-    """Claim ``teacher`` for this process, or raise ConformanceError if another process holds it."""
+    """Claim ``teacher`` for this process; raise ConformanceError if another process, or another
+    copy in this process, holds it; warn with OwnershipWarning if it cannot be checked."""
     identity = getattr(teacher, "_identity", None)
     if allow_copy or not isinstance(identity, str):
         return
     pid = os.getpid()
     with _lock:
         held = _claims.get(identity)
-        if held is not None and held[0] == pid:
+        if held is not None and held.pid == pid:
+            holder = held.teacher()
+            if holder is teacher:
+                return
+            if holder is not None:
+                raise _refusal(owner, teacher, None)
+            # the copy that held it is gone and its release not yet run: this one takes over
+            held.teacher, held.token = weakref.ref(teacher), next(_tokens)
+            weakref.finalize(teacher, release, identity, held.token)
             return
+        fd: int | None = None
         try:
-            directory = _claims_dir()
-        except OSError:
-            return  # no writable temporary folder: nothing to lock with
-        path = directory / f"{identity}.lock"
-        while True:
-            fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o600)
+            dfd = _open_claims_dir()
             try:
-                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-            except OSError as e:
-                os.close(fd)
-                if e.errno in (errno.EWOULDBLOCK, errno.EAGAIN, errno.EACCES):
-                    raise _refusal(owner, teacher, _holder(path)) from None
-                raise
-            # The file may have been unlinked by a releasing process between open and flock.
-            try:
-                same = os.fstat(fd).st_ino == os.stat(path).st_ino
-            except FileNotFoundError:
-                same = False
-            if same:
-                break
-            os.close(fd)
-        os.ftruncate(fd, 0)
-        os.write(fd, str(pid).encode())
-        _claims[identity] = (pid, fd)
-    weakref.finalize(teacher, release, identity)
+                _sweep(dfd)
+                got = _take(dfd, identity)
+            finally:
+                os.close(dfd)
+        except _Unchecked as e:
+            _unchecked_warning(owner, teacher, str(e))
+            got = None
+        if isinstance(got, tuple):
+            raise _refusal(owner, teacher, got)
+        fd = got
+        token = next(_tokens)
+        _claims[identity] = _Claim(pid, fd, weakref.ref(teacher), token)
+    weakref.finalize(teacher, release, identity, token)
 
 
-def release(identity: str) -> None:
-    """Give up this process's claim (when its teacher is gone)."""
+def release(identity: str, token: int | None = None) -> None:
+    """Give up this process's claim (when the teacher that holds it is gone)."""
     with _lock:
-        held = _claims.pop(identity, None)
-        if held is None or held[0] != os.getpid():
+        held = _claims.get(identity)
+        if held is None or held.pid != os.getpid() or (token is not None and held.token != token):
+            return
+        del _claims[identity]
+        if held.fd is None:
             return
         try:
-            (_claims_dir() / f"{identity}.lock").unlink()
-        except OSError:
-            pass
-        os.close(held[1])
+            dfd = _open_claims_dir(make=False)
+        except (_Unchecked, OSError):
+            dfd = None
+        if dfd is not None:
+            name = f"{identity}.lock"
+            try:
+                if _same_file(dfd, name, held.fd):
+                    os.unlink(name, dir_fd=dfd)
+            except OSError:
+                pass
+            finally:
+                os.close(dfd)
+        os.close(held.fd)
 
 
 def holds(teacher: Any) -> bool:
-    """Whether this process holds ``teacher``'s claim."""
+    """Whether this process holds ``teacher``'s claim (that is, ``teacher`` itself holds it)."""
     held = _claims.get(getattr(teacher, "_identity", None) or "")
-    return held is not None and held[0] == os.getpid()
+    return held is not None and held.pid == os.getpid() and held.teacher() is teacher and held.fd is not None
