@@ -3,8 +3,10 @@ the run's target (``<out>.checkpoint``), replaced atomically; and its reading ba
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
+import shutil
 from pathlib import Path
 from typing import Any
 
@@ -49,11 +51,26 @@ def write_checkpoint(out: Path, state: bytes, info: dict[str, Any], config: Conf
 
 
 def is_checkpoint(path: Path) -> bool:
-    """A checkpoint folder saggriac wrote (and may replace): its two files and nothing else."""
+    """A checkpoint folder saggriac wrote (and may replace): its two files and nothing else. A
+    symbolic link to one counts (a user moved the folder and linked it back); replacing or
+    removing it replaces or removes the link only."""
     try:
-        return path.is_dir() and not path.is_symlink() and set(os.listdir(path)) <= FILES and (path / "state.bin").exists()
+        return path.is_dir() and set(os.listdir(path)) <= FILES and (path / "state.bin").exists()
     except OSError:
         return False
+
+
+def remove_checkpoint(out: Path) -> None:
+    """Remove the checkpoint of the finished run ``out``; of a link, the link only: what it points
+    to is a folder the user put elsewhere, and stays theirs."""
+    ck = checkpoint_dir(out)
+    if not is_checkpoint(ck):
+        return
+    if ck.is_symlink():
+        with contextlib.suppress(OSError):
+            os.unlink(ck)
+    else:
+        shutil.rmtree(ck, ignore_errors=True)
 
 
 def find_checkpoint(out: Path) -> Path:
@@ -62,13 +79,19 @@ def find_checkpoint(out: Path) -> Path:
     try:
         found = os.path.lexists(ck)
         finished = (out / "run.json").exists()
+        link = os.readlink(ck) if ck.is_symlink() else None
     except OSError as e:
         raise StorageError(f"Cannot look for a checkpoint of {out}: {e.strerror or e}.") from None
     if not found:
         if finished:
             raise StorageError(f"{out} already holds a finished run; there is nothing to resume.")
         raise StorageError(f"No checkpoint for {out} (looked for {ck}). Start the run with checkpoint_every (--checkpoint-every) to be able to resume it.")
-    if ck.is_symlink() or not ck.is_dir():
+    # A link is read through: the checkpoint it points to may be intact, so it is not called damaged.
+    if link is not None and not ck.exists():
+        raise StorageError(f"The checkpoint {ck} is a symbolic link to {link}, which does not exist (moved or deleted, or a loop of links). Point the link at the checkpoint folder, or move the folder to {ck}, and resume again.")
+    if link is not None and not ck.is_dir():
+        raise StorageError(f"The checkpoint {ck} is a symbolic link to {link}, which is not a folder (saggriac writes a checkpoint as a folder holding state.bin and checkpoint.json). Point the link at that folder and resume again.")
+    if not ck.is_dir():
         raise StorageError(f"The checkpoint {ck} is damaged: it is not a folder (saggriac writes a folder holding state.bin and checkpoint.json). {START_OVER}")
     for name in sorted(FILES):
         if not os.path.lexists(ck / name):

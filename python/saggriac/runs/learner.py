@@ -31,7 +31,7 @@ import pandas as pd
 
 from .. import _core
 from ..config import Config
-from ..errors import ParameterError, StorageError
+from ..errors import ParameterError
 from ..files import as_path, check_flag
 from ..bodies.reachable import ReachableSet
 from ..bodies.scale import body_scale
@@ -149,7 +149,7 @@ class Learner:
         try:
             _checkpoint.write_checkpoint(out, self.checkpoint(), info, self.config, self.steps, every)
             info["last_checkpoint"] = self.steps
-        except StorageError as e:
+        except OSError as e:  # a StorageError, or any other write failure: the run goes on
             # Losing a checkpoint only costs what a later interruption would redo; losing the
             # run would cost everything.
             last = info.get("last_checkpoint", info.get("resumed_at"))

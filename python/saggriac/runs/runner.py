@@ -6,7 +6,7 @@ and the writing of the result."""
 from __future__ import annotations
 
 import os
-import shutil
+import re
 import tempfile
 import time
 from collections.abc import Iterator
@@ -17,11 +17,11 @@ from typing import TYPE_CHECKING, Any
 from ..config import Config
 from ..errors import ParameterError, StorageError
 from ..files import check_flag
-from .checkpoint import CheckpointWarning, check_every, checkpoint_dir, find_checkpoint, is_checkpoint, read_description, read_state
+from .checkpoint import CheckpointWarning, check_every, checkpoint_dir, find_checkpoint, read_description, read_state, remove_checkpoint
 from .learner import Learner
 from .resources import check_threads, checkpoint_bytes
 from .result import RunResult
-from .storage import MIN_FREE_BYTES, as_path, check_output_dir, target_lock, write_run
+from .storage import CHECKPOINT_INODES, MIN_FREE_BYTES, MIN_FREE_INODES, as_path, check_output_dir, reason, target_lock, write_run
 
 if TYPE_CHECKING:
     from ..bodies.environments import Environment
@@ -61,7 +61,7 @@ def run(
         checkpoint_every = _check_checkpointing(checkpoint_every, out, environment, goal_selector)
     learner = Learner._for("run", config, seed, environment, goal_selector, threads)
     if out is not None:
-        check_output_dir(out, overwrite, _min_free(learner.config, checkpoint_every))
+        check_output_dir(out, overwrite, _min_free(learner.config, checkpoint_every), _min_inodes(checkpoint_every))
     learner._info["overwrite"] = overwrite
     with _holding(out, overwrite):
         learner._advance(learner.config.n_steps, progress, out, checkpoint_every)
@@ -86,6 +86,11 @@ def _min_free(config: Config, every: int | None) -> int:
     return MIN_FREE_BYTES + (2 * checkpoint_bytes(config) if every is not None else 0)
 
 
+def _min_inodes(every: int | None) -> int:
+    """Inodes a run needs beside its target: the result's, and with checkpoints two of them."""
+    return MIN_FREE_INODES + (2 * CHECKPOINT_INODES if every is not None else 0)
+
+
 def _check_checkpointing(every: Any, out: Path | None, environment: Any, goal_selector: Any) -> int:
     """``checkpoint_every`` as a plain int, where a checkpoint can be kept."""
     every = check_every(every, "run")
@@ -103,13 +108,16 @@ def _save(learner: Learner, out: Path | None) -> RunResult:
         tables = {"metrics": result.metrics, "goals": result.goals, "attempts": result.attempts, "regions": result.regions}
         try:
             result.path = write_run(out, result.manifest, tables, learner._info["overwrite"])
-        except StorageError as e:
-            # The disk filled up or vanished after the work was done: keep the work.
-            e.result = result
-            e.args = (f"{e} The result is kept in this exception's .result; save it elsewhere with .result.save(path).",)
-            raise
-        if is_checkpoint(checkpoint_dir(out)):
-            shutil.rmtree(checkpoint_dir(out), ignore_errors=True)
+        except OSError as e:
+            # The disk filled up or vanished after the work was done: keep the work, whatever
+            # the OSError (no free inode or an immutable folder as well as no free byte).
+            err = e if isinstance(e, StorageError) else StorageError(f"Could not write the run to {out}: {reason(e)}.")
+            err.result = result
+            err.args = (f"{err} The result is kept in this exception's .result; save it elsewhere with .result.save(path).",)
+            if err is e:
+                raise
+            raise err from None
+        remove_checkpoint(out)
     return result
 
 
@@ -117,9 +125,14 @@ def recover(result: RunResult, out: Path, why: str) -> str:
     """Save a finished result that could not be written to ``out`` in a recovery folder beside it
     (else in the current folder, else the temporary folder); return a message saying why and
     where it went."""
-    reason = why.split(" The result is kept")[0]
+    said = why.split(" The result is kept")[0]
     stamp = time.strftime("%Y%m%d-%H%M%S")
     name = Path(os.path.abspath(out)).name or "run"
+    group = Path(os.path.abspath(out)).parent.name
+    if re.fullmatch(r"seed\d+", name):
+        # A study's run (runs/GROUP/seedN): the seed alone does not say whose result this is,
+        # least of all away from the study. The group names the condition and grid point.
+        name = f"{group if group and len(group) <= 150 else result.config.condition}-{name}"
     for parent in (Path(os.path.abspath(out)).parent, Path.cwd(), Path(tempfile.gettempdir())):
         place = next((p for i in range(100) if not os.path.lexists(p := parent / f"{name}.recovered-{stamp}{'' if i == 0 else f'-{i}'}")), None)
         if place is None:
@@ -128,8 +141,8 @@ def recover(result: RunResult, out: Path, why: str) -> str:
             saved = result.save(place)
         except (StorageError, OSError):
             continue
-        return f"{reason} The finished result was saved to {saved} instead; move it where you want it (to {out} for a study to count it without recomputing)."
-    return f"{reason} The result could not be saved anywhere else either (tried beside {out}, the current folder and the temporary folder)."
+        return f"{said} The finished result was saved to {saved} instead; move it where you want it (to {out} for a study to count it without recomputing)."
+    return f"{said} The result could not be saved anywhere else either (tried beside {out}, the current folder and the temporary folder)."
 
 
 def resume(out_dir: str | Path, progress: bool = False, threads: int | None = None) -> RunResult:
@@ -143,7 +156,7 @@ def resume(out_dir: str | Path, progress: bool = False, threads: int | None = No
     with target_lock(out):
         config, info, every = read_description(ck)
         # The old checkpoint is on the disk already: room for one more.
-        check_output_dir(out, info["overwrite"], MIN_FREE_BYTES + checkpoint_bytes(config))
+        check_output_dir(out, info["overwrite"], MIN_FREE_BYTES + checkpoint_bytes(config), MIN_FREE_INODES + CHECKPOINT_INODES)
         # At most twice the largest state its configuration can make.
         learner = Learner._restored(config, read_state(ck, 2 * checkpoint_bytes(config)), info, threads)
         if tuple(learner._inner.seeds) != (info["learner_seed"], info["eval_seed"]):

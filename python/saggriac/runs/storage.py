@@ -40,6 +40,11 @@ RUN_FILES = frozenset([MANIFEST, *(f"{t}.parquet" for t in TABLES)])
 MAX_TABLE_BYTES = 4_000_000_000
 #: Checked before a run starts: a 200,000-step run directory takes about 1 MB; keep a margin.
 MIN_FREE_BYTES = 20_000_000
+#: A checkpoint takes three inodes: its folder, state.bin and checkpoint.json.
+CHECKPOINT_INODES = 3
+#: Checked before a run starts: a run takes 7 inodes (its lock, the temporary folder and its five
+#: files); the margin leaves room for a recovery folder and for other writers meanwhile.
+MIN_FREE_INODES = 32
 
 
 def sibling(out: Path, suffix: str) -> Path:
@@ -60,7 +65,18 @@ def _existing_ancestor(path: Path) -> Path:
     return p
 
 
-def _check_parent(parent: Path, min_free: int) -> None:
+def reason(e: OSError) -> str:
+    """Why a write failed, in words. "No space left on device" also means no free inode, which
+    df -h does not show, and a quota may count files as well as bytes."""
+    why = e.strerror or str(e)
+    if e.errno == errno.ENOSPC:
+        return f"{why} (no free space or no free inodes: df -h and df -i show which)"
+    if e.errno == getattr(errno, "EDQUOT", None):
+        return f"{why} (your quota of space or of files is used up: quota -s shows which)"
+    return why
+
+
+def _check_parent(parent: Path, min_free: int, min_inodes: int = 0) -> None:
     """The folder a run directory will be made in: it, or its nearest existing ancestor, must be a
     writable folder. Nothing is created here (a refused command leaves nothing behind)."""
     base = _existing_ancestor(parent)
@@ -71,6 +87,14 @@ def _check_parent(parent: Path, min_free: int) -> None:
     free = shutil.disk_usage(base).free
     if free < min_free:
         raise StorageError(f"The disk of {base} has {free / 1e6:.1f} MB free; a run needs up to {min_free / 1e6:.0f} MB. Free some space or choose another folder.")
+    if min_inodes:
+        st = os.statvfs(base)
+        # f_files == 0: the file system does not count inodes (some network ones do not).
+        if st.f_files and st.f_favail < min_inodes:
+            raise StorageError(
+                f"The file system of {base} has {st.f_favail} free inodes; a run needs {min_inodes} (one per file and folder it writes: its result, its lock and any checkpoints). "
+                "Delete some files there (df -i counts them) or choose another folder."
+            )
 
 
 def foreign_entries(out: Path) -> list[str]:
@@ -117,15 +141,16 @@ class RunExistsError(StorageError):
 SIBLING_EXTRA = 24
 
 
-def check_output_dir(out: Path, overwrite: bool = False, min_free: int = 0) -> None:
+def check_output_dir(out: Path, overwrite: bool = False, min_free: int = 0, min_inodes: int = 0) -> None:
     """Refuse, before any work, a target that saggriac must not or cannot write.
 
     Accepted: a free path, an empty folder, and with ``overwrite`` a finished saggriac run. Pass
-    ``min_free=MIN_FREE_BYTES`` before a run to refuse a nearly full disk before any work.
+    ``min_free=MIN_FREE_BYTES`` and ``min_inodes=MIN_FREE_INODES`` before a run to refuse a nearly
+    full disk before any work.
     """
     out = Path(out)
     try:
-        _check_output_dir(out, overwrite, min_free)
+        _check_output_dir(out, overwrite, min_free, min_inodes)
     except StorageError:
         raise
     except OSError as e:  # a name the file system refuses, a folder that vanished meanwhile, ...
@@ -146,7 +171,7 @@ def _check_name(out: Path) -> None:
         raise StorageError(f"The name of {out} is {name} bytes long; runs need at most {limit - SIBLING_EXTRA} here ({limit} allowed, minus room for the temporary folder beside it).")
 
 
-def _check_output_dir(out: Path, overwrite: bool, min_free: int) -> None:
+def _check_output_dir(out: Path, overwrite: bool, min_free: int, min_inodes: int) -> None:
     _check_name(out)
     absolute = Path(os.path.abspath(out))
     here = Path.cwd()
@@ -177,7 +202,7 @@ def _check_output_dir(out: Path, overwrite: bool, min_free: int) -> None:
                 raise StorageError(f"{out} is a folder saggriac did not write (it holds {_describe(entries)}); saggriac never writes into it, even with overwrite. Choose a new path or an empty folder.")
         if not os.access(out, os.W_OK | os.X_OK):
             raise StorageError(f"The output folder {out} is not writable.")
-    _check_parent(absolute.parent, min_free)
+    _check_parent(absolute.parent, min_free, min_inodes)
 
 
 @contextlib.contextmanager
@@ -241,10 +266,15 @@ def replace_dir(out: Path, fill: Callable[[Path], None], what: str, replace: Cal
     filled as a temporary sibling, every file is flushed, then it is renamed into place.
 
     An existing ``out`` is replaced only if ``replace(out)`` says so (by default: never, except an
-    empty folder). A failure of any kind leaves ``out`` as it was and no temporary sibling."""
+    empty folder); a symbolic link is replaced itself, what it points to is never touched. A
+    failure of any kind leaves ``out`` as it was and no temporary sibling; an OSError, making the
+    temporary folder included, becomes a StorageError."""
     old = sibling(out, ".old")
-    tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.", suffix=".tmp", dir=out.parent))
+    tmp: Path | None = None
     try:
+        # Within the try: no free inode, a quota or an immutable folder fail here, and are a full
+        # disk like any other to the callers that keep the result or skip the checkpoint.
+        tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.", suffix=".tmp", dir=out.parent))
         tmp.chmod(0o755)  # mkdtemp makes it private; results are meant to be shared
         fill(tmp)
         for f in tmp.iterdir():
@@ -255,20 +285,31 @@ def replace_dir(out: Path, fill: Callable[[Path], None], what: str, replace: Cal
             if replace is None or not replace(out):
                 raise FileExistsError(errno.EEXIST, "it appeared while the run was going and is not a run saggriac may replace", str(out))
             if os.path.lexists(old):
-                shutil.rmtree(old)
+                _remove(old)
             _rename_noreplace(out, old)
             _rename_noreplace(tmp, out)
-            shutil.rmtree(old, ignore_errors=True)
+            with contextlib.suppress(OSError):
+                _remove(old)
         else:
             _rename_noreplace(tmp, out)
         fsync_path(out.parent)
     except OSError as e:
-        shutil.rmtree(tmp, ignore_errors=True)
-        raise StorageError(f"Could not write {what} to {out}: {e.strerror or e}.") from None
+        if tmp is not None:
+            shutil.rmtree(tmp, ignore_errors=True)
+        raise StorageError(f"Could not write {what} to {out}: {reason(e)}.") from None
     except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
+        if tmp is not None:
+            shutil.rmtree(tmp, ignore_errors=True)
         raise
     return out
+
+
+def _remove(path: Path) -> None:
+    """Remove a folder saggriac replaced; a symbolic link goes, never what it points to."""
+    if path.is_symlink() or not path.is_dir():
+        os.unlink(path)
+    else:
+        shutil.rmtree(path)
 
 
 def _digest(path: Path) -> dict[str, Any]:
