@@ -26,7 +26,7 @@ from ..errors import ParameterError, StorageError
 from ..files import check_flag
 from ..runs.result import run_stopped_early
 from ..runs.storage import MANIFEST, as_path, clear_stale_lock, read_manifest, run_damage
-from .backends import COST_HINT, SCHEDULER_TIMEOUT, WORKER_TIMEOUT, check_scheduler, default_workers, import_distributed, longest_first_by_seed, run_dask, run_local, check_cluster, check_worker_timeout, local_cluster
+from .backends import COST_HINT, SCHEDULER_TIMEOUT, WORKER_TIMEOUT, check_scheduler, default_workers, import_distributed, longest_first_by_seed, run_dask, run_local, check_cluster, check_scheduler_type, check_worker_timeout, local_cluster
 from .folder import check_or_write_spec, check_study_folder, folder_lock, is_finished, remove_leftovers, set_aside
 from .spec import LOCK_FILE, METRICS, RUNS_DIR, STUDY_FILE, IncompleteStudyWarning, Study, StudyError, Task, run_task
 
@@ -77,7 +77,8 @@ def run_study(
     if scheduler is not None and n_workers is not None:
         raise ParameterError("The 'n_workers' parameter of run_study applies only to workers it starts itself; size the given Dask cluster instead.", "n_workers", repr(n_workers))
     if backend == "dask":
-        import_distributed()  # fail before writing anything
+        distributed = import_distributed()  # fail before writing anything
+        check_scheduler_type(distributed, scheduler)
         if isinstance(scheduler, str):
             check_scheduler(scheduler)
         check_cluster(scheduler)

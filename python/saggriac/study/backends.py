@@ -3,12 +3,14 @@ no HTTP, a scheduler's address, a client, or a cluster object such as SLURMClust
 
 from __future__ import annotations
 
+import contextlib
 import ctypes
 import os
 import math
 import re
 import shutil
 import signal
+import struct
 import sys
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
@@ -139,8 +141,9 @@ SCHEDULER_TIMEOUT = 10
 
 
 def check_scheduler(address: str) -> None:
-    """Refuse, before anything is written, an address that is not one or a scheduler that does
-    not answer within SCHEDULER_TIMEOUT seconds (Dask itself waits 30 s, then may hang on exit)."""
+    """Refuse, before anything is written, an address that is not one, a scheduler that does
+    not answer within SCHEDULER_TIMEOUT seconds (Dask itself waits 30 s, then may hang on exit),
+    and a tcp:// peer that does not greet as a Dask scheduler (see _not_a_scheduler)."""
     import socket
 
     rule = "an address such as 'tcp://HOST:PORT'"
@@ -164,13 +167,128 @@ def check_scheduler(address: str) -> None:
     if not 0 < port < 65536:
         raise ParameterError(f"The 'scheduler' parameter of run_study must be {rule} with a port in 1..65535. Got {address!r} instead.", "scheduler", repr(address))
     try:
-        socket.create_connection((host, port), timeout=SCHEDULER_TIMEOUT).close()
+        conn = socket.create_connection((host, port), timeout=SCHEDULER_TIMEOUT)
     except OSError as e:
         raise ParameterError(f"The 'scheduler' parameter of run_study names {address!r}, where no Dask scheduler answers within {SCHEDULER_TIMEOUT} s ({e.strerror or e}). Start it (dask scheduler) or check the address.", "scheduler", repr(address)) from None
+    with conn:
+        # A TLS server waits for the client's hello: only a plain tcp:// peer can be heard first.
+        what = None if m.group(1) == "tls" else _not_a_scheduler(conn)
+    if what is not None:
+        raise ParameterError(
+            f"The 'scheduler' parameter of run_study names {address!r}, where no Dask scheduler answers: {what}. Check the address "
+            "(a scheduler prints its own as 'Scheduler at: tcp://HOST:PORT').",
+            "scheduler",
+            repr(address),
+        )
 
 
 #: Seconds to wait for a web server's first line.
 PROBE_TIMEOUT = 3.0
+
+
+#: Seconds to wait for the greeting a Dask scheduler sends as soon as it accepts a connection.
+GREETING_TIMEOUT = 5.0
+
+#: The greeting's size is read as Dask reads it (a native u64); a handshake is a few dozen bytes.
+_FRAME = struct.Struct("Q")
+_MAX_GREETING = 1 << 16
+
+
+def _recv(conn: Any, n: int) -> bytes:
+    """Up to ``n`` bytes: fewer only if the peer closed the connection."""
+    data = b""
+    while len(data) < n:
+        chunk = conn.recv(n - len(data))
+        if not chunk:
+            break
+        data += chunk
+    return data
+
+
+def _greeting(head: bytes, conn: Any) -> bytes | None:
+    """The whole of a Dask message that starts with ``head`` (its 8-byte size), or None if what
+    follows is not laid out as one: a count of frames, their sizes, then the frames."""
+    if len(head) < _FRAME.size:
+        return None
+    (size,) = _FRAME.unpack(head[: _FRAME.size])
+    if not 2 * _FRAME.size <= size <= _MAX_GREETING:
+        return None
+    try:
+        body = _recv(conn, size)
+    except OSError:
+        return None
+    if len(body) < size:
+        return None
+    (n_frames,) = _FRAME.unpack_from(body)
+    if not 1 <= n_frames <= (size - _FRAME.size) // _FRAME.size:
+        return None
+    lengths = struct.unpack_from(f"{n_frames}Q", body, _FRAME.size)
+    return head + body if _FRAME.size * (1 + n_frames) + sum(lengths) == size else None
+
+
+def _described(data: bytes) -> str:
+    """What sent ``data``, in words."""
+    if data.startswith(b"HTTP/"):
+        lines = data.decode("latin-1").splitlines()
+        server = next((ln.split(":", 1)[1].strip() for ln in lines if ln.lower().startswith("server:")), None)
+        return (
+            f"an HTTP server answers there (it replied {lines[0].strip()!r}" + (f", server {server!r}" if server else "") + "), perhaps a Dask "
+            "dashboard: the scheduler itself speaks Dask's protocol on another port, 8786 unless set"
+        )
+    return f"what answers there does not speak Dask's protocol (it sent {data[:40]!r})"
+
+
+def _not_a_scheduler(conn: Any) -> str | None:
+    """None if the peer of ``conn`` greets as a Dask scheduler does, else what it is, in words.
+
+    A scheduler sends its handshake as soon as it accepts (distributed.comm.core), and Dask's
+    client waits for it without a bound: a silent peer hangs ``Client()``, and an HTTP reply is
+    read as a frame size of exabytes (MemoryError). So the greeting is awaited here for
+    GREETING_TIMEOUT seconds; only a silent peer is then sent an HTTP request, to name it."""
+    conn.settimeout(GREETING_TIMEOUT)
+    try:
+        head = conn.recv(_FRAME.size)
+    except TimeoutError:
+        head = None
+    except OSError as e:
+        return f"the connection was accepted, then failed ({e.strerror or e})"
+    if head is not None:
+        if not head:
+            return "something accepted the connection and closed it without a word"
+        with contextlib.suppress(OSError):
+            head += _recv(conn, _FRAME.size - len(head))
+        greeting = _greeting(head, conn)
+        if greeting is None:
+            return _described(head + _peek(conn))
+        # Sent back as our own handshake: the scheduler then logs no connection closed mid-handshake.
+        with contextlib.suppress(OSError):
+            conn.sendall(greeting)
+        return None
+    waited = GREETING_TIMEOUT + PROBE_TIMEOUT
+    try:
+        conn.sendall(b"HEAD / HTTP/1.0\r\n\r\n")
+        conn.settimeout(PROBE_TIMEOUT)
+        reply = conn.recv(_FRAME.size)
+    except TimeoutError:
+        return f"something accepted the connection but said nothing in {waited:g} s (a Dask scheduler greets at once)"
+    except OSError as e:
+        return f"something accepted the connection, said nothing in {GREETING_TIMEOUT:g} s, then failed ({e.strerror or e})"
+    if not reply:
+        return f"something accepted the connection, said nothing in {GREETING_TIMEOUT:g} s, then closed it"
+    with contextlib.suppress(OSError):
+        reply += _recv(conn, _FRAME.size - len(reply))
+    if _greeting(reply, conn) is not None:
+        return None  # a scheduler slow to greet (it then logs our request as a bad message)
+    return _described(reply + _peek(conn))
+
+
+def _peek(conn: Any) -> bytes:
+    """What else the peer sends within a moment (the rest of an HTTP status line and headers)."""
+    conn.settimeout(0.5)
+    try:
+        return conn.recv(1024)
+    except OSError:
+        return b""
 
 
 def _what_answers(host: str, port: int, scheme: str) -> str:
@@ -202,6 +320,19 @@ def check_worker_timeout(value: Any, owner: str) -> float:
     if isinstance(value, bool) or not isinstance(value, (int, float)) or not (math.isfinite(value) and value > 0):
         raise ParameterError(f"The 'worker_timeout' parameter of {owner} must be a number of seconds > 0. Got {value!r} instead.", "worker_timeout", repr(value))
     return float(value)
+
+
+def check_scheduler_type(distributed: Any, scheduler: Any) -> None:
+    """Refuse what Dask's Client takes for neither an address nor a cluster."""
+    # Dask's own test: a cluster is any object with a scheduler_address (SpecCluster, SLURMCluster).
+    if scheduler is None or isinstance(scheduler, (str, distributed.Client)) or hasattr(scheduler, "scheduler_address"):
+        return
+    raise ParameterError(
+        "The 'scheduler' parameter of run_study must be a Dask scheduler's address (a str such as 'tcp://HOST:8786'), a "
+        f"distributed.Client, or a cluster object such as LocalCluster or dask_jobqueue.SLURMCluster. Got {scheduler!r} instead.",
+        "scheduler",
+        repr(scheduler),
+    )
 
 
 def check_cluster(scheduler: Any) -> None:
