@@ -6,7 +6,10 @@ own file, naming its kind and its parameters."""
 
 from __future__ import annotations
 
+import functools
+import math
 import os
+import re
 from pathlib import Path
 from typing import Any, Protocol, runtime_checkable
 
@@ -67,13 +70,34 @@ def _float_param(owner: str, name: str, value: Any) -> float:
     return float(value)
 
 
-def _typed(owner: str, name: str, value: Any, default: Any) -> Any:
+@functools.lru_cache(maxsize=None)
+def _int_rule(kind: str, name: str) -> str:
+    """The core's rule for the int parameter ``name`` of the teacher ``kind``, in the words it
+    tells a value out of range: stated by name where the core lists it, else found by building
+    the teacher with 0 and then with 2**64 - 1 (one of them breaks every rule with bounds)."""
+    rule = _core.teacher_param_rule(name)
+    if rule:
+        return rule
+    for probe in (0, 2**64 - 1):
+        try:
+            _core.AskTell(kind, [0.0], [1.0], 0, {name: probe})
+        except ParameterError as e:
+            found = re.search(r" must be (.*)\. Got .* instead\.$", str(e), re.DOTALL)
+            if e.param == name and found:
+                return found.group(1)
+    return "an int >= 0"
+
+
+def _typed(kind: str, owner: str, name: str, value: Any, default: Any) -> Any:
     """``value`` as the type of the parameter's default: numpy scalars taken, floats and bools
-    never taken for ints (the core checks each parameter's own rule)."""
+    never taken for ints. An int of the wrong type or past the core's integers is told the rule
+    the core tells a value out of range, so that every wrong value hears one rule."""
     if isinstance(default, bool):
         return check_flag(value, name, owner)
     if isinstance(default, int):
-        return _int_param(owner, name, value, 0, 2**63)
+        if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not 0 <= int(value) < 2**63:
+            raise ParameterError(f"The '{name}' parameter of {owner} must be {_int_rule(kind, name)}. Got {value!r} instead.", name, repr(value))
+        return int(value)
     if isinstance(default, float):
         return _float_param(owner, name, value)
     if not isinstance(value, str):
@@ -93,7 +117,7 @@ class AskTellSelector:
         owner = type(self).__name__
         lo, hi = _vector("low", low), _vector("high", high)
         seed = _int_param(owner, "seed", seed, 0, 2**64)
-        self._inner = _core.AskTell(self._kind, lo.tolist(), hi.tolist(), seed, {k: _typed(owner, k, v, DEFAULTS[self._kind][k]) for k, v in params.items()})
+        self._inner = _core.AskTell(self._kind, lo.tolist(), hi.tolist(), seed, {k: _typed(self._kind, owner, k, v, DEFAULTS[self._kind][k]) for k, v in params.items()})
         self.last_mode: str | None = None
         self.last_region: int | None = None
 
@@ -102,6 +126,16 @@ class AskTellSelector:
         can never meet, or always meet: ADR's ``t_low`` / ``t_high``, SPDL's ``delta``, Goal
         GAN's ``success_threshold``. A run, ``TeacherCallback`` and ``SelectorCurriculum`` call
         it with the competences they tell, so that a teacher never sits still without a word."""
+        owner = f"{type(self).__name__}.check_competences"
+        for name, value in (("lo", lo), ("hi", hi)):
+            # The thresholds' messages quote [lo, hi]: a NaN or a string there would blame them.
+            # -inf is a bound (TeacherCallback's distances lie in [-inf, 0]); NaN bounds nothing.
+            if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)) or math.isnan(value):
+                raise ParameterError(f"The '{name}' parameter of {owner} must be a float, not NaN (the competences lie in [lo, hi]). Got {value!r} instead.", name, repr(value))
+        if lo > hi:
+            raise ParameterError(f"The 'lo' parameter of {owner} must be a float <= hi (the competences lie in [lo, hi]). Got lo={lo!r}, hi={hi!r} instead.", "lo", repr(lo))
+        if not isinstance(whence, str):
+            raise ParameterError(f"The 'whence' parameter of {owner} must be a str (who tells the competences). Got {whence!r} instead.", "whence", repr(whence))
         self._inner.check_competences(float(lo), float(hi), whence)
 
     @property
@@ -175,17 +209,23 @@ class AskTellSelector:
     def __new__(cls, *args: Any, **kwargs: Any) -> "AskTellSelector":
         obj = super().__new__(cls)
         obj._identity = ownership.new_identity()  # see teachers/ownership.py; pickle keeps it
+        ownership.mark_new(obj)
         return obj
 
     # Saving: pickle goes through the core's own encoding, so a restored teacher asks exactly
     # the goals the original would have asked next. The copy keeps the teacher's identity (a
     # teacher sent to a worker is the same teacher); copy.copy/deepcopy make a new teacher.
     def __getstate__(self) -> dict[str, Any]:
-        return {"teacher": bytes(self._inner.save()), "last_mode": self.last_mode, "last_region": self.last_region, "identity": self._identity}
+        state = {"teacher": bytes(self._inner.save()), "last_mode": self.last_mode, "last_region": self.last_region, "identity": self._identity}
+        copy_of = ownership.on_pickle(self)  # sent to another process: which copy it is
+        if copy_of is not None:
+            state["copy_of"] = copy_of
+        return state
 
     def __deepcopy__(self, memo: dict[int, Any]) -> "AskTellSelector":
         state = self.__getstate__()
         del state["identity"]
+        state.pop("copy_of", None)
         obj = type(self).__new__(type(self))
         obj.__setstate__(state)
         return obj
@@ -201,6 +241,7 @@ class AskTellSelector:
         self.last_mode, self.last_region = state["last_mode"], state["last_region"]
         if "identity" in state:
             self._identity = state["identity"]
+            ownership.on_unpickle(self, state.get("copy_of"))
 
     def save(self, path: str | os.PathLike[str], overwrite: bool = False) -> Path:
         """Write the teacher (parameters, state, history) to the file ``path``, atomically;

@@ -1,0 +1,95 @@
+"""Every wrong value of a teacher's int parameter is told the one rule the core checks (issue
+44, item 10): AdrSelector(buffer_size=-1) or 10.0 read "an int in [0, 2**63)" while
+buffer_size=0 read "an int in [1, 1000000]". And check_competences refuses a range that is not
+one (strings, NaN, lo > hi) as such, instead of raising ValueError or blaming a threshold."""
+
+import inspect
+import math
+import re
+
+import numpy as np
+import pytest
+
+import saggriac as sg
+from saggriac.teachers import classes
+from saggriac.teachers.ask_tell import DEFAULTS
+
+WRONG = (-1, 0, 0.5, 2.0, True, np.int64(-3), 2**62, 10**30)
+
+
+def _int_params():
+    for kind, cls in sorted(classes().items()):
+        for name, default in DEFAULTS[kind].items():
+            if isinstance(default, int) and not isinstance(default, bool):
+                yield pytest.param(cls, name, id=f"{cls.__name__}.{name}")
+
+
+def _build(cls, name, value):
+    kw = {"low": [0.0, 0.0], "high": [1.0, 1.0]} if "low" in inspect.signature(cls).parameters else {"n_tasks": 4}
+    return cls(**{**kw, name: value})
+
+
+def _rule(e, cls, name):
+    found = re.fullmatch(rf"The '{name}' parameter of {cls.__name__} must be (.*)\. Got (.*) instead\.", str(e))
+    assert found, str(e)
+    return found.group(1)
+
+
+@pytest.mark.parametrize("cls, name", list(_int_params()))
+def test_every_wrong_value_of_an_int_parameter_is_told_one_rule(cls, name):
+    rules = {}
+    for value in WRONG:
+        try:
+            _build(cls, name, value)
+        except sg.ParameterError as e:
+            assert e.param == name and e.value == repr(value), (e.param, e.value)
+            rules[repr(value)] = _rule(e, cls, name)
+    # The float, the bool and the huge values are never taken; 0 is for some parameters.
+    assert {"0.5", "2.0", "True", repr(2**62), repr(10**30), "-1"} <= set(rules), rules
+    # A rule that names another parameter (SAGG-RIAC's min_child against g_max) is a second rule.
+    own = {r for r in rules.values() if "g_max" not in r}
+    assert len(own) == 1 and re.fullmatch(r"an int (in \[\d+, \d+\]|>= \d+)", own.pop()), rules
+
+
+def test_the_examples_of_the_audit_read_the_same_rule():
+    for make in (lambda v: sg.AdrSelector([0, 0], [1, 1], buffer_size=v), lambda v: sg.PlrSelector(v), lambda v: sg.DiscreteLpSelector(v)):
+        for v in (-1, 10.0, True, 0):
+            with pytest.raises(sg.ParameterError, match=r"must be an int in \[1, 1000000\]\. Got"):
+                make(v)
+    for v in (2.0, 0, 10**30):
+        with pytest.raises(sg.ParameterError, match=r"'hidden' parameter of GoalGanSelector must be an int in \[1, 1024\]\. Got"):
+            sg.GoalGanSelector([0, 0], [1, 1], hidden=v)
+    for v in (1.5, -1, 2**62):
+        with pytest.raises(sg.ParameterError, match=r"'warmup' parameter of SpdlSelector must be an int in \[0, 1000000\]\. Got"):
+            sg.SpdlSelector([0, 0], [1, 1], warmup=v)
+    # Right values still go through, numpy ints included.
+    assert sg.AdrSelector([0, 0], [1, 1], buffer_size=np.int64(3)).dim == 2
+
+
+@pytest.mark.parametrize(
+    "lo, hi, param, says",
+    [
+        ("a", "b", "lo", "must be a float, not NaN"),
+        (0.0, "b", "hi", "must be a float, not NaN"),
+        (None, 0.0, "lo", "must be a float, not NaN"),
+        (True, 0.0, "lo", "must be a float, not NaN"),
+        (float("nan"), 0.0, "lo", "must be a float, not NaN"),
+        (-1.0, math.nan, "hi", "must be a float, not NaN"),
+        (0.0, -math.inf, "lo", "must be a float <= hi"),
+        (1.0, 0.0, "lo", "must be a float <= hi"),
+    ],
+)
+def test_check_competences_refuses_a_range_that_is_not_one(lo, hi, param, says):
+    for teacher in (sg.AdrSelector([0, 0], [1, 1]), sg.SpdlSelector([0, 0], [1, 1]), sg.GoalGanSelector([0, 0], [1, 1])):
+        with pytest.raises(sg.ParameterError, match=rf"The '{param}' parameter of {type(teacher).__name__}.check_competences {says}") as e:
+            teacher.check_competences(lo, hi, "me")
+        assert e.value.param == param and "t_high" not in str(e.value)
+
+
+def test_check_competences_still_tells_the_thresholds():
+    with pytest.raises(sg.ParameterError, match=r"'t_high' parameter of AdrSelector must be a float <= 0"):
+        sg.AdrSelector([0, 0], [1, 1]).check_competences(-1.0, 0.0, "me")
+    sg.AdrSelector([0, 0], [1, 1]).check_competences(np.float32(0.0), 1, "me")  # the papers' range, numpy and int
+    sg.AdrSelector([0, 0], [1, 1], t_low=-0.9, t_high=-0.3).check_competences(-math.inf, 0.0, "distances")  # TeacherCallback's distances
+    with pytest.raises(sg.ParameterError, match=r"'whence' parameter of AdrSelector.check_competences must be a str"):
+        sg.AdrSelector([0, 0], [1, 1]).check_competences(0.0, 1.0, 3)
