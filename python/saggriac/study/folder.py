@@ -3,6 +3,7 @@ which runs in it are finished, damaged or left over from a killed process."""
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import shutil
@@ -43,7 +44,14 @@ def _write_json_atomic(path: Path, data: dict[str, Any]) -> None:
 def folder_lock(out: Path) -> Iterator[None]:
     """Hold an exclusive lock on the study folder: a second run_study on it would delete the
     first one's temporary directories. The kernel drops the lock when the process dies."""
-    with lock(out / LOCK_FILE, f"Another run_study is writing to {out}; wait for it to finish (or stop it) first.") as unlocked:
+    with contextlib.ExitStack() as held:
+        try:
+            unlocked = held.enter_context(lock(out / LOCK_FILE, f"Another run_study is writing to {out}; wait for it to finish (or stop it) first."))
+        except StorageError:
+            raise
+        except OSError as e:
+            # Opening the lock file (a read-only folder): worded as resume words it, not a traceback.
+            raise StorageError(f"Cannot lock {out} ({out / LOCK_FILE}): {e.strerror or e}.") from None
         if unlocked is not None:  # pragma: no cover - file systems without flock
             warnings.warn(f"Cannot lock {out} ({unlocked.strerror}); do not run two run_study on this folder at once.", RuntimeWarning, stacklevel=4)
         yield
