@@ -88,3 +88,26 @@ def test_a_result_pickled_under_the_former_module_name_still_loads(small_config)
     with pytest.warns(DeprecationWarning, match="saggriac.result is now saggriac.runs.result"):
         back = pickle.loads(old_pickle)
     assert type(back) is saggriac.RunResult and back.reach_error.tolist() == res.reach_error.tolist()
+
+
+def test_a_missing_module_under_a_former_path_is_named_as_typed():
+    """import saggriac.gym.nothere named saggriac.adapters.gym.nothere, a path never typed
+    (issue 44, item 10)."""
+    code = """
+import warnings
+warnings.simplefilter("ignore", DeprecationWarning)
+for name in ("saggriac.gym.nothere", "saggriac.storage.nothere"):
+    try:
+        __import__(name)
+    except ModuleNotFoundError as e:
+        print(e.name, "|", e)
+import saggriac.gym.goals
+print(saggriac.gym.goals.__name__)
+"""
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.splitlines() == [
+        "saggriac.gym.nothere | No module named 'saggriac.gym.nothere'",
+        "saggriac.storage.nothere | No module named 'saggriac.storage.nothere'; 'saggriac.storage' is not a package",
+        "saggriac.adapters.gym.goals",
+    ]

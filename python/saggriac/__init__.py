@@ -81,7 +81,14 @@ class _FormerPaths(importlib.abc.MetaPathFinder, importlib.abc.Loader):
 
     def find_spec(self, fullname: str, path: Any = None, target: Any = None) -> Any:
         new = _moved_to(fullname) if fullname.startswith("saggriac.") else None
-        return None if new is None else importlib.util.spec_from_loader(fullname, self)
+        if new is None:
+            return None
+        try:
+            found = importlib.util.find_spec(new)
+        except ImportError:
+            found = None
+        # No module at the new path: not found here, so that the error names what was typed.
+        return None if found is None else importlib.util.spec_from_loader(fullname, self)
 
     def create_module(self, spec: Any) -> Any:
         new = _moved_to(spec.name)

@@ -13,7 +13,7 @@ from typing import Any
 
 from . import _core
 from .config import CONDITIONS, PRESETS, Config, read_toml
-from .errors import SaggriacError, StorageError
+from .errors import ParameterError, SaggriacError, StorageError
 from .runs.storage import RunExistsError, as_path
 
 if sys.version_info >= (3, 11):
@@ -156,7 +156,7 @@ def _cmd_reproduce(args: argparse.Namespace) -> int:
     if args.out is not None:
         as_path(args.out, "--out", "saggriac reproduce")
     # A study of one condition or one seed has no statistics: said, and not an error here.
-    written, _ = _incomplete(lambda: reproduce(
+    written, _ = _incomplete(lambda: _in_flags(lambda: reproduce(
         args.experiment,
         out_dir=args.out,
         seeds=args.seeds,
@@ -168,7 +168,7 @@ def _cmd_reproduce(args: argparse.Namespace) -> int:
         scheduler=args.scheduler,
         progress=not args.no_progress,
         **({} if args.worker_timeout is None else {"worker_timeout": args.worker_timeout}),
-    ))
+    )))
     out = Path(args.out) if args.out else Path(f"reproduce-{args.experiment}")
     print(final_summary(out).to_string(index=False))
     budget = time_budget_summary(out)
@@ -178,6 +178,16 @@ def _cmd_reproduce(args: argparse.Namespace) -> int:
     for name, path in written.items():
         print(f"{name}: {path}")
     return 0
+
+
+def _in_flags(work: Callable[[], Any]) -> Any:
+    """``work()``, its advice to give the workers more time in this command's words."""
+    try:
+        return work()
+    except ParameterError as e:
+        if "worker_timeout= " not in str(e):
+            raise
+        raise ParameterError(str(e).replace("worker_timeout= ", "--worker-timeout "), e.param, e.value) from None
 
 
 def _incomplete(work: Callable[[], Any]) -> tuple[Any, int]:
@@ -270,7 +280,9 @@ def main(argv: list[str] | None = None) -> int:
         sys.stderr.close()
         return 0
     except KeyboardInterrupt:
-        print("saggriac: interrupted; nothing was written for the unfinished run.", file=sys.stderr)
+        # A study keeps its finished runs; only the runs under way are lost.
+        lost = "runs; the finished ones are kept, and the same command resumes the study" if args.func is _cmd_reproduce else "run"
+        print(f"saggriac: interrupted; nothing was written for the unfinished {lost}.", file=sys.stderr)
         return 130
 
 

@@ -132,7 +132,7 @@ def write_stats(out_dir: str | Path, frame: pd.DataFrame | None = None) -> dict[
     frame = load_study(out) if frame is None else frame
     table = statistics.compare(frame)
     if table.empty:
-        raise InputError(f"No statistics can be computed for the study {out}: {_why_no_stats(frame)}.")
+        raise InputError(f"No statistics can be computed for the study {out}: {_why_no_stats(frame)}{_left_out(out)}.")
     csv = _atomic(out / "stats.csv", lambda p: table.to_csv(p, index=False))
     md = _atomic(out / "stats.md", lambda p: p.write_text(statistics.to_markdown(table)))
     return {"stats_csv": csv, "stats_md": md}
@@ -147,6 +147,23 @@ def _why_no_stats(frame: pd.DataFrame) -> str:
         return f"the tests compare conditions and its finished runs are all of {conditions[0]}"
     seeds = frame.groupby("condition")["seed"].nunique()
     return "the tests pair runs of the same seed and need at least 2 seeds finished in each condition; finished seeds: " + ", ".join(f"{c} {n}" for c, n in seeds.items())
+
+
+def _left_out(out: Path) -> str:
+    """The study's runs that are not finished, with why, as load_study names them ("" if none):
+    the warning that names them is lost when the statistics are then refused (saggriac stats)."""
+    names = []
+    for task in Study.load(out).tasks():
+        run_dir = out / task.path
+        if not (run_dir / "run.json").exists():
+            names.append(f"{task.path} (not finished: no run.json)")
+            continue
+        early = run_stopped_early(read_manifest(run_dir), pd.read_parquet(run_dir / "metrics.parquet", columns=["step"]))
+        if early is not None:
+            names.append(f"{task.path} ({early})")
+    if not names:
+        return ""
+    return "; left out: " + "; ".join(names[:10]) + (f"; and {len(names) - 10} more" if len(names) > 10 else "")
 
 
 # The time budget's columns, in the order shown (shares are of all micro-actions of a run).
