@@ -19,7 +19,7 @@ from .. import _core
 from ..errors import InputError, ParameterError, StorageError
 from ..files import MAX_TEACHER_BYTES, as_path, check_flag, read_bounded, starts_with, write_file
 from ..values import as_numbers as _numbers
-from . import ownership
+from . import copies, ownership
 
 # Every teacher's parameters and defaults are the core's (one declaration): each class below
 # takes exactly those of its kind, with those defaults (tests/core/test_stub.py checks it).
@@ -209,7 +209,7 @@ class AskTellSelector:
     def __new__(cls, *args: Any, **kwargs: Any) -> "AskTellSelector":
         obj = super().__new__(cls)
         obj._identity = ownership.new_identity()  # see teachers/ownership.py; pickle keeps it
-        ownership.mark_new(obj)
+        copies.mark_new(obj)
         return obj
 
     # Saving: pickle goes through the core's own encoding, so a restored teacher asks exactly
@@ -217,7 +217,7 @@ class AskTellSelector:
     # teacher sent to a worker is the same teacher); copy.copy/deepcopy make a new teacher.
     def __getstate__(self) -> dict[str, Any]:
         state = {"teacher": bytes(self._inner.save()), "last_mode": self.last_mode, "last_region": self.last_region, "identity": self._identity}
-        copy_of = ownership.on_pickle(self)  # sent to another process: which copy it is
+        copy_of = copies.on_pickle(self)  # sent to another process: which copy it is
         if copy_of is not None:
             state["copy_of"] = copy_of
         return state
@@ -241,7 +241,7 @@ class AskTellSelector:
         self.last_mode, self.last_region = state["last_mode"], state["last_region"]
         if "identity" in state:
             self._identity = state["identity"]
-            ownership.on_unpickle(self, state.get("copy_of"))
+            copies.on_unpickle(self, state.get("copy_of"))
 
     def save(self, path: str | os.PathLike[str], overwrite: bool = False) -> Path:
         """Write the teacher (parameters, state, history) to the file ``path``, atomically;

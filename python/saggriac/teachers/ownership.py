@@ -20,7 +20,7 @@ ever written. Where the claim cannot be taken safely (no such folder can be made
 full temporary directory, something else at a lock's place), the wrapper still works but warns
 with :class:`OwnershipWarning`, saying why and what goes unchecked.
 
-Copies are also told apart by how they were made. A teacher sent to another process through
+Copies are also told apart by how they were made (:mod:`.copies`). A teacher sent to another process through
 multiprocessing (a pool's task, a queue, a process's arguments) carries who sent it and how many
 copies that process had sent; one handed to a worker when it started (captured by an environment
 factory of a SubprocVecEnv or an AsyncVectorEnv, pickled at spawn or inherited through fork) is
@@ -34,26 +34,24 @@ Teachers without an identity (a user's own class) are not tracked.
 
 from __future__ import annotations
 
-import atexit
 import errno
 import fcntl
 import itertools
 import multiprocessing
 import os
-import signal
 import stat
-import sys
-import tempfile
 import threading
 import time
 import uuid
 import warnings
 import weakref
 from dataclasses import dataclass
-from pathlib import Path
 from typing import Any, Callable
 
 from ..errors import ConformanceError
+from . import copies
+from .copies import FIX
+from .private_folder import Unchecked, alive, claims_dir, open_claims_dir, same_file
 
 
 class OwnershipWarning(UserWarning):
@@ -81,6 +79,11 @@ def new_identity() -> str:
     return uuid.uuid4().hex
 
 
+def _after_fork_in_child() -> None:
+    _drop_inherited_claims()
+    copies.after_fork_in_child()
+
+
 def _drop_inherited_claims() -> None:
     # A forked child shares its parent's open files, and with them the parent's locks: it must
     # not count them as its own (the parent still holds them), so it closes its copies.
@@ -93,249 +96,9 @@ def _drop_inherited_claims() -> None:
     _claims.clear()
 
 
-os.register_at_fork(before=lambda: _before_fork(), after_in_child=lambda: _after_fork_in_child())
+os.register_at_fork(before=copies.before_fork, after_in_child=_after_fork_in_child)
 
 
-#: how many copies of each identity this process has sent to other processes
-_sent: dict[str, int] = {}
-#: whether a teacher with an identity exists in this process (a fork then hands copies out)
-_has_teachers = False
-_SIGNAL = signal.SIGRTMIN + 5 if hasattr(signal, "SIGRTMIN") else None  # a refusal in a worker, told to its parent
-_armed = False
-_REFUSAL_BYTES = 16384
-_GOAL_WRAPPERS = ("SelectorGoals", "VectorSelectorGoals")
-
-
-def mark_new(teacher: Any) -> None:
-    """Called when a teacher object comes to be in this process (built or unpickled)."""
-    global _has_teachers
-    teacher._home_pid = os.getpid()
-    teacher._copy_of = None
-    _has_teachers = True
-
-
-def _sending() -> bool:
-    # multiprocessing pickles what it sends with reduction.dump (a process's arguments at spawn)
-    # or ForkingPickler.dumps (pools, queues, pipes); pickle.dump to a file goes through neither.
-    frame = sys._getframe(2)
-    for _ in range(64):
-        if frame is None:
-            return False
-        code = frame.f_code
-        if code.co_name in ("dump", "dumps") and code.co_filename.endswith(os.path.join("multiprocessing", "reduction.py")):
-            return True
-        frame = frame.f_back
-    return False
-
-
-def on_pickle(teacher: Any) -> tuple[int, int, bool] | None:
-    """What a pickled teacher carries when it is sent to another process: (this pid, the number of
-    copies of it sent so far, whether it goes with a process being started)."""
-    identity = getattr(teacher, "_identity", None)
-    if not isinstance(identity, str) or not _sending():
-        return None
-    import multiprocessing.context
-
-    starting = multiprocessing.context.get_spawning_popen() is not None
-    if starting:
-        _arm()
-    with _lock:
-        _sent[identity] = _sent.get(identity, 0) + 1
-        return (os.getpid(), _sent[identity], starting)
-
-
-def on_unpickle(teacher: Any, copy_of: Any) -> None:
-    """Record, on a teacher just unpickled, the copy it is (see :func:`on_pickle`)."""
-    if isinstance(copy_of, (tuple, list)) and len(copy_of) == 3:
-        starting = bool(copy_of[2]) or bool(getattr(multiprocessing.current_process(), "_inheriting", False))
-        teacher._copy_of = (int(copy_of[0]), int(copy_of[1]), starting)
-
-
-def _copy_of(teacher: Any) -> tuple[int, int, bool] | None:
-    home = getattr(teacher, "_home_pid", None)
-    if isinstance(home, int) and home != os.getpid():
-        return (home, 1, True)  # inherited through fork with the whole memory
-    copy_of = getattr(teacher, "_copy_of", None)
-    return copy_of if isinstance(copy_of, tuple) else None
-
-
-def _start_time(pid: int) -> str | None:
-    # Field 22 of /proc/PID/stat: a pid reused by another process has another start time.
-    try:
-        with open(f"/proc/{pid}/stat", "rb") as f:
-            text = f.read(4096)
-        return text[text.rindex(b")") + 2 :].split()[19].decode()
-    except (OSError, ValueError, IndexError):
-        return None
-
-
-def _arm() -> None:
-    """Listen for refusals in workers this process starts (once; main thread only; never over a
-    handler of the user's)."""
-    global _armed
-    if _armed or _SIGNAL is None or threading.current_thread() is not threading.main_thread():
-        return
-    if signal.getsignal(_SIGNAL) not in (signal.SIG_DFL, None):
-        return
-    started = _start_time(os.getpid())
-    if started is None:
-        return
-    try:
-        dfd = _open_claims_dir()
-    except (_Unchecked, OSError):
-        return
-    try:
-        name = f"listener-{os.getpid()}"
-        try:
-            os.unlink(name, dir_fd=dfd)  # one of a process that had this pid before
-        except OSError:
-            pass
-        fd = os.open(name, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW | os.O_CLOEXEC, 0o600, dir_fd=dfd)
-        try:
-            os.write(fd, started.encode())
-        finally:
-            os.close(fd)
-    except OSError:
-        return
-    finally:
-        os.close(dfd)
-    signal.signal(_SIGNAL, _on_refusal)
-    _armed = True
-    atexit.register(_disarm, os.getpid())
-
-
-def _disarm(pid: int) -> None:
-    if pid != os.getpid():
-        return
-    try:
-        dfd = _open_claims_dir(make=False)
-    except (_Unchecked, OSError):
-        return
-    try:
-        for name in os.listdir(dfd):
-            if name == f"listener-{pid}" or name.startswith(f"refusal-{pid}-"):
-                try:
-                    os.unlink(name, dir_fd=dfd)
-                except OSError:
-                    pass
-    finally:
-        os.close(dfd)
-
-
-def _before_fork() -> None:
-    if _has_teachers:
-        _arm()
-
-
-def _after_fork_in_child() -> None:
-    global _armed
-    _drop_inherited_claims()
-    _sent.clear()
-    if _armed and _SIGNAL is not None:
-        signal.signal(_SIGNAL, signal.SIG_DFL)  # the parent listens; a worker does not
-    _armed = False
-
-
-def _read_private(dfd: int, name: str, limit: int) -> bytes | None:
-    try:
-        fd = os.open(name, os.O_RDONLY | os.O_NOFOLLOW | os.O_NONBLOCK | os.O_CLOEXEC, dir_fd=dfd)
-    except OSError:
-        return None
-    try:
-        st = os.fstat(fd)
-        if not stat.S_ISREG(st.st_mode) or st.st_uid != os.getuid():
-            return None
-        return os.read(fd, limit)
-    except OSError:
-        return None
-    finally:
-        os.close(fd)
-
-
-def _tell_parent(message: str) -> None:
-    """Hand a refusal to the process that started this worker, if it listens."""
-    parent = multiprocessing.parent_process()
-    if parent is None or _SIGNAL is None or parent.pid is None:
-        return
-    try:
-        dfd = _open_claims_dir(make=False)
-    except (_Unchecked, OSError):
-        return
-    try:
-        started = _read_private(dfd, f"listener-{parent.pid}", 64)
-        if started is None or started.decode(errors="replace") != _start_time(parent.pid):
-            return
-        name = f"refusal-{parent.pid}-{os.getpid()}-{uuid.uuid4().hex}"
-        fd = os.open(name, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW | os.O_CLOEXEC, 0o600, dir_fd=dfd)
-        try:
-            os.write(fd, message.encode()[:_REFUSAL_BYTES])
-        finally:
-            os.close(fd)
-        os.kill(parent.pid, _SIGNAL)
-    except OSError:
-        return
-    finally:
-        os.close(dfd)
-    time.sleep(0.5)  # let the parent take the signal before this worker's exit closes its pipes
-
-
-def _on_refusal(signum: int, frame: Any) -> None:
-    try:
-        dfd = _open_claims_dir(make=False)
-    except (_Unchecked, OSError):
-        return
-    messages = []
-    try:
-        for name in sorted(os.listdir(dfd)):
-            if name.startswith(f"refusal-{os.getpid()}-"):
-                body = _read_private(dfd, name, _REFUSAL_BYTES)
-                try:
-                    os.unlink(name, dir_fd=dfd)
-                except OSError:
-                    pass
-                if body:
-                    messages.append(body.decode(errors="replace"))
-    finally:
-        os.close(dfd)
-    if messages:
-        raise ConformanceError(f"A worker process refused its teacher ({len(messages)} refusal{'s' if len(messages) > 1 else ''}; the first follows). {messages[0]}")
-
-
-def claims_dir() -> Path:
-    """Where the claims live: a folder of this user's in the temporary directory."""
-    return Path(tempfile.gettempdir()) / f"saggriac-teachers-{os.getuid()}"
-
-
-class _Unchecked(Exception):
-    """The claim cannot be taken safely; the message says why and what the user can do."""
-
-
-def _open_claims_dir(make: bool = True) -> int:
-    """A descriptor of the private claims folder, made if missing; _Unchecked if it is unsafe."""
-    d = claims_dir()
-    if os.path.islink(d):
-        raise _Unchecked(f"{d} is a symbolic link, and saggriac uses only a private folder of its own there; remove it, or point TMPDIR elsewhere")
-    try:
-        if make:
-            os.mkdir(d, 0o700)
-    except FileExistsError:
-        pass
-    except OSError as e:
-        raise _Unchecked(f"its folder {d} cannot be made ({e.strerror}); point TMPDIR at a writable folder of yours") from None
-    try:
-        dfd = os.open(d, os.O_RDONLY | os.O_DIRECTORY | os.O_NOFOLLOW | os.O_CLOEXEC)
-    except OSError as e:
-        kind = "a symbolic link" if e.errno == errno.ELOOP else "not a folder" if e.errno == errno.ENOTDIR else None
-        why = f"{d} is {kind}" if kind else f"{d} cannot be opened ({e.strerror})"
-        raise _Unchecked(f"{why}, and saggriac uses only a private folder of its own there; remove it, or point TMPDIR elsewhere") from None
-    st = os.fstat(dfd)
-    if st.st_uid != os.getuid():
-        os.close(dfd)
-        raise _Unchecked(f"{d} belongs to another user (uid {st.st_uid}), who could read and plant files in it; remove it, or point TMPDIR at a folder of yours")
-    if st.st_mode & 0o077:
-        os.close(dfd)
-        raise _Unchecked(f"{d} is open to other users (mode {stat.S_IMODE(st.st_mode):04o}; saggriac makes it 0700), who could plant files in it; remove it, or make it private with chmod 700")
-    return dfd
 
 
 def _is_worker() -> bool:
@@ -370,37 +133,21 @@ def _open_lock(dfd: int, name: str) -> tuple[int, bool]:
     except FileExistsError:
         pass
     except OSError as e:
-        raise _Unchecked(f"the lock file {where} cannot be made ({e.strerror}); free space in the temporary directory, or point TMPDIR at a writable folder") from None
+        raise Unchecked(f"the lock file {where} cannot be made ({e.strerror}); free space in the temporary directory, or point TMPDIR at a writable folder") from None
     try:
         fd = os.open(name, flags, dir_fd=dfd)
     except FileNotFoundError:
         raise InterruptedError from None  # removed meanwhile: try again
     except OSError as e:
         kind = {errno.ELOOP: "a symbolic link", errno.EISDIR: "a folder"}.get(e.errno or 0)
-        raise _Unchecked(f"{where} is {kind or f'not usable ({e.strerror})'}, not a lock file saggriac made; remove it") from None
+        raise Unchecked(f"{where} is {kind or f'not usable ({e.strerror})'}, not a lock file saggriac made; remove it") from None
     st = os.fstat(fd)
     if not stat.S_ISREG(st.st_mode) or st.st_uid != os.getuid() or st.st_nlink != 1:
         os.close(fd)
         what = "not a regular file" if not stat.S_ISREG(st.st_mode) else "not yours" if st.st_uid != os.getuid() else "a file with another name too (a hard link)"
-        raise _Unchecked(f"{where} is {what}, not a lock file saggriac made; remove it")
+        raise Unchecked(f"{where} is {what}, not a lock file saggriac made; remove it")
     return fd, False
 
-
-def _alive(pid: int) -> bool:
-    try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return False
-    except OSError:
-        return True  # alive, but another user's
-    return pid > 0
-
-
-def _same_file(dfd: int, name: str, fd: int) -> bool:
-    try:
-        return os.fstat(fd).st_ino == os.stat(name, dir_fd=dfd, follow_symlinks=False).st_ino
-    except FileNotFoundError:
-        return False
 
 
 def _take(dfd: int, identity: str) -> int | tuple[int, int, int]:
@@ -418,9 +165,9 @@ def _take(dfd: int, identity: str) -> int | tuple[int, int, int]:
         except OSError as e:
             os.close(fd)
             if e.errno not in (errno.EWOULDBLOCK, errno.EAGAIN, errno.EACCES):
-                raise _Unchecked(f"the temporary directory's file system cannot lock files ({e.strerror})") from None
+                raise Unchecked(f"the temporary directory's file system cannot lock files ({e.strerror})") from None
             holder = _read_holder(dfd, name)
-            if holder is not None and _alive(holder[0]):
+            if holder is not None and alive(holder[0]):
                 return holder
             # No live holder has written its note: another process is between its flock and its
             # note, or clearing a stale file. Look again before calling the teacher taken.
@@ -428,7 +175,7 @@ def _take(dfd: int, identity: str) -> int | tuple[int, int, int]:
                 time.sleep(0.01)
                 continue
             return (0, 0, 0)
-        if not _same_file(dfd, name, fd):
+        if not same_file(dfd, name, fd):
             os.close(fd)  # the releasing holder removed it between our open and flock
             continue
         if not made:
@@ -459,20 +206,13 @@ def _sweep(dfd: int) -> None:
             st = os.fstat(fd)
             if stat.S_ISREG(st.st_mode) and st.st_uid == os.getuid() and st.st_nlink == 1:
                 fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-                if _same_file(dfd, name, fd):
+                if same_file(dfd, name, fd):
                     os.unlink(name, dir_fd=dfd)
         except OSError:
             pass
         finally:
             os.close(fd)
 
-
-_FIX = (
-    "To keep one teacher for all workers, keep it in the main process: saggriac.adapters.sb3.TeacherCallback(teacher) for Stable-Baselines3, "
-    "or saggriac.adapters.gym.VectorSelectorGoals around a Gymnasium vector environment. If each process or job is meant to have its own "
-    "independent teacher, build it there, give each its own copy (copy.deepcopy(teacher), or saggriac.load_selector(path) for a saved one), "
-    "or pass allow_copy=True."
-)
 
 
 def _who(holder: tuple[int, int, int]) -> str:
@@ -494,7 +234,7 @@ def _refusal(owner: str, teacher: Any, holder: tuple[int, int, int] | None) -> C
     where = "another copy of the same teacher in this process" if holder is None else _who(holder)
     return ConformanceError(
         f"{owner} (pid {os.getpid()}) was given a teacher, {teacher!r}, that a saggriac wrapper already uses through {where}. "
-        f"Each copy would learn from its own episodes only, and the other would be told nothing. {_FIX}"
+        f"Each copy would learn from its own episodes only, and the other would be told nothing. {FIX}"
     )
 
 
@@ -507,19 +247,6 @@ def _unchecked_warning(owner: str, teacher: Any, why: str) -> None:
     )
 
 
-def _copy_refusal(owner: str, teacher: Any, copy_of: tuple[int, int, bool]) -> ConformanceError | None:
-    sender, count, starting = copy_of
-    if starting and owner in _GOAL_WRAPPERS:
-        how = f"a copy of a teacher, {teacher!r}, handed to this worker when it started (an environment factory of a SubprocVecEnv or an AsyncVectorEnv, or a process's arguments, captured it)"
-    elif count > 1:
-        how = f"copy number {count} of a teacher, {teacher!r}, that process {sender} sent to worker processes (a pool or a queue given the same teacher {count} times)"
-    else:
-        return None
-    return ConformanceError(
-        f"{owner} (pid {os.getpid()}) was given {how}. It would learn from this worker's episodes only, and the teacher in process {sender} would be "
-        f"told nothing. {_FIX}"
-    )
-
 
 def claim(teacher: Any, owner: str, allow_copy: bool = False) -> None:
     """Claim ``teacher`` for this process; raise ConformanceError if it is a copy sent to this
@@ -529,13 +256,13 @@ def claim(teacher: Any, owner: str, allow_copy: bool = False) -> None:
     if allow_copy or not isinstance(identity, str):
         return
     try:
-        copy_of = _copy_of(teacher)
-        refusal = _copy_refusal(owner, teacher, copy_of) if copy_of else None
+        copy_of = copies.copy_of(teacher)
+        refusal = copies.copy_refusal(owner, teacher, copy_of) if copy_of else None
         if refusal is not None:
             raise refusal
         _claim(teacher, owner, identity)
     except ConformanceError as e:
-        _tell_parent(str(e))
+        copies.tell_parent(str(e))
         raise
 
 
@@ -555,13 +282,13 @@ def _claim(teacher: Any, owner: str, identity: str) -> None:
             return
         fd: int | None = None
         try:
-            dfd = _open_claims_dir()
+            dfd = open_claims_dir()
             try:
                 _sweep(dfd)
                 got = _take(dfd, identity)
             finally:
                 os.close(dfd)
-        except _Unchecked as e:
+        except Unchecked as e:
             _unchecked_warning(owner, teacher, str(e))
             got = None
         if isinstance(got, tuple):
@@ -582,13 +309,13 @@ def release(identity: str, token: int | None = None) -> None:
         if held.fd is None:
             return
         try:
-            dfd = _open_claims_dir(make=False)
-        except (_Unchecked, OSError):
+            dfd = open_claims_dir(make=False)
+        except (Unchecked, OSError):
             dfd = None
         if dfd is not None:
             name = f"{identity}.lock"
             try:
-                if _same_file(dfd, name, held.fd):
+                if same_file(dfd, name, held.fd):
                     os.unlink(name, dir_fd=dfd)
             except OSError:
                 pass
