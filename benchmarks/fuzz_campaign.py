@@ -1,5 +1,7 @@
 """The long fuzzing campaign: the Hypothesis properties of tests/config/test_config_fuzz.py
 (parameter values), tests/teachers/test_teacher_fuzz.py (ask/tell sequences),
+tests/teachers/test_new_teachers_fuzz.py (the field's teachers: constructors and calls),
+tests/teachers/test_ownership_claims.py (the teacher claim's file-system states),
 tests/runs/test_run_fuzz.py (tiny runs) and tests/runs/test_storage_fuzz.py (targets,
 permissions, concurrent runs, corrupted files) with many more examples, and the Rust proptest
 properties with more cases.
@@ -28,7 +30,7 @@ def main() -> None:
     a = p.parse_args()
     t0 = time.perf_counter()
     env = {**os.environ, "SAGGRIAC_FUZZ_EXAMPLES": str(a.examples)}
-    files = ["tests/config/test_config_fuzz.py", "tests/teachers/test_teacher_fuzz.py", "tests/runs/test_run_fuzz.py", "tests/runs/test_storage_fuzz.py"]
+    files = ["tests/config/test_config_fuzz.py", "tests/teachers/test_teacher_fuzz.py", "tests/teachers/test_new_teachers_fuzz.py", "tests/teachers/test_ownership_claims.py", "tests/runs/test_run_fuzz.py", "tests/runs/test_storage_fuzz.py"]
     py = subprocess.run([sys.executable, "-m", "pytest", "-q", "-s", "-p", "no:cacheprovider", *files], env=env, capture_output=True, text=True)
     # Each fuzz file prints the counts of its own properties.
     counts = {k: v for found in re.findall(r"fuzz examples: (\{.*\})", py.stdout) for k, v in ast.literal_eval(found).items()}

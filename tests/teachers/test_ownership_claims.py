@@ -315,3 +315,59 @@ def test_two_jobs_loading_one_saved_teacher_are_told_so(tmp_path, tmpdir_):
         except ConformanceError:
             time.sleep(0.01)
     assert ownership.holds(t)
+
+
+FOLDERS = ["missing", "private", "open to all", "link", "file", "another user's"]
+LOCKS = ["missing", "stale", "link", "dangling link", "fifo", "folder", "hard link", "another user's"]
+
+
+# A lock file needs a claims folder to be in.
+STATES = [(f, l) for f in FOLDERS for l in LOCKS if l == "missing" or f in ("private", "open to all", "another user's")]
+
+
+@pytest.mark.parametrize(("folder", "lock"), STATES)
+def test_every_state_of_the_claims_folder_gives_a_claim_or_a_warning_and_touches_nothing(tmp_path, tmpdir_, folder, lock):
+    """The claim's file-system fuzz: each state a folder and a lock file can be in, combined."""
+    if "another user's" in (folder, lock) and os.geteuid() != 0:
+        pytest.skip("making a file of another user needs root")
+    victims = _victim(tmp_path)
+    t = _teacher()
+    d = ownership.claims_dir()
+    if folder == "link":
+        os.symlink(victims, d)
+    elif folder == "file":
+        d.write_text("a user's file")
+    elif folder != "missing":
+        d.mkdir(mode=0o700)
+        if folder == "open to all":
+            os.chmod(d, 0o777)
+        elif folder == "another user's":
+            os.chown(d, 12345, 12345)
+    if lock != "missing":
+        path = d / f"{t._identity}.lock"
+        if lock == "stale":
+            path.write_text("999999999 1 0\n")
+        elif lock == "link":
+            os.symlink(victims / "precious.txt", path)
+        elif lock == "dangling link":
+            os.symlink(victims / "made-by-an-attacker", path)
+        elif lock == "fifo":
+            os.mkfifo(path)
+        elif lock == "folder":
+            path.mkdir()
+        elif lock == "hard link":
+            os.link(victims / "precious.txt", path)
+        else:
+            path.write_text("")
+            os.chown(path, 12345, 12345)
+    before = _snapshot(victims)
+    with warnings.catch_warnings(record=True) as seen:
+        warnings.simplefilter("always")
+        ownership.claim(t, "SelectorGoals")
+    warned = [w for w in seen if issubclass(w.category, OwnershipWarning)]
+    assert len(seen) == len(warned)  # nothing else: no ResourceWarning, no raw error
+    has_lock = folder in ("private", "open to all", "another user's")
+    safe = folder in ("missing", "private") and (not has_lock or lock in ("missing", "stale"))
+    assert ownership.holds(t) == safe and len(warned) == (0 if safe else 1), (seen, folder, lock)
+    assert _snapshot(victims) == before
+    assert not (victims / "made-by-an-attacker").exists()
