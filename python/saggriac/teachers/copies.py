@@ -19,6 +19,7 @@ import sys
 import threading
 import time
 import uuid
+import weakref
 from typing import Any
 
 from ..errors import ConformanceError
@@ -33,13 +34,16 @@ _SIGNAL = signal.SIGRTMIN + 5 if hasattr(signal, "SIGRTMIN") else None  # a refu
 _armed = False
 _REFUSAL_BYTES = 16384
 _GOAL_WRAPPERS = ("SelectorGoals", "VectorSelectorGoals")
+#: teacher -> (the pid of the process it came to be in, the copy it is or None); a fork copies
+#: this table with the teachers, so a forked worker finds its teachers born elsewhere
+_origins: weakref.WeakKeyDictionary[Any, tuple[int, tuple[int, int, bool] | None]] = weakref.WeakKeyDictionary()
 
 
 def mark_new(teacher: Any) -> None:
     """Called when a teacher object comes to be in this process (built or unpickled)."""
     global _has_teachers
-    teacher._home_pid = os.getpid()
-    teacher._copy_of = None
+    with _lock:
+        _origins[teacher] = (os.getpid(), None)
     _has_teachers = True
 
 
@@ -76,16 +80,22 @@ def on_pickle(teacher: Any) -> tuple[int, int, bool] | None:
 def on_unpickle(teacher: Any, copy_of: Any) -> None:
     """Record, on a teacher just unpickled, the copy it is (see :func:`on_pickle`)."""
     if isinstance(copy_of, (tuple, list)) and len(copy_of) == 3:
+        # multiprocessing sets _inheriting while a new process unpickles what it was started with
         starting = bool(copy_of[2]) or bool(getattr(multiprocessing.current_process(), "_inheriting", False))
-        teacher._copy_of = (int(copy_of[0]), int(copy_of[1]), starting)
+        with _lock:
+            _origins[teacher] = (os.getpid(), (int(copy_of[0]), int(copy_of[1]), starting))
 
 
 def copy_of(teacher: Any) -> tuple[int, int, bool] | None:
-    home = getattr(teacher, "_home_pid", None)
-    if isinstance(home, int) and home != os.getpid():
+    """(sender pid, copy number, handed over at process start) for a copy made by multiprocessing,
+    else None."""
+    try:
+        home, copied = _origins.get(teacher, (os.getpid(), None))
+    except TypeError:
+        return None  # not weakly referenceable: not a tracked teacher
+    if home != os.getpid():
         return (home, 1, True)  # inherited through fork with the whole memory
-    copy_of = getattr(teacher, "_copy_of", None)
-    return copy_of if isinstance(copy_of, tuple) else None
+    return copied
 
 
 def _start_time(pid: int) -> str | None:
@@ -157,7 +167,8 @@ def before_fork() -> None:
 
 
 def after_fork_in_child() -> None:
-    global _armed
+    global _armed, _lock
+    _lock = threading.Lock()  # another thread of the parent may have held it at the fork
     _sent.clear()
     if _armed and _SIGNAL is not None:
         signal.signal(_SIGNAL, signal.SIG_DFL)  # the parent listens; a worker does not

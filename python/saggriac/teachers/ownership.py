@@ -80,6 +80,8 @@ def new_identity() -> str:
 
 
 def _after_fork_in_child() -> None:
+    global _lock
+    _lock = threading.Lock()  # another thread of the parent may have held it at the fork
     _drop_inherited_claims()
     copies.after_fork_in_child()
 
