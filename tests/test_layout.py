@@ -159,6 +159,25 @@ def test_no_module_takes_another_ones_private_names():
     assert found == []
 
 
+#: Modules that drive other modules' objects (a learner, a study, the command line): they use
+#: those objects' public faces only.
+DRIVERS = ["saggriac.runs.runner", "saggriac.study", "saggriac.study.backends", "saggriac.study.folder", "saggriac.study.reproduce", "saggriac.study.spec", "saggriac.cli"]
+
+
+def test_drivers_name_no_private_attribute_of_another_module():
+    """The runner, the studies and the CLI reach no ``obj._name`` of what they drive (issue 45):
+    the runner once used five private members of Learner seven times. The standard library's
+    documented ``os._exit`` and ``sys._getframe`` are not another saggriac module's."""
+    modules = _modules()
+    found = []
+    for name in DRIVERS:
+        for node in ast.walk(ast.parse(modules[name].read_text())):
+            if isinstance(node, ast.Attribute) and node.attr.startswith("_") and not node.attr.startswith("__"):
+                if not (isinstance(node.value, ast.Name) and node.value.id in ("os", "sys", "_core")):
+                    found.append(f"{name}:{node.lineno}: {ast.unparse(node)}")
+    assert found == []
+
+
 def test_the_docs_index_lists_every_page():
     docs = Path(__file__).resolve().parent.parent / "docs"
     index = (docs / "README.md").read_text()

@@ -7,11 +7,14 @@
     result = learner.result()          # a RunResult, as run() returns it (result.save(path))
 
 ``learner.save_checkpoint(out_dir, checkpoint_every=N)`` saves it as ``run(..., out_dir=...,
-checkpoint_every=N)`` does on the way; ``saggriac.resume(out_dir)`` then runs it to the end.
+checkpoint_every=N)`` does on the way; ``saggriac.resume(out_dir)`` then runs it to the end, and
+``Learner.from_checkpoint(out_dir)`` reads it back. ``learner.run(stop_every=N, on_stop=f)``
+calls ``f(learner)`` at the first evaluation at or after each multiple of N: how a run writes its
+checkpoints.
 
 ``run(config, seed, ...)`` is this class run to the end with its result written (runs/runner.py
-builds a Learner and drives it with the loop below); the two give the same bits, however the run
-is cut into pieces. A learner stops only after an evaluation (``Config.schedule()``), at the end
+builds a Learner, drives it through ``run`` and owns the run's folder); the two give the same
+bits, however the run is cut into pieces. A learner stops only after an evaluation (``Config.schedule()``), at the end
 of the goal attempt during which it fell: that is where its state is whole, and where
 ``checkpoint()`` may be taken. With ``threads`` > 1 evaluations run beside learning, so the
 learner may go on a few attempts past that evaluation before it sees it (the results are the
@@ -22,7 +25,7 @@ from __future__ import annotations
 
 import platform
 import time
-import warnings
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -31,36 +34,27 @@ import pandas as pd
 
 from .. import _core
 from ..config import Config
-from ..errors import ParameterError
-from ..files import as_path, check_flag
+from ..errors import ParameterError, StorageError
+from ..files import check_flag
 from ..bodies.reachable import ReachableSet
 from ..bodies.scale import body_scale
 from ..seeding import check_seed, derive_seeds, environment_seed
 from ..testing import joint_space_of
-from . import checkpoint as _checkpoint
-from .checkpoint import CheckpointWarning, check_every, checkpoint_dir
-from .resources import check_run_fits, check_threads
+from .checkpoint import START_OVER, find_checkpoint, read_description, read_state
+from .resources import check_run_fits, check_threads, checkpoint_bytes
 from .result import RunResult
-from .storage import check_output_dir, target_lock
+from .run_info import RunInfo
 from .time_budget import time_budget
 
 
 class Learner:
     """A learner of ``config`` with root seed ``seed`` (the seeds of every part derive from it:
     saggriac.seeding), on the built-in body or ``environment``, with its own high level or
-    ``goal_selector``; ``threads`` as for :func:`saggriac.run`."""
+    ``goal_selector``; ``threads`` as for :func:`saggriac.run`. ``caller`` is the name its
+    messages give for what was called (``run`` passes "run")."""
 
-    def __init__(self, config: Config | None = None, seed: int = 0, *, environment: Any = None, goal_selector: Any = None, threads: int | None = None) -> None:
-        self._setup(config, seed, environment, goal_selector, threads, "Learner")
-
-    @classmethod
-    def _for(cls, owner: str, config: Any, seed: Any, environment: Any, goal_selector: Any, threads: Any) -> Learner:
-        """A learner built for ``owner`` (run()), whose messages name it."""
-        self = cls.__new__(cls)
-        self._setup(config, seed, environment, goal_selector, threads, owner)
-        return self
-
-    def _setup(self, config: Any, seed: Any, environment: Any, goal_selector: Any, threads: Any, owner: str) -> None:
+    def __init__(self, config: Config | None = None, seed: int = 0, *, environment: Any = None, goal_selector: Any = None, threads: int | None = None, caller: str = "Learner") -> None:
+        owner = caller
         if config is None:
             config = Config()
         if not isinstance(config, Config):
@@ -69,18 +63,36 @@ class Learner:
         self.seed = check_seed(seed)
         threads = check_threads(threads, owner)
         check_run_fits(config)
-        self._inner, self._info, self._extras = _build(config, self.seed, threads, environment, goal_selector, owner)
+        self._inner, self.info, self._extras = _build(config, self.seed, threads, environment, goal_selector, owner)
         self._wall = 0.0
 
     @classmethod
-    def _restored(cls, config: Config, state: bytes, info: dict[str, Any], threads: int) -> Learner:
-        """The learner a checkpoint holds (resume)."""
+    def from_checkpoint(cls, out_dir: str | Path, threads: int | None = None) -> Learner:
+        """The learner whose checkpoint was saved for ``out_dir`` (by ``run(...,
+        checkpoint_every=N)`` or :meth:`save_checkpoint`), exactly as it was; its ``info`` holds
+        the checkpoint's seeds, overwrite flag and ``checkpoint_every``. Nothing is written."""
+        threads = check_threads(threads, "Learner.from_checkpoint")
+        from ..files import as_path
+
+        ck = find_checkpoint(as_path(out_dir, "out_dir", "Learner.from_checkpoint"))
+        config, saved, every = read_description(ck)
+        # At most twice the largest state its configuration can make.
+        state = read_state(ck, 2 * checkpoint_bytes(config))
         self = cls.__new__(cls)
-        self.config, self.seed, self._wall = config, info["seed"], 0.0
+        self.config, self.seed, self._wall = config, saved["seed"], 0.0
         self._inner = _core.Learner.restore(config.core_dict(), state)
         self._inner.set_threads(threads)
-        self._info, self._extras = info, {"scale": _arm_scale(config)}
+        if tuple(self._inner.seeds) != (saved["learner_seed"], saved["eval_seed"]):
+            raise StorageError(f"The checkpoint {ck} is inconsistent: state.bin was made by a run with other seeds than checkpoint.json records (seed {saved['seed']}). {START_OVER}")
+        self.info = RunInfo(saved["seed"], saved["learner_seed"], saved["eval_seed"], overwrite=saved["overwrite"], resumed_at=self.steps, checkpoint_every=every)
+        self._extras = {"scale": _arm_scale(config)}
         return self
+
+    @property
+    def saves_state(self) -> bool:
+        """Whether its whole state can be saved: not with a user's environment or goal selector,
+        whose state saggriac cannot hold."""
+        return "environment" not in self._extras and "goal_selector" not in self._extras
 
     @property
     def steps(self) -> int:
@@ -90,29 +102,39 @@ class Learner:
     @property
     def seeds(self) -> tuple[int, int]:
         """The (learner, evaluation) seeds derived from the root seed."""
-        return (self._info["learner_seed"], self._info["eval_seed"])
+        return (self.info.learner_seed, self.info.eval_seed)
 
     @property
     def done(self) -> bool:
         """Whether the step budget (``config.n_steps``) is spent."""
         return self.steps >= self.config.n_steps
 
-    def run(self, until: int | None = None, progress: bool = False) -> bool:
+    def run(self, until: int | None = None, progress: bool = False, *, stop_every: int | None = None, on_stop: Callable[[Learner], Any] | None = None) -> bool:
         """Learn until the first evaluation at or after step ``until`` (default: the end of the
-        budget), then to the end of that goal attempt; ``progress`` shows a progress bar.
-        Returns True once the budget is spent."""
+        budget), then to the end of that goal attempt; ``progress`` shows a progress bar. With
+        ``stop_every=N`` and ``on_stop``, call ``on_stop(self)`` at the first evaluation at or
+        after each multiple of N before the end (where the state is whole: a checkpoint may be
+        taken), and go on. Returns True once the budget is spent."""
         progress = check_flag(progress, "progress", "Learner.run")
         target = self.config.n_steps if until is None else until
         if isinstance(target, (bool, np.bool_)) or not isinstance(target, (int, np.integer)) or target < 0:
             raise ParameterError(f"The 'until' parameter of Learner.run must be an int >= 0 (a time step) or None (the end of the budget). Got {until!r} instead.", "until", repr(until))
+        if (stop_every is None) != (on_stop is None):
+            raise ParameterError(f"The 'stop_every' and 'on_stop' parameters of Learner.run go together (stop every N steps, to call on_stop). Got stop_every={stop_every!r} and on_stop={on_stop!r}.", "stop_every", repr(stop_every))
+        if stop_every is not None:
+            if isinstance(stop_every, (bool, np.bool_)) or not isinstance(stop_every, (int, np.integer)) or stop_every < 1:
+                raise ParameterError(f"The 'stop_every' parameter of Learner.run must be an int >= 1 (time steps). Got {stop_every!r} instead.", "stop_every", repr(stop_every))
+            if not callable(on_stop):
+                raise ParameterError(f"The 'on_stop' parameter of Learner.run must be a function of the learner. Got {on_stop!r} instead.", "on_stop", repr(on_stop))
+            stop_every = int(stop_every)
         # A numpy integer compares into a numpy bool, which the core does not read as a stop.
-        self._advance(int(target), progress)
+        self._advance(int(target), progress, stop_every, on_stop)
         return self.done
 
-    def _advance(self, target: int, progress: bool, out: Path | None = None, every: int | None = None) -> None:
+    def _advance(self, target: int, progress: bool, every: int | None, on_stop: Callable[[Learner], Any] | None) -> None:
         """The one loop of every run: learn until the first evaluation at or after ``target``,
         with a progress bar if asked; with ``every``, stop at the first evaluation at or after
-        each multiple of it to write a checkpoint for ``out``, and go on."""
+        each multiple of it to call ``on_stop``, and go on."""
         n = self.config.n_steps
         bar = None
         if progress:
@@ -135,7 +157,7 @@ class Learner:
             while not self._inner.run(on_eval) and self.steps < n:
                 if due is None or self.steps < due:
                     return  # stopped at the target
-                self._checkpoint_on_the_way(out, every)
+                on_stop(self)
                 due = (self.steps // every + 1) * every
                 if self.steps >= target:
                     return
@@ -143,18 +165,6 @@ class Learner:
             self._wall += time.perf_counter() - t0
             if bar is not None:
                 bar.close()
-
-    def _checkpoint_on_the_way(self, out: Path, every: int) -> None:
-        info = self._info
-        try:
-            _checkpoint.write_checkpoint(out, self.checkpoint(), info, self.config, self.steps, every)
-            info["last_checkpoint"] = self.steps
-        except OSError as e:  # a StorageError, or any other write failure: the run goes on
-            # Losing a checkpoint only costs what a later interruption would redo; losing the
-            # run would cost everything.
-            last = info.get("last_checkpoint", info.get("resumed_at"))
-            kept = f"the last good checkpoint (step {last}) is kept" if last is not None else "there is no earlier checkpoint"
-            warnings.warn(f"The checkpoint at step {self.steps} could not be written ({e}); the run goes on and {kept}.", CheckpointWarning, stacklevel=4)
 
     def test_set(self) -> dict[str, Any]:
         """The fixed test sets of this seed: ``goals`` (the reaching test), ``configs``, ``true_x``
@@ -171,22 +181,14 @@ class Learner:
         the way: ``saggriac.resume(out_dir)`` then runs it to the end of the budget, checkpointing
         every ``checkpoint_every`` steps, and writes the result there. Returns the checkpoint's
         folder (beside ``out_dir``)."""
-        owner = "Learner.save_checkpoint"
-        out = as_path(out_dir, "out_dir", owner)
-        every = check_every(checkpoint_every, owner)
-        overwrite = check_flag(overwrite, "overwrite", owner)
-        if "environment" in self._extras or "goal_selector" in self._extras:
-            raise ParameterError(f"{owner} is not available with a user's environment or goal selector (saggriac cannot save their state).", "checkpoint_every", repr(every))
-        # Refuse now a target that resume() could not write to.
-        check_output_dir(out, overwrite)
-        with target_lock(out):
-            _checkpoint.write_checkpoint(out, self.checkpoint(), {**self._info, "overwrite": overwrite}, self.config, self.steps, every)
-        return checkpoint_dir(out)
+        from .runner import save_checkpoint  # the run's folder is the runner's
+
+        return save_checkpoint(self, out_dir, checkpoint_every, overwrite)
 
     def result(self) -> RunResult:
         """What was learnt so far, as :func:`saggriac.run` returns it (nothing is written;
         ``result().save(path)`` writes it)."""
-        return _result(self._inner, self.config, self._info, self._extras, self._wall)
+        return _result(self._inner, self.config, self.info, self._extras, self._wall)
 
     def __repr__(self) -> str:
         return f"Learner(condition={self.config.condition!r}, seed={self.seed}, steps={self.steps} of {self.config.n_steps})"
@@ -207,7 +209,7 @@ def for_body(config: Config, environment: Any) -> Config:
         raise ParameterError(f"The environment's joint_space gives the joint limit {limit:g}, which a run cannot take: {e}", "environment.joint_space", f"{limit:g}") from None
 
 
-def _build(config: Config, seed: int, threads: int, environment: Any, goal_selector: Any, owner: str) -> tuple[Any, dict[str, Any], dict[str, Any]]:
+def _build(config: Config, seed: int, threads: int, environment: Any, goal_selector: Any, owner: str) -> tuple[Any, RunInfo, dict[str, Any]]:
     """The core's learner for ``config`` and root ``seed``, the user's parts checked first; with
     the seeds (``info``) and what run.json says of the parts (``extras``). Built before any
     output is locked or made, so a refused environment or selector leaves nothing on disk."""
@@ -241,7 +243,7 @@ def _build(config: Config, seed: int, threads: int, environment: Any, goal_selec
         extras["goal_selector"] = f"{type(goal_selector).__module__}.{type(goal_selector).__qualname__}"
     learner = _core.Learner(core, learner_seed, eval_seed, env_seed=environment_seed(seed), **extra)
     learner.set_threads(threads)
-    return learner, {"seed": seed, "learner_seed": learner_seed, "eval_seed": eval_seed}, extras
+    return learner, RunInfo(seed, learner_seed, eval_seed), extras
 
 
 def _arm_scale(config: Config) -> dict[str, Any]:
@@ -282,9 +284,9 @@ def _test_set_summary(t: dict[str, Any], config: Config, reach: float | None) ->
     return out
 
 
-def _result(learner: Any, config: Config, info: dict[str, Any], extras: dict[str, Any], wall: float) -> RunResult:
+def _result(learner: Any, config: Config, info: RunInfo, extras: dict[str, Any], wall: float) -> RunResult:
     """What ``learner`` has done so far, as a run's result: its four tables and run.json."""
-    seed = info["seed"]
+    seed = info.seed
     metrics = pd.DataFrame(learner.metrics())
     goals = _xy_columns(learner.goals())
     attempts = _xy_columns(learner.attempts())
@@ -292,8 +294,8 @@ def _result(learner: Any, config: Config, info: dict[str, Any], extras: dict[str
     manifest = {
         "config": config.to_dict(),
         "seed": seed,
-        "learner_seed": info["learner_seed"],
-        "eval_seed": info["eval_seed"],
+        "learner_seed": info.learner_seed,
+        "eval_seed": info.eval_seed,
         "version": _core.__version__,
         "git_commit": _core.GIT_COMMIT,
         "python": platform.python_version(),
@@ -301,8 +303,8 @@ def _result(learner: Any, config: Config, info: dict[str, Any], extras: dict[str
         "profile": learner.profile(),
         **extras,
     }
-    if info.get("resumed_at") is not None:
-        manifest["resumed_at_step"] = info["resumed_at"]
+    if info.resumed_at is not None:
+        manifest["resumed_at_step"] = info.resumed_at
     # A learner stopped early (Learner.run(until=...)) saves a result too: say how far it got.
     manifest["steps"] = {"done": int(learner.steps), "of": int(config.n_steps), "finished": bool(learner.steps >= config.n_steps)}
     reach = None if "environment" in extras else config.reach
@@ -312,4 +314,4 @@ def _result(learner: Any, config: Config, info: dict[str, Any], extras: dict[str
     return RunResult(config=config, seed=seed, metrics=metrics, goals=goals, attempts=attempts, regions=regions, manifest=manifest, path=None)
 
 
-__all__ = ["Learner"]
+__all__ = ["Learner", "RunInfo"]

@@ -1,7 +1,7 @@
 """Run one learner: ``run(config, seed) -> RunResult``, a top-level, picklable function, and
-``resume(out_dir)``. Both build a :class:`~saggriac.runs.learner.Learner` and drive it with its
-one loop (``Learner._advance``); what is theirs is the run's folder: its lock, its checkpoints
-and the writing of the result."""
+``resume(out_dir)``. Both build a :class:`~saggriac.runs.learner.Learner` and drive it through
+its public ``run``; this module owns the run's folder: its lock, its checkpoints (written from
+the learner's ``on_stop``) and the writing of the result."""
 
 from __future__ import annotations
 
@@ -9,6 +9,7 @@ import os
 import re
 import tempfile
 import time
+import warnings
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
@@ -17,7 +18,8 @@ from typing import TYPE_CHECKING, Any
 from ..config import Config
 from ..errors import ParameterError, StorageError
 from ..files import check_flag
-from .checkpoint import CheckpointWarning, check_every, checkpoint_dir, find_checkpoint, read_description, read_state, remove_checkpoint
+from . import checkpoint
+from .checkpoint import CheckpointWarning, check_every, checkpoint_dir, find_checkpoint, remove_checkpoint
 from .learner import Learner
 from .resources import check_threads, checkpoint_bytes
 from .result import RunResult
@@ -59,13 +61,51 @@ def run(
     out = as_path(out_dir, "out_dir", "run") if out_dir is not None else None
     if checkpoint_every is not None:
         checkpoint_every = _check_checkpointing(checkpoint_every, out, environment, goal_selector)
-    learner = Learner._for("run", config, seed, environment, goal_selector, threads)
+    learner = Learner(config, seed, environment=environment, goal_selector=goal_selector, threads=threads, caller="run")
     if out is not None:
         check_output_dir(out, overwrite, _min_free(learner.config, checkpoint_every), _min_inodes(checkpoint_every))
-    learner._info["overwrite"] = overwrite
+    learner.info.overwrite = overwrite
     with _holding(out, overwrite):
-        learner._advance(learner.config.n_steps, progress, out, checkpoint_every)
+        _learn(learner, progress, out, checkpoint_every)
         return _save(learner, out)
+
+
+def _learn(learner: Learner, progress: bool, out: Path | None, every: int | None) -> None:
+    """Run ``learner`` to the end of its budget, checkpointing for ``out`` every ``every`` steps."""
+    if every is None:
+        learner.run(progress=progress)
+    else:
+        learner.run(progress=progress, stop_every=every, on_stop=lambda lr: _checkpoint_on_the_way(lr, out, every))
+
+
+def _checkpoint_on_the_way(learner: Learner, out: Path, every: int) -> None:
+    info = learner.info
+    try:
+        checkpoint.write_checkpoint(out, learner.checkpoint(), info.for_checkpoint(), learner.config, learner.steps, every)
+        info.last_checkpoint = learner.steps
+    except OSError as e:  # a StorageError, or any other write failure: the run goes on
+        # Losing a checkpoint only costs what a later interruption would redo; losing the run
+        # would cost everything.
+        last = info.last_checkpoint if info.last_checkpoint is not None else info.resumed_at
+        kept = f"the last good checkpoint (step {last}) is kept" if last is not None else "there is no earlier checkpoint"
+        warnings.warn(f"The checkpoint at step {learner.steps} could not be written ({e}); the run goes on and {kept}.", CheckpointWarning, stacklevel=5)
+
+
+def save_checkpoint(learner: Learner, out_dir: str | Path, checkpoint_every: Any, overwrite: Any = False) -> Path:
+    """:meth:`Learner.save_checkpoint`: the learner's state as the checkpoint of the run that is
+    to be written to ``out_dir``."""
+    owner = "Learner.save_checkpoint"
+    out = as_path(out_dir, "out_dir", owner)
+    every = check_every(checkpoint_every, owner)
+    overwrite = check_flag(overwrite, "overwrite", owner)
+    if not learner.saves_state:
+        raise ParameterError(f"{owner} is not available with a user's environment or goal selector (saggriac cannot save their state).", "checkpoint_every", repr(every))
+    # Refuse now a target that resume() could not write to.
+    check_output_dir(out, overwrite)
+    with target_lock(out):
+        info = {**learner.info.for_checkpoint(), "overwrite": overwrite}
+        checkpoint.write_checkpoint(out, learner.checkpoint(), info, learner.config, learner.steps, every)
+    return checkpoint_dir(out)
 
 
 @contextmanager
@@ -107,7 +147,7 @@ def _save(learner: Learner, out: Path | None) -> RunResult:
     if out is not None:
         tables = {"metrics": result.metrics, "goals": result.goals, "attempts": result.attempts, "regions": result.regions}
         try:
-            result.path = write_run(out, result.manifest, tables, learner._info["overwrite"])
+            result.path = write_run(out, result.manifest, tables, learner.info.overwrite)
         except OSError as e:
             # The disk filled up or vanished after the work was done: keep the work, whatever
             # the OSError (no free inode or an immutable folder as well as no free byte).
@@ -152,17 +192,12 @@ def resume(out_dir: str | Path, progress: bool = False, threads: int | None = No
     progress = check_flag(progress, "progress", "resume")
     threads = check_threads(threads, "resume")
     out = as_path(out_dir, "out_dir", "resume")
-    ck = find_checkpoint(out)
+    find_checkpoint(out)  # refused before the lock is made if there is nothing to resume
     with target_lock(out):
-        config, info, every = read_description(ck)
+        learner = Learner.from_checkpoint(out, threads)
         # The old checkpoint is on the disk already: room for one more.
-        check_output_dir(out, info["overwrite"], MIN_FREE_BYTES + checkpoint_bytes(config), MIN_FREE_INODES + CHECKPOINT_INODES)
-        # At most twice the largest state its configuration can make.
-        learner = Learner._restored(config, read_state(ck, 2 * checkpoint_bytes(config)), info, threads)
-        if tuple(learner._inner.seeds) != (info["learner_seed"], info["eval_seed"]):
-            raise StorageError(f"The checkpoint {ck} is inconsistent: state.bin was made by a run with other seeds than checkpoint.json records (seed {info['seed']}). Start the run over: run it again without --resume.")
-        info["resumed_at"] = learner.steps
-        learner._advance(config.n_steps, progress, out, every)
+        check_output_dir(out, learner.info.overwrite, MIN_FREE_BYTES + checkpoint_bytes(learner.config), MIN_FREE_INODES + CHECKPOINT_INODES)
+        _learn(learner, progress, out, learner.info.checkpoint_every)
         return _save(learner, out)
 
 
