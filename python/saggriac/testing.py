@@ -89,14 +89,18 @@ def check_environment_interface(env: Any, config: Any) -> None:
         raise ParameterError(f"The 'n_joints' parameter of Config must match the environment's joint_space ({len(hi)} joints). Got {config.n_joints} instead.", "n_joints", repr(config.n_joints))
     if not math.isclose(float(hi[0]), config.joint_limit, rel_tol=1e-12):
         raise ParameterError(f"The 'joint_limit' parameter of Config must match the environment's joint_space (limit {float(hi[0])!r}). Got {config.joint_limit!r} instead.", "joint_limit", repr(config.joint_limit))
-    _check_placement(env, lo, hi)
+    placed = _check_placement(env, lo, hi)
+    # An episodic run places the body and never steps it.
+    if placed is not None and config.paradigm != "episodic":
+        _check_moves(env, placed, lo, hi)
 
 
-def _check_placement(env: Any, lo: np.ndarray, hi: np.ndarray) -> None:
+def _check_placement(env: Any, lo: np.ndarray, hi: np.ndarray) -> np.ndarray | None:
     """The evaluation places the body at test configurations with reset(options={"theta": t});
     a body that ignores it would be evaluated at the wrong configurations without a word. Two
     fixed configurations (the same for every run, so the check changes no result) must be taken
-    as asked and give two different positions."""
+    as asked and give two different positions. Returns the configuration the body is left at,
+    or None when its answers are malformed (the run names them)."""
     n = len(hi)
     rng = np.random.default_rng(FIXED["placement_check"])
     seen = []
@@ -106,9 +110,9 @@ def _check_placement(env: Any, lo: np.ndarray, hi: np.ndarray) -> None:
         try:
             theta, x = np.asarray(out[0], dtype=np.float64), np.asarray(out[1], dtype=np.float64)
         except (TypeError, ValueError, IndexError, KeyError):
-            return  # a malformed answer: the run names it, with the call and the time step
+            return None  # a malformed answer: the run names it, with the call and the time step
         if theta.shape != target.shape or not np.all(np.isfinite(x)):
-            return
+            return None
         if not np.allclose(theta, target, rtol=0, atol=1e-6 * max(1.0, float(np.max(hi - lo)))):
             raise ConformanceError(
                 f"environment.reset(options={{'theta': t}}) must place the joints at t: saggriac places the body there to evaluate it. Asked {np.round(target, 6).tolist()}, got {np.round(theta, 6).tolist()}."
@@ -116,6 +120,40 @@ def _check_placement(env: Any, lo: np.ndarray, hi: np.ndarray) -> None:
         seen.append(x)
     if np.array_equal(seen[0], seen[1]):
         raise ConformanceError(f"environment.reset(options={{'theta': t}}) gave the same position {seen[0].tolist()} for two different t: the body seems to ignore the configuration it is given, and would be evaluated at the wrong place.")
+    return theta
+
+
+def _small_step(env: Any, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+    """A micro-action's size per joint: 1 % of the joint range, within the action space if the
+    body declares one."""
+    step = 0.01 * (hi - lo)
+    if hasattr(env, "action_space"):
+        alo, ahi = _bounds(env.action_space, "environment.action_space", "low", "high")
+        step = np.minimum(step, np.minimum(-alo, ahi))
+    return step
+
+
+def _short(a: np.ndarray) -> str:
+    return np.array2string(a, precision=4, threshold=6, edgeitems=2)
+
+
+def _check_moves(env: Any, theta: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> None:
+    """The run moves the body by step(dtheta) and learns from the change it reads back; a body
+    that ignores step() would run to the end, learning nothing, without a word. From ``theta``
+    (a placement at least a quarter of the range from either limit, so that no joint saturates)
+    one small micro-action must change the joints."""
+    dtheta = _small_step(env, lo, hi)
+    if not np.any(dtheta > 0):
+        return  # an action space with no room to move: nothing to ask of step()
+    out = env.step(dtheta.copy())
+    try:
+        after = np.asarray(out[0], dtype=np.float64)
+    except (TypeError, ValueError, IndexError, KeyError):
+        return  # a malformed answer: the run names it, with the call and the time step
+    if after.shape == theta.shape and np.array_equal(after, theta):
+        raise ConformanceError(
+            f"environment.step(dtheta) must move the joints: a run moves the body by micro-actions and learns from the change it reads back. Placed by reset(options={{'theta': t}}) at t = {_short(theta)}, away from the joint limits, and stepped by dtheta = {_short(dtheta)}, the joints stayed at t: the body seems to ignore step(), and a run would learn nothing from it."
+        )
 
 
 def check_goal_selector_interface(selector: Any, config: Any) -> None:
@@ -124,6 +162,15 @@ def check_goal_selector_interface(selector: Any, config: Any) -> None:
     for method in ("sample", "update"):
         if not callable(getattr(selector, method, None)):
             raise ConformanceError(f"goal_selector needs a '{method}' method (sample() -> goal, update(goal, competence)).")
+    from .teachers import TaskListSelector
+
+    if isinstance(selector, TaskListSelector):
+        # Its low/high are task indices; fitting the goal space to them would not help.
+        raise ParameterError(
+            f"The 'goal_selector' parameter of a run must be a teacher of goals in a box (a run's goals are points of the goal space). Got {type(selector).__name__}, a teacher of task indices (for Syllabus or a list of levels), instead.",
+            "goal_selector",
+            type(selector).__name__,
+        )
     lo, hi = _bounds(selector, "goal_selector", "low", "high")
     if not (np.array_equal(lo, np.asarray(config.goal_low, dtype=float)) and np.array_equal(hi, np.asarray(config.goal_high, dtype=float))):
         raise ParameterError(
@@ -137,8 +184,10 @@ def check_environment(env: Any, n_steps: int = 50, seed: int = 0) -> None:
     """Check that ``env`` follows the environment protocol of ``saggriac.bodies.environments``.
 
     Resets with a seed (twice: the same pose), places the body at random configurations (twice
-    each: the same position; the angles kept), runs ``n_steps`` small micro-actions (finite
-    values, angles within the joint space) and a zero micro-action (nothing moves)."""
+    each: the same position; the angles kept), checks what ``saggriac.run`` checks (placements
+    taken, and a small micro-action from a placement away from the limits moves the joints),
+    runs ``n_steps`` small micro-actions (finite values, angles within the joint space) and a
+    zero micro-action (nothing moves)."""
     lo, hi = joint_space_of(env)
     n = len(hi)
     rng = np.random.default_rng(seed)
@@ -165,11 +214,11 @@ def check_environment(env: Any, n_steps: int = 50, seed: int = 0) -> None:
             raise ConformanceError(f"environment.reset(options={{'theta': t}}) must place the joints at t (within the joint space); asked {target.tolist()}, got {ta.tolist()}.")
         if not np.array_equal(xa, xb):
             raise ConformanceError("environment.reset(options={'theta': t}) must give the same x each time for the same t.")
+    placed = _check_placement(env, lo, hi)
+    if placed is not None:
+        _check_moves(env, placed, lo, hi)
     theta, _ = _pair(env.reset(), n, m, "environment.reset()")
-    step = 0.01 * (hi - lo)
-    if hasattr(env, "action_space"):
-        alo, ahi = _bounds(env.action_space, "environment.action_space", "low", "high")
-        step = np.minimum(step, np.minimum(-alo, ahi))
+    step = _small_step(env, lo, hi)
     for i in range(n_steps):
         theta, x = _pair(env.step(rng.uniform(-step, step)), n, m, f"environment.step() (call {i + 1})")
         if np.any(theta < lo - 1e-12) or np.any(theta > hi + 1e-12):

@@ -76,6 +76,19 @@ def joint_vector(name: str, value: Any, n: int) -> list[float]:
     return out
 
 
+def within_limits(name: str, theta: list[float], limit: float) -> list[float]:
+    """``theta`` (finite floats, as :func:`joint_vector` gives them) if every joint is in
+    ``[-limit, limit]``, else an InputError naming the first joint beyond: a placement is taken
+    as asked or refused, never moved to another configuration without a word. A float32 space's
+    rounding is let through and clipped (the wording is GoalArmEnv's and GymBody's)."""
+    slack = limit * 1e-6 + 1e-12
+    bad = [i for i, v in enumerate(theta) if abs(v) > limit + slack]
+    if bad:
+        i = bad[0]
+        raise InputError(f"{name} must lie within the joint limits [-{limit:g}, {limit:g}]; joint {i} is {theta[i]:g} ({len(bad)} joint(s) beyond).")
+    return [min(max(v, -limit), limit) for v in theta]
+
+
 def joint_step(theta: Any, dtheta: Any, max_joint_step: float, limit: float) -> np.ndarray:
     """The built-in arms' micro-action: ``dtheta`` scaled down (direction kept) so that no joint
     moves more than ``max_joint_step``, added to ``theta``, clipped to ``[-limit, limit]``; the
@@ -135,8 +148,8 @@ class _SerialArm:
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None) -> tuple[np.ndarray, np.ndarray]:
         lim = self.joint_limit
         if options and "theta" in options:
-            theta = joint_vector("options['theta']", options["theta"], len(self.lengths))
-            self.theta = np.array([min(max(v, -lim), lim) for v in theta])
+            name = f"{type(self).__name__}.reset(options={{'theta': ...}})"
+            self.theta = np.array(within_limits(name, joint_vector(name, options["theta"], len(self.lengths)), lim))
         else:
             self.theta = np.zeros(len(self.lengths))
         return self.theta.copy(), self.forward(self.theta)

@@ -20,7 +20,7 @@ from typing import Any
 
 import numpy as np
 
-from .environments import Box, joint_step, joint_vector
+from .environments import Box, joint_step, joint_vector, within_limits
 from ..errors import ParameterError
 from ..files import check_flag
 
@@ -153,8 +153,8 @@ class MujocoArm:
         # Kinematics only: nothing is random, so the seed is not needed.
         self.data.qpos[:] = self.model.qpos0
         if options and "theta" in options:
-            t = np.array(joint_vector("options['theta']", options["theta"], len(self.theta)))
-            self.theta = np.clip(t, -1.0, 1.0)
+            name = f"{type(self).__name__}.reset(options={{'theta': ...}})"
+            self.theta = np.array(within_limits(name, joint_vector(name, options["theta"], len(self.theta)), 1.0))
         else:
             self.theta = np.zeros(len(self._adr))
         return self.theta.copy(), self.forward(self.theta)
