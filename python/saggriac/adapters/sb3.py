@@ -83,7 +83,9 @@ class TeacherCallback(BaseCallback):
     (share of goals drawn uniformly from the teacher's box rather than from what it learnt, for
     teachers that say, as saggriac's do) and ``teacher/regions`` (leaves of a region tree, for
     the teachers that have one). ``save_with`` takes SB3's ``CheckpointCallback``: the teacher is
-    saved at each of its checkpoints, to :func:`teacher_path` of the model's file.
+    saved at each of its checkpoints, to :func:`teacher_path` of the model's file (whatever the
+    order of the two in the callback list, and across learn() calls that reuse the checkpoint
+    callback).
     ``allow_copy`` is :class:`saggriac.adapters.gym.SelectorGoals`'s."""
 
     def __init__(self, teacher: Any, competence: str | Callable[[dict[str, Any]], float] = "success", goal_attr: str = "next_goal", verbose: int = 0, *, save_with: CheckpointCallback | None = None, allow_copy: bool = False) -> None:
@@ -113,6 +115,11 @@ class TeacherCallback(BaseCallback):
         self._queued: list[np.ndarray] = []
         self._by_method = False
         self._current: list[np.ndarray | None] = []
+        # save_with's own count at our previous step, and a save made ahead of it (step, its
+        # count then, the file written, the file it becomes).
+        self._ck_calls = 0
+        self._ck_first = True
+        self._pending: tuple[int, int, Path, Path] | None = None
 
     def _score(self, info: dict[str, Any]) -> float:
         if callable(self.competence):
@@ -145,6 +152,8 @@ class TeacherCallback(BaseCallback):
         self._by_method = self.goal_attr == "next_goal" and env.has_attr("set_next_goal")
         if not (self._by_method or env.has_attr(self.goal_attr)):
             raise ConformanceError(f"The environments have no '{self.goal_attr}' attribute to take their next goal from; wrap each in saggriac.adapters.gym.GoalSlot (it reads it on reset and passes options={{'goal': ...}}).")
+        if self.save_with is not None:
+            self._ck_calls, self._ck_first, self._pending = self.save_with.n_calls, True, None
         n = env.num_envs
         self._queued = [np.empty(0)] * n
         self._current = [None] * n
@@ -174,9 +183,51 @@ class TeacherCallback(BaseCallback):
             self._hand_out(i)
         self.logger.record("teacher/asked", self.asked)
         self.logger.record("teacher/told", len(self.history))
-        if self.save_with is not None and self.n_calls % self.save_with.save_freq == 0:
-            self.save(teacher_path(Path(self.save_with.save_path) / f"{self.save_with.name_prefix}_{self.num_timesteps}_steps.zip"))
+        if self.save_with is not None:
+            self._save_with_checkpoint()
         return True
+
+    def _teacher_file(self, steps: int) -> Path:
+        ck = self.save_with
+        return teacher_path(Path(ck.save_path) / f"{ck.name_prefix}_{steps}_steps.zip")
+
+    def _save_with_checkpoint(self) -> None:
+        """Save the teacher exactly when save_with saves its model: on save_with's own count of
+        calls, which runs on across learn() calls, not on this callback's. Called once per step,
+        after the teacher was told this step's episodes."""
+        ck = self.save_with
+        self._settle()
+        called = ck.n_calls != self._ck_calls
+        if called and ck.num_timesteps == self.num_timesteps:
+            # It ran before this callback in this step, and has just saved its model or not.
+            if ck.n_calls % ck.save_freq == 0:
+                self.save(self._teacher_file(self.num_timesteps))
+        elif (called or (self._ck_first and getattr(ck, "model", None) is self.model)) and (ck.n_calls + 1) % ck.save_freq == 0:
+            # It runs after this callback in this step (or not at all, which the next step
+            # shows): save now, under a hidden name, and keep it only if the model is saved.
+            final = self._teacher_file(self.num_timesteps)
+            ahead = final.with_name(f".{final.name}.pending")
+            self.teacher.save(ahead, overwrite=True)
+            self._pending = (self.num_timesteps, ck.n_calls + 1, ahead, final)
+        self._ck_first = False
+        self._ck_calls = ck.n_calls
+
+    def _settle(self) -> None:
+        """Keep the teacher saved ahead at the previous step if save_with then saved its model."""
+        if self._pending is None:
+            return
+        steps, calls, ahead, final = self._pending
+        self._pending = None
+        if self.save_with.n_calls == calls and self.save_with.num_timesteps == steps:
+            os.replace(ahead, final)
+            if self.verbose >= 2:
+                print(f"Saving the teacher to {final}")
+        else:
+            ahead.unlink(missing_ok=True)
+
+    def _on_training_end(self) -> None:
+        if self.save_with is not None:
+            self._settle()
 
     def _on_rollout_end(self) -> None:
         regions = getattr(self.teacher, "regions", None)
