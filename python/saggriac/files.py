@@ -5,6 +5,7 @@ saggriac (teachers, figures, study files), and the checks it makes first; and th
 from __future__ import annotations
 
 import contextlib
+import errno
 import hashlib
 import json
 import os
@@ -159,11 +160,56 @@ def fsync_path(path: Path) -> None:
         os.close(fd)
 
 
+class Busy(Exception):
+    """Another process holds the lock."""
+
+
+class CannotLock(Exception):
+    """The file system cannot lock files (``flock`` failed otherwise than busy); ``error`` says why."""
+
+    def __init__(self, error: OSError) -> None:
+        super().__init__(str(error))
+        self.error = error
+
+
+def flock_at(dfd: int, name: str, mode: int = 0o600) -> tuple[int, bool]:
+    """An exclusive ``flock`` on the file ``name`` of the folder ``dfd``, made if missing; the
+    descriptor and whether this call made the file. Never follows a link (ELOOP), and never
+    blocks on a FIFO. Raises :class:`Busy` if another process holds it, :class:`CannotLock` where
+    the file system cannot lock, and the OSError of opening the file. The one locking loop of saggriac (run and study folders, teacher
+    claims): the holder before us may remove the file after we opened it, so the lock is taken
+    again on the file that lives at ``name`` once it is held."""
+    flags = os.O_RDWR | os.O_NOFOLLOW | os.O_NONBLOCK | os.O_CLOEXEC
+    while True:
+        try:
+            fd, made = os.open(name, flags | os.O_CREAT | os.O_EXCL, mode, dir_fd=dfd), True
+        except FileExistsError:
+            try:
+                fd, made = os.open(name, flags, dir_fd=dfd), False
+            except FileNotFoundError:
+                continue  # removed meanwhile
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError as e:
+            os.close(fd)
+            if e.errno in (errno.EWOULDBLOCK, errno.EAGAIN, errno.EACCES):
+                raise Busy from None
+            raise CannotLock(e) from None
+        try:
+            same = os.fstat(fd).st_ino == os.stat(name, dir_fd=dfd, follow_symlinks=False).st_ino
+        except FileNotFoundError:
+            same = False
+        if same:
+            return fd, made
+        os.close(fd)
+
+
 @contextlib.contextmanager
 def lock(path: Path, busy: str, *, remove: bool = False) -> Iterator[OSError | None]:
     """Hold an exclusive lock on the file ``path`` (made if missing) until the block ends. If
     another process holds it, raise ``StorageError(busy)`` at once; the kernel drops the lock
-    when its process dies. An OSError opening the file is left to the caller to word.
+    when its process dies. An OSError opening the file (a link at its place among them) is left
+    to the caller to word.
 
     Yields None, or the error of a file system that cannot lock (the block then runs unlocked;
     where the system has no advisory locks at all, it runs unlocked and None is yielded). With
@@ -172,32 +218,24 @@ def lock(path: Path, busy: str, *, remove: bool = False) -> Iterator[OSError | N
         yield None
         return
     path = Path(path)
-    while True:
-        fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o644)
-        try:
-            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except BlockingIOError:
-            os.close(fd)
-            raise StorageError(busy) from None
-        except OSError as e:  # pragma: no cover - file systems without flock
-            unlocked: OSError | None = e
-            break
-        unlocked = None
-        # The holder before us may have removed the file after we opened it: lock the live one.
-        try:
-            same = os.fstat(fd).st_ino == os.stat(path).st_ino
-        except FileNotFoundError:
-            same = False
-        if same:
-            break
-        os.close(fd)
+    dfd = os.open(path.parent, os.O_RDONLY | os.O_DIRECTORY | os.O_CLOEXEC)
+    fd: int | None = None
     try:
+        try:
+            fd, _ = flock_at(dfd, path.name, 0o644)
+            unlocked: OSError | None = None
+        except Busy:
+            raise StorageError(busy) from None
+        except CannotLock as e:  # pragma: no cover - file systems without flock
+            unlocked = e.error
         yield unlocked
     finally:
-        if remove:
-            with contextlib.suppress(OSError):
-                path.unlink()
-        os.close(fd)
+        if fd is not None:
+            if remove:
+                with contextlib.suppress(OSError):
+                    os.unlink(path.name, dir_fd=dfd)
+            os.close(fd)
+        os.close(dfd)
 
 
 # -- provenance: a checksum over a JSON record (run.json, checkpoint.json) -----------------------

@@ -42,9 +42,13 @@ def _run(tmp_path, body: str, method: str, timeout: float = 300, until: str | No
                     break
                 time.sleep(0.2)
         finally:
-            if p.poll() is None:
+            # The script's worker processes too: a forked worker whose parent ended at os._exit
+            # waits on its pipe for ever.
+            try:
                 os.killpg(p.pid, signal.SIGKILL)
-                p.wait()
+            except ProcessLookupError:
+                pass
+            p.wait()
     stdout, stderr = out_f.read_text(), err_f.read_text()
     lines = [l for l in stdout.splitlines() if l.startswith("RESULT ")]
     if not lines and until is not None and until in stderr:

@@ -25,7 +25,7 @@ from typing import Any
 from ..errors import ConformanceError
 from .private_folder import Unchecked, open_claims_dir, read_private
 
-_lock = threading.Lock()
+_lock = threading.RLock()
 #: how many copies of each identity this process has sent to other processes
 _sent: dict[str, int] = {}
 #: whether a teacher with an identity exists in this process (a fork then hands copies out)
@@ -168,7 +168,7 @@ def before_fork() -> None:
 
 def after_fork_in_child() -> None:
     global _armed, _lock
-    _lock = threading.Lock()  # another thread of the parent may have held it at the fork
+    _lock = threading.RLock()  # another thread of the parent may have held it at the fork
     _sent.clear()
     if _armed and _SIGNAL is not None:
         signal.signal(_SIGNAL, signal.SIG_DFL)  # the parent listens; a worker does not

@@ -49,6 +49,7 @@ from dataclasses import dataclass
 from typing import Any, Callable
 
 from ..errors import ConformanceError
+from ..files import Busy, CannotLock, flock_at
 from . import copies
 from .copies import FIX
 from .private_folder import Unchecked, alive, claims_dir, open_claims_dir, same_file
@@ -68,7 +69,7 @@ class _Claim:
 
 #: identity -> this process's claim
 _claims: dict[str, _Claim] = {}
-_lock = threading.Lock()
+_lock = threading.RLock()
 _tokens = itertools.count()
 _HOLDER_BYTES = 64  # "pid ppid worker": the most a holder's note is read
 _SWEEP_MAX = 256  # stale lock files removed at most per claim
@@ -81,7 +82,7 @@ def new_identity() -> str:
 
 def _after_fork_in_child() -> None:
     global _lock
-    _lock = threading.Lock()  # another thread of the parent may have held it at the fork
+    _lock = threading.RLock()  # another thread of the parent may have held it at the fork
     _drop_inherited_claims()
     copies.after_fork_in_child()
 
@@ -125,31 +126,13 @@ def _read_holder(dfd: int, name: str) -> tuple[int, int, int] | None:
         os.close(fd)
 
 
-def _open_lock(dfd: int, name: str) -> tuple[int, bool]:
-    """Open the lock file ``name``: made here (True) or left by a saggriac process before (False).
-    Never follows a link; refuses anything but a regular file of this user's with one name."""
-    flags = os.O_RDWR | os.O_NOFOLLOW | os.O_NONBLOCK | os.O_CLOEXEC
-    where = f"{claims_dir() / name}"
-    try:
-        return os.open(name, flags | os.O_CREAT | os.O_EXCL, 0o600, dir_fd=dfd), True
-    except FileExistsError:
-        pass
-    except OSError as e:
-        raise Unchecked(f"the lock file {where} cannot be made ({e.strerror}); free space in the temporary directory, or point TMPDIR at a writable folder") from None
-    try:
-        fd = os.open(name, flags, dir_fd=dfd)
-    except FileNotFoundError:
-        raise InterruptedError from None  # removed meanwhile: try again
-    except OSError as e:
-        kind = {errno.ELOOP: "a symbolic link", errno.EISDIR: "a folder"}.get(e.errno or 0)
-        raise Unchecked(f"{where} is {kind or f'not usable ({e.strerror})'}, not a lock file saggriac made; remove it") from None
+def _checked(dfd: int, name: str, fd: int) -> None:
+    """Refuse, as not saggriac's, a lock file that is not a regular file of this user's with one name."""
     st = os.fstat(fd)
     if not stat.S_ISREG(st.st_mode) or st.st_uid != os.getuid() or st.st_nlink != 1:
         os.close(fd)
         what = "not a regular file" if not stat.S_ISREG(st.st_mode) else "not yours" if st.st_uid != os.getuid() else "a file with another name too (a hard link)"
-        raise Unchecked(f"{where} is {what}, not a lock file saggriac made; remove it")
-    return fd, False
-
+        raise Unchecked(f"{claims_dir() / name} is {what}, not a lock file saggriac made; remove it")
 
 
 def _take(dfd: int, identity: str) -> int | tuple[int, int, int]:
@@ -159,15 +142,8 @@ def _take(dfd: int, identity: str) -> int | tuple[int, int, int]:
     deadline = time.monotonic() + _SETTLE_SECONDS
     while True:
         try:
-            fd, made = _open_lock(dfd, name)
-        except InterruptedError:
-            continue
-        try:
-            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except OSError as e:
-            os.close(fd)
-            if e.errno not in (errno.EWOULDBLOCK, errno.EAGAIN, errno.EACCES):
-                raise Unchecked(f"the temporary directory's file system cannot lock files ({e.strerror})") from None
+            fd, made = flock_at(dfd, name)
+        except Busy:
             holder = _read_holder(dfd, name)
             if holder is not None and alive(holder[0]):
                 return holder
@@ -177,9 +153,15 @@ def _take(dfd: int, identity: str) -> int | tuple[int, int, int]:
                 time.sleep(0.01)
                 continue
             return (0, 0, 0)
-        if not same_file(dfd, name, fd):
-            os.close(fd)  # the releasing holder removed it between our open and flock
-            continue
+        except CannotLock as e:
+            raise Unchecked(f"the temporary directory's file system cannot lock files ({e.error.strerror})") from None
+        except OSError as e:
+            where = claims_dir() / name
+            if e.errno in (errno.ELOOP, errno.EISDIR):
+                kind = "a symbolic link" if e.errno == errno.ELOOP else "a folder"
+                raise Unchecked(f"{where} is {kind}, not a lock file saggriac made; remove it") from None
+            raise Unchecked(f"the lock file {where} cannot be made ({e.strerror}); free space in the temporary directory, or point TMPDIR at a writable folder") from None
+        _checked(dfd, name, fd)
         if not made:
             # A lock file left by a process that ended: ours must be a file made here, so that
             # nothing but saggriac's own file is ever written. Remove it and make a new one.
@@ -269,7 +251,11 @@ def claim(teacher: Any, owner: str, allow_copy: bool = False) -> None:
 
 
 def _claim(teacher: Any, owner: str, identity: str) -> None:
+    # Nothing that may run a user's code or the garbage collector's finalizers (a teacher's
+    # repr, a warning) runs under the lock; the lock is reentrant all the same, since a
+    # finalizer (release) may run in this thread wherever memory is allocated.
     pid = os.getpid()
+    why: str | None = None
     with _lock:
         held = _claims.get(identity)
         if held is not None and held.pid == pid:
@@ -277,28 +263,30 @@ def _claim(teacher: Any, owner: str, identity: str) -> None:
             if holder is teacher:
                 return
             if holder is not None:
-                raise _refusal(owner, teacher, None)
-            # the copy that held it is gone and its release not yet run: this one takes over
-            held.teacher, held.token = weakref.ref(teacher), next(_tokens)
-            weakref.finalize(teacher, release, identity, held.token)
-            return
-        fd: int | None = None
-        try:
-            dfd = open_claims_dir()
+                got: Any = None  # another live copy here
+            else:
+                release(identity, held.token)  # the copy that held it is gone: free it first
+                held = None
+        if held is None:
             try:
-                _sweep(dfd)
-                got = _take(dfd, identity)
-            finally:
-                os.close(dfd)
-        except Unchecked as e:
-            _unchecked_warning(owner, teacher, str(e))
-            got = None
-        if isinstance(got, tuple):
-            raise _refusal(owner, teacher, got)
-        fd = got
-        token = next(_tokens)
-        _claims[identity] = _Claim(pid, fd, weakref.ref(teacher), token)
+                dfd = open_claims_dir()
+                try:
+                    _sweep(dfd)
+                    got = _take(dfd, identity)
+                finally:
+                    os.close(dfd)
+            except Unchecked as e:
+                why, got = str(e), None
+            if not isinstance(got, tuple):
+                token = next(_tokens)
+                _claims[identity] = _Claim(pid, got, weakref.ref(teacher), token)
+    if held is not None:
+        raise _refusal(owner, teacher, None)
+    if isinstance(got, tuple):
+        raise _refusal(owner, teacher, got)
     weakref.finalize(teacher, release, identity, token)
+    if why is not None:
+        _unchecked_warning(owner, teacher, why)
 
 
 def release(identity: str, token: int | None = None) -> None:
