@@ -75,7 +75,7 @@ print(type(env.unwrapped).__module__)
 """
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
     assert out.returncode == 0, out.stderr
-    assert out.stdout.splitlines() == ["saggriac.statistics is now saggriac.analysis.statistics: import it from there (the former path will be removed).", "saggriac.adapters.gym.arm_env"]
+    assert out.stdout.splitlines() == ["saggriac.statistics is now saggriac.analysis.statistics: import it from there (the former path will be removed in 0.7.0).", "saggriac.adapters.gym.arm_env"]
 
 
 def test_a_result_pickled_under_the_former_module_name_still_loads(small_config):

@@ -43,7 +43,8 @@ _SUBMODULES = {"runs": "runs", "analysis": "analysis", "study": "study", "seedin
 # Former module paths (saggriac <= 0.5) and where each module is now: the one mapping kept for
 # old imports, old pickles and old Gymnasium entry points. Importing a former path warns
 # (DeprecationWarning) and gives the module itself. ``saggriac.competence`` is not here: that
-# name is the function.
+# name is the function. They are removed in REMOVED_IN (CHANGELOG.md).
+REMOVED_IN = "0.7.0"
 MOVED = {
     "saggriac.environments": "saggriac.bodies.environments",
     "saggriac.mujoco_arm": "saggriac.bodies.mujoco_arm",
@@ -92,7 +93,7 @@ class _FormerPaths(importlib.abc.MetaPathFinder, importlib.abc.Loader):
 
     def create_module(self, spec: Any) -> Any:
         new = _moved_to(spec.name)
-        warnings.warn(f"{spec.name} is now {new}: import it from there (the former path will be removed).", DeprecationWarning, stacklevel=2)
+        warnings.warn(f"{spec.name} is now {new}: import it from there (the former path will be removed in {REMOVED_IN}).", DeprecationWarning, stacklevel=2)
         module = import_module(new)
         spec.loader_state = module.__spec__  # kept with this import, not on the shared finder
         return module
