@@ -46,6 +46,7 @@ _SUBMODULES = {"runs": "runs", "analysis": "analysis", "study": "study", "seedin
 # name is the function. They are removed in REMOVED_IN (CHANGELOG.md).
 REMOVED_IN = "0.7.0"
 MOVED = {
+    "saggriac.bodies.pusher": "saggriac.config.presets",
     "saggriac.environments": "saggriac.bodies.environments",
     "saggriac.mujoco_arm": "saggriac.bodies.mujoco_arm",
     "saggriac.scale": "saggriac.bodies.scale",

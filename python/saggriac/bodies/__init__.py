@@ -1,20 +1,18 @@
 """Bodies: what a learner moves and how its size is known.
 
 ``environments`` (the protocol a body follows and saggriac's own arms, ``PlanarArm`` and
-``SpatialArm``), ``mujoco_arm`` (an arm read out of a MuJoCo model, with the ``mujoco`` extra),
-``pusher`` (Gymnasium's Pusher arm kept as numbers, for presets that run without MuJoCo),
-``scale`` (a user's body measured: its reach and the lengths that follow it) and ``reachable``
+``SpatialArm``), ``mujoco_arm`` (an arm read out of a MuJoCo model, with the ``mujoco`` extra), ``scale`` (a user's body measured: its reach and the lengths that follow it) and ``reachable``
 (the task space a built-in body reaches, for the evaluation and the figures).
 
-Only ``environments`` and ``pusher`` load with the package: ``scale`` and ``reachable`` read
-``saggriac.config``, which reads ``pusher``.
+Only ``environments`` loads with the package, and the Pusher's arm kept as numbers
+(``PUSHER_CHAIN``, the ``pusher`` preset's: ``saggriac.config.presets``).
 """
 
 from importlib import import_module
 from typing import Any
 
 from .environments import Box, Environment, PlanarArm, SpatialArm
-from .pusher import PUSHER_CHAIN, PUSHER_SCALE
+from ..config.presets import PUSHER_CHAIN, PUSHER_SCALE
 
 _LAZY = {"MujocoArm": "mujoco_arm", "pusher_arm": "mujoco_arm", "ReachableSet": "reachable", "BodyScale": "scale", "ReachWarning": "scale", "body_scale": "scale"}
 

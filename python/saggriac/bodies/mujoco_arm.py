@@ -232,7 +232,7 @@ def pusher_arm(max_joint_step: float = 0.02) -> MujocoArm:
 def pusher_chain() -> tuple[float, ...]:
     """The Pusher's arm as the ``pusher`` preset's native chain (``saggriac.bodies.PUSHER_CHAIN``):
     shoulder at the origin, scaled to reach 50."""
-    from .pusher import PUSHER_SCALE
+    from ..config.presets import PUSHER_SCALE
 
     return pusher_arm().chain(scale=PUSHER_SCALE, at_origin=True)
 

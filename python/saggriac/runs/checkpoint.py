@@ -17,7 +17,7 @@ from ..config import Config
 from ..errors import ParameterError, StorageError
 from ..files import MAX_JSON_BYTES, check_seal, read_bounded, seal
 from ..seeding import check_seed, derive_seeds
-from .storage import replace_dir, sibling
+from .storage import check_output_dir, replace_dir, sibling, target_lock
 
 FILES = frozenset({"state.bin", "checkpoint.json"})
 START_OVER = "Start the run over: run it again without --resume."
@@ -48,6 +48,16 @@ def write_checkpoint(out: Path, state: bytes, info: dict[str, Any], config: Conf
         (tmp / "checkpoint.json").write_text(json.dumps(seal(meta), indent=2, sort_keys=True))
 
     replace_dir(checkpoint_dir(out), fill, "the checkpoint", replace=is_checkpoint)
+
+
+def save_checkpoint(out: Path, state: bytes, info: dict[str, Any], config: Config, steps: int, every: int, overwrite: bool) -> Path:
+    """A learner's checkpoint for the run that is to be written to ``out`` (Learner.save_checkpoint),
+    with the target checked as resume() will need it and locked while it is written."""
+    # Refuse now a target that resume() could not write to.
+    check_output_dir(out, overwrite)
+    with target_lock(out):
+        write_checkpoint(out, state, {**info, "overwrite": overwrite}, config, steps, every)
+    return checkpoint_dir(out)
 
 
 def is_checkpoint(path: Path) -> bool:

@@ -35,12 +35,12 @@ import pandas as pd
 from .. import _core
 from ..config import Config
 from ..errors import ParameterError, StorageError
-from ..files import check_flag
+from ..files import as_path, check_flag
 from ..bodies.reachable import ReachableSet
 from ..bodies.scale import body_scale
 from ..seeding import check_seed, derive_seeds, environment_seed
 from ..testing import joint_space_of
-from .checkpoint import START_OVER, find_checkpoint, read_description, read_state
+from .checkpoint import START_OVER, check_every, find_checkpoint, read_description, read_state, save_checkpoint
 from .resources import check_run_fits, check_threads, checkpoint_bytes
 from .result import RunResult
 from .run_info import RunInfo
@@ -72,8 +72,6 @@ class Learner:
         checkpoint_every=N)`` or :meth:`save_checkpoint`), exactly as it was; its ``info`` holds
         the checkpoint's seeds, overwrite flag and ``checkpoint_every``. Nothing is written."""
         threads = check_threads(threads, "Learner.from_checkpoint")
-        from ..files import as_path
-
         ck = find_checkpoint(as_path(out_dir, "out_dir", "Learner.from_checkpoint"))
         config, saved, every = read_description(ck)
         # At most twice the largest state its configuration can make.
@@ -181,9 +179,13 @@ class Learner:
         the way: ``saggriac.resume(out_dir)`` then runs it to the end of the budget, checkpointing
         every ``checkpoint_every`` steps, and writes the result there. Returns the checkpoint's
         folder (beside ``out_dir``)."""
-        from .runner import save_checkpoint  # the run's folder is the runner's
-
-        return save_checkpoint(self, out_dir, checkpoint_every, overwrite)
+        owner = "Learner.save_checkpoint"
+        out = as_path(out_dir, "out_dir", owner)
+        every = check_every(checkpoint_every, owner)
+        overwrite = check_flag(overwrite, "overwrite", owner)
+        if not self.saves_state:
+            raise ParameterError(f"{owner} is not available with a user's environment or goal selector (saggriac cannot save their state).", "checkpoint_every", repr(every))
+        return save_checkpoint(out, self.checkpoint(), self.info.for_checkpoint(), self.config, self.steps, every, overwrite)
 
     def result(self) -> RunResult:
         """What was learnt so far, as :func:`saggriac.run` returns it (nothing is written;

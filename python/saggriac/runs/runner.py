@@ -91,23 +91,6 @@ def _checkpoint_on_the_way(learner: Learner, out: Path, every: int) -> None:
         warnings.warn(f"The checkpoint at step {learner.steps} could not be written ({e}); the run goes on and {kept}.", CheckpointWarning, stacklevel=5)
 
 
-def save_checkpoint(learner: Learner, out_dir: str | Path, checkpoint_every: Any, overwrite: Any = False) -> Path:
-    """:meth:`Learner.save_checkpoint`: the learner's state as the checkpoint of the run that is
-    to be written to ``out_dir``."""
-    owner = "Learner.save_checkpoint"
-    out = as_path(out_dir, "out_dir", owner)
-    every = check_every(checkpoint_every, owner)
-    overwrite = check_flag(overwrite, "overwrite", owner)
-    if not learner.saves_state:
-        raise ParameterError(f"{owner} is not available with a user's environment or goal selector (saggriac cannot save their state).", "checkpoint_every", repr(every))
-    # Refuse now a target that resume() could not write to.
-    check_output_dir(out, overwrite)
-    with target_lock(out):
-        info = {**learner.info.for_checkpoint(), "overwrite": overwrite}
-        checkpoint.write_checkpoint(out, learner.checkpoint(), info, learner.config, learner.steps, every)
-    return checkpoint_dir(out)
-
-
 @contextmanager
 def _holding(out: Path | None, overwrite: bool) -> Iterator[None]:
     """Lock the target for the whole run; look at it again once the lock is held, since another

@@ -21,12 +21,12 @@ from pathlib import Path
 from typing import Any
 
 
-from . import _core
-from .bodies.pusher import PUSHER_CHAIN
-from .errors import ParameterError, StorageError
-from .teachers.params import TeacherParams
-from .teachers.params import teacher_params as _teacher_params
-from .values import plain as _plain
+from .. import _core
+from .presets import PRESETS
+from ..errors import ParameterError, StorageError
+from ..teachers.params import TeacherParams
+from ..teachers.params import teacher_params as _teacher_params
+from ..values import plain as _plain
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -440,47 +440,3 @@ def check_keys(d: dict[str, Any], source: Path | None) -> None:
                 k,
                 repr(d[k]),
             )
-
-
-# The paper's experiments (section IV.B); every other value is our documented choice.
-PRESETS: dict[str, dict[str, Any]] = {
-    "exp1": dict(n_steps=50_000, goal_low=(0.0, -50.0), goal_high=(50.0, 50.0), q=20),
-    "exp2": dict(n_steps=200_000, goal_low=(0.0, -150.0), goal_high=(150.0, 150.0), q=100),
-    # The task explauto's SAGG-RIAC tutorial runs: episodic, 15 joints, limits +-pi, goals in
-    # [-50, 50]^2 (test goals: the reachable disk of radius 50).
-    "explauto": dict(
-        paradigm="episodic",
-        n_steps=50_000,
-        joint_limit=math.pi,
-        goal_low=(-50.0, -50.0),
-        goal_high=(50.0, 50.0),
-        # The distance itself, not eq. 7 against a start every movement shares (rest): chosen
-        # by the sensitivity study (docs/sensitivity.md), 4 % lower final error for SAGG-RIAC.
-        competence="absolute",
-    ),
-    # Beyond the paper: experiment 1 with the arm in space. The goal space is the box around
-    # the half ball in front of the base, x >= 0 (test goals: that half ball, radius 50).
-    "arm3d": dict(
-        body="spatial_arm",
-        n_steps=50_000,
-        goal_low=(0.0, -50.0, -50.0),
-        goal_high=(50.0, 50.0, 50.0),
-        q=20,
-    ),
-    # Beyond the paper: the 7-joint arm of Gymnasium's MuJoCo Pusher, natively (saggriac.bodies;
-    # docs/mujoco.md), shoulder at the origin, scaled to reach 50 as the paper's arm does. Its
-    # joints span their ranges in [-1, 1]; a micro-action moves each by at most 2 % of its
-    # half-range. The goal box, the cube of side 120 around the shoulder, is wider than the
-    # reach: about a fifth of it is reachable.
-    "pusher": dict(
-        body="chain",
-        chain=PUSHER_CHAIN,
-        joint_limit=1.0,
-        max_joint_step=0.02,
-        n_steps=50_000,
-        goal_low=(-60.0, -60.0, -60.0),
-        goal_high=(60.0, 60.0, 60.0),
-        q=20,
-    ),
-}
-
