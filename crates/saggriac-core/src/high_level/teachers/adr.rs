@@ -22,7 +22,7 @@
 //!   performance was measured at a value that is no longer the bound.
 //! - `step` is a share of each dimension's width, so one value fits every box.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, VecDeque};
 
 use serde::{Deserialize, Serialize};
 
@@ -37,7 +37,8 @@ use crate::rng::{index, rng_from_seed, uniform, unit, CoreRng};
 const MAX_PENDING: usize = 1_000_000;
 
 /// The teacher's state: its generator, the current ranges, both buffers of every dimension and
-/// the boundary samples not yet told (goal bits -> (dimension, high side), in asking order).
+/// the boundary samples not yet told (goal bits -> (ask number, dimension, high side), in asking
+/// order). A deque encodes as a Vec did, so saved teachers read the same.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 struct AdrState {
     rng: CoreRng,
@@ -45,9 +46,13 @@ struct AdrState {
     phi_high: Vec<f64>,
     buf_low: Vec<Vec<f64>>,
     buf_high: Vec<Vec<f64>>,
-    pending: BTreeMap<Vec<u64>, Vec<(u64, u32, bool)>>,
+    pending: BTreeMap<Vec<u64>, VecDeque<(u64, u32, bool)>>,
     n_pending: usize,
     asked: u64,
+    /// The pending samples by ask number (-> their goal's bits): the oldest is found at once
+    /// instead of by a scan of every pending entry. Not saved; rebuilt from `pending` on load.
+    #[serde(skip)]
+    by_ask: BTreeMap<u64, Vec<u64>>,
 }
 
 #[derive(Debug, Clone)]
@@ -71,7 +76,7 @@ impl Adr {
             pl[i] = (c - half).max(low[i]);
             ph[i] = (c + half).min(high[i]);
         }
-        let s = AdrState { rng: rng_from_seed(seed), phi_low: pl, phi_high: ph, buf_low: vec![Vec::new(); d], buf_high: vec![Vec::new(); d], pending: BTreeMap::new(), n_pending: 0, asked: 0 };
+        let s = AdrState { rng: rng_from_seed(seed), phi_low: pl, phi_high: ph, buf_low: vec![Vec::new(); d], buf_high: vec![Vec::new(); d], pending: BTreeMap::new(), n_pending: 0, asked: 0, by_ask: BTreeMap::new() };
         Ok(Adr { cfg, low: low.to_vec(), high: high.to_vec(), s })
     }
 
@@ -84,11 +89,12 @@ impl Adr {
         if self.s.n_pending <= MAX_PENDING {
             return;
         }
-        // The oldest ask among the pending ones goes.
-        let oldest = self.s.pending.iter().filter_map(|(k, v)| v.iter().map(|e| e.0).min().map(|a| (a, k.clone()))).min();
-        if let Some((a, k)) = oldest {
+        // The oldest ask among the pending ones goes: the first of its goal's queue, since each
+        // queue is in asking order and loses only its first entry.
+        if let Some((a, k)) = self.s.by_ask.pop_first() {
             let v = self.s.pending.get_mut(&k).expect("present");
-            v.retain(|e| e.0 != a);
+            debug_assert_eq!(v.front().map(|e| e.0), Some(a));
+            v.pop_front();
             if v.is_empty() {
                 self.s.pending.remove(&k);
             }
@@ -149,7 +155,9 @@ impl GoalSelector for Adr {
         goal[i] = if high_side { s.phi_high[i] } else { s.phi_low[i] };
         s.asked += 1;
         let ask = s.asked;
-        s.pending.entry(bits(&goal)).or_default().push((ask, i as u32, high_side));
+        let key = bits(&goal);
+        s.pending.entry(key.clone()).or_default().push_back((ask, i as u32, high_side));
+        s.by_ask.insert(ask, key);
         s.n_pending += 1;
         self.forget_oldest();
         GoalChoice { goal, mode: Mode::Interest, region: Some(2 * i + high_side as usize) }
@@ -158,10 +166,11 @@ impl GoalSelector for Adr {
         let key = bits(point);
         let (i, high_side) = {
             let v = self.s.pending.get_mut(&key)?;
-            let (_, i, h) = v.remove(0);
+            let (ask, i, h) = v.pop_front().expect("a pending queue is never empty");
             if v.is_empty() {
                 self.s.pending.remove(&key);
             }
+            self.s.by_ask.remove(&ask);
             self.s.n_pending -= 1;
             (i as usize, h)
         };
@@ -185,7 +194,19 @@ impl GoalSelector for Adr {
         let d = self.low.len();
         match load_state::<AdrState>(state) {
             Some(mut s) if s.phi_low.len() == d && s.phi_high.len() == d && s.buf_low.len() == d && s.buf_high.len() == d => {
-                s.n_pending = s.pending.values().map(Vec::len).sum();
+                s.n_pending = s.pending.values().map(VecDeque::len).sum();
+                // Each queue in asking order, every ask once, a dimension of the box: what `sample`
+                // writes.
+                for (k, v) in &s.pending {
+                    if v.is_empty() || !v.iter().zip(v.iter().skip(1)).all(|(a, b)| a.0 < b.0) || v.iter().any(|e| e.1 as usize >= d) {
+                        return false;
+                    }
+                    for e in v {
+                        if s.by_ask.insert(e.0, k.clone()).is_some() {
+                            return false;
+                        }
+                    }
+                }
                 self.s = s;
                 true
             }
@@ -248,6 +269,27 @@ mod tests {
         assert_eq!(t.update(&[0.1], 1.0), None);
         run(&mut t, 3000, |_| 0.5);
         assert_eq!(t.bounds(), (&[0.0][..], &[0.25][..]));
+    }
+
+    #[test]
+    fn past_max_pending_the_oldest_asks_are_forgotten_and_a_reload_keeps_the_order() {
+        // Every goal a boundary sample, none told: the first asks are forgotten, in order.
+        let c = AdrConfig { boundary_prob: 1.0, initial_width: 0.5, ..cfg() };
+        let mut t = Adr::new(&[0.0, 0.0], &[1.0, 1.0], c, 7).unwrap();
+        let first: Vec<Vec<f64>> = (0..MAX_PENDING + 5).map(|_| t.sample().goal).collect();
+        assert_eq!((t.s.n_pending, t.s.by_ask.len()), (MAX_PENDING, MAX_PENDING));
+        assert_eq!(t.s.by_ask.keys().next(), Some(&6));
+        let mut u = Adr::new(&[0.0, 0.0], &[1.0, 1.0], c, 0).unwrap();
+        assert!(u.load(&t.save().unwrap()));
+        assert_eq!(u.s.by_ask, t.s.by_ask);
+        for _ in 0..3 {
+            assert_eq!(t.sample().goal, u.sample().goal);
+        }
+        assert_eq!(u.s.by_ask.keys().next(), Some(&9));
+        // A forgotten goal is not credited; a pending one is, and leaves the ask index.
+        assert_eq!(u.update(&first[0], 1.0), None);
+        assert!(u.update(&first[MAX_PENDING + 4], 1.0).is_some());
+        assert_eq!((u.s.n_pending, u.s.by_ask.len()), (MAX_PENDING - 1, MAX_PENDING - 1));
     }
 
     #[test]
