@@ -26,6 +26,11 @@ type Constraint<'a> = &'a dyn Fn(&[f64], &mut ()) -> f64;
 
 pub use crate::config::teachers::SpdlConfig;
 
+/// The most dimensions SPDL takes: each update runs COBYLA over 2 d variables, whose cost grows
+/// as the cube of d (300 told goals, two updates: 2.4 s in 30 dimensions, 11 s in 50, minutes in
+/// 200; in 10^4 the crate's workspace size overflows its i32 and it panics).
+pub const MAX_SPDL_DIM: usize = 30;
+
 /// A Gaussian with a diagonal covariance in the unit box: means and log standard deviations.
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct DiagGaussian {
@@ -85,6 +90,10 @@ pub struct Spdl {
 impl Spdl {
     pub fn new(low: &[f64], high: &[f64], cfg: SpdlConfig, seed: u64) -> Result<Self> {
         check_bounds("SpdlSelector", low, high)?;
+        if low.len() > MAX_SPDL_DIM {
+            let rule = format!("bounds of at most {MAX_SPDL_DIM} dimensions (each update runs COBYLA over 2 x d variables, whose cost grows as the cube of the dimension)");
+            return Err(crate::error::invalid("SpdlSelector", "bounds", rule, format!("{} dimensions", low.len())));
+        }
         cfg.validate()?;
         let d = low.len();
         let g = |m: f64, s: f64| DiagGaussian { mean: vec![m; d], log_std: vec![s.ln(); d] };
@@ -137,9 +146,12 @@ impl Spdl {
         let bounds: Vec<(f64, f64)> = (0..d).map(|_| (-1.0, 2.0)).chain((0..d).map(|_| (1e-4f64.ln(), 10f64.ln()))).collect();
         let x0 = old.vars();
         let tol = cobyla::StopTols { ftol_rel: 1e-8, ftol_abs: 1e-10, xtol_rel: 1e-8, ..Default::default() };
-        let out = cobyla::minimize(objective, &x0, &bounds, &cons, (), 2000, cobyla::RhoBeg::All(0.05), Some(tol));
-        let x = match out {
-            Ok((_, x, _)) | Err((_, x, _)) => x,
+        // The crate is a translation of C with unwraps inside: a panic there must not reach the
+        // caller (Python sees it as PanicException); the update is then skipped, p kept.
+        let run = std::panic::AssertUnwindSafe(|| cobyla::minimize(objective, &x0, &bounds, &cons, (), 2000, cobyla::RhoBeg::All(0.05), Some(tol)));
+        let x = match std::panic::catch_unwind(run) {
+            Ok(Ok((_, x, _)) | Err((_, x, _))) => x,
+            Err(_) => return,
         };
         // Keep a candidate only if it meets both constraints (COBYLA may stop slightly outside).
         let ok = x.iter().all(|v| v.is_finite()) && c_perf(&x, &mut ()) >= -1e-9 && c_kl(&x, &mut ()) >= -1e-6;
@@ -247,6 +259,24 @@ mod tests {
         // each accepted distribution was estimated >= delta; here the mean moves outward slowly.
         let (t2, _) = run(cfg, |_, _| 0.2, 2000);
         assert_eq!(t2.distribution(), &DiagGaussian { mean: vec![0.2; 2], log_std: vec![0.05f64.ln(); 2] });
+    }
+
+    #[test]
+    fn more_dimensions_than_an_update_can_afford_are_refused() {
+        let d = MAX_SPDL_DIM + 1;
+        let e = Spdl::new(&vec![0.0; d], &vec![1.0; d], SpdlConfig::default(), 0).err().unwrap().to_string();
+        assert!(e.starts_with("The 'bounds' parameter of SpdlSelector must be bounds of at most 30 dimensions (each update runs COBYLA"), "{e}");
+        assert!(e.ends_with("Got 31 dimensions instead."), "{e}");
+        // At the bound an update runs and keeps both constraints.
+        let cfg = SpdlConfig { update_every: 60, warmup: 60, ..SpdlConfig::default() };
+        let mut t = Spdl::new(&vec![0.0; MAX_SPDL_DIM], &vec![1.0; MAX_SPDL_DIM], cfg, 1).unwrap();
+        let before = t.distribution().clone();
+        for _ in 0..60 {
+            let g = t.sample().goal;
+            t.update(&g, 1.0);
+        }
+        assert_eq!(t.n_updates(), 1);
+        assert!(t.distribution().kl(&before) <= cfg.epsilon + 1e-6);
     }
 
     #[test]
