@@ -7,7 +7,7 @@ use crate::body::arm::Arm;
 use crate::body::Body;
 use crate::config::teachers::{RandomConfig, SaggRiacConfig, Teacher};
 use crate::config::{Condition, Paradigm, RunConfig};
-use crate::error::{invalid, Result};
+use crate::error::{invalid, Num, Result};
 use crate::evaluation::reachable_cloud::Cloud;
 use crate::evaluation::{Evaluator, TestSet};
 use crate::high_level::goal_selection::GoalSelector;
@@ -86,7 +86,7 @@ impl Learner {
                 "Run",
                 "motor_noise/sensor_noise",
                 "0 when a user's environment is given (add noise in the environment itself)",
-                format!("{}/{}", cfg.arm.motor_noise, cfg.arm.sensor_noise),
+                format!("{}/{}", Num(cfg.arm.motor_noise), Num(cfg.arm.sensor_noise)),
             ));
         }
         if body.is_some() && cfg.body_change.is_some() {

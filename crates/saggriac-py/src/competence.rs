@@ -3,7 +3,7 @@
 
 use numpy::{IntoPyArray, PyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
-use saggriac_core::error::invalid;
+use saggriac_core::error::{invalid, Num};
 use saggriac_core::high_level::competence::{competence_of, CompetenceConfig, CompetenceKind};
 
 use crate::errors::wrap;
@@ -30,7 +30,7 @@ pub fn competence<'py>(
     let cfg = CompetenceConfig { min_c, eps_c, kind };
     wrap(py, cfg.validate())?;
     if kind == CompetenceKind::Absolute && !(reach.is_finite() && reach > 0.0) {
-        return wrap(py, Err(invalid("competence", "reach", "a finite float > 0 (the scale of the absolute cost)", reach)));
+        return wrap(py, Err(invalid("competence", "reach", "a finite float > 0 (the scale of the absolute cost)", Num(reach))));
     }
     let (g, r, s) = (goals.as_array(), reached.as_array(), starts.as_array());
     if r.shape() != g.shape() || s.shape() != g.shape() {

@@ -166,7 +166,7 @@ impl ChainSpec {
             let axis = unit(&c[10..13]).ok_or_else(|| invalid("Arm", "chain", "a non-zero axis for every joint", format!("joint {j}: {:?}", &c[10..13])))?;
             let (low, high) = (c[13], c[14]);
             if low >= high {
-                return Err(invalid("Arm", "chain", "low < high for every joint's range", format!("joint {j}: [{low}, {high}]")));
+                return Err(invalid("Arm", "chain", "low < high for every joint's range", format!("joint {j}: [{}, {}]", Num(low), Num(high))));
             }
             joints.push(ChainJointSpec { pos: [c[0], c[1], c[2]], quat: [quat[0], quat[1], quat[2], quat[3]], anchor: [c[7], c[8], c[9]], axis: [axis[0], axis[1], axis[2]], low, high });
         }

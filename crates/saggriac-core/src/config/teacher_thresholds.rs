@@ -4,7 +4,7 @@
 //! teacher idle without a word, so it is moved to the competences' scale or refused.
 
 use super::teachers::{AdrConfig, GoalGanConfig, SpdlConfig, Teacher};
-use crate::error::{invalid, Result};
+use crate::error::{invalid, Num, Result};
 
 impl Teacher {
     /// The paper's defaults of the parameters compared with a told competence (written for a
@@ -25,22 +25,23 @@ impl Teacher {
     /// teacher would sit still without a word (ADR's bounds never grow, SPDL never moves, Goal
     /// GAN never finds a goal of intermediate difficulty).
     pub fn check_competences(&self, lo: f64, hi: f64, whence: &str) -> Result<()> {
-        let told = format!("the competences {whence} lie in [{lo}, {hi}]");
+        let (lo_s, hi_s) = (Num(lo), Num(hi));
+        let told = format!("the competences {whence} lie in [{lo_s}, {hi_s}]");
         let owner = self.class();
         match self {
             Teacher::Adr(c) => {
                 if c.t_high > hi {
-                    return Err(invalid(owner, "t_high", format!("a float <= {hi} ({told}, and a bound grows only when the mean competence at it is >= t_high)"), c.t_high));
+                    return Err(invalid(owner, "t_high", format!("a float <= {hi_s} ({told}, and a bound grows only when the mean competence at it is >= t_high)"), Num(c.t_high)));
                 }
                 if c.t_low < lo {
-                    return Err(invalid(owner, "t_low", format!("a float >= {lo} ({told}, and a bound shrinks only when the mean competence at it is <= t_low)"), c.t_low));
+                    return Err(invalid(owner, "t_low", format!("a float >= {lo_s} ({told}, and a bound shrinks only when the mean competence at it is <= t_low)"), Num(c.t_low)));
                 }
             }
             Teacher::Spdl(c) if !(lo..=hi).contains(&c.delta) => {
-                return Err(invalid(owner, "delta", format!("a float in [{lo}, {hi}] ({told}; the distribution moves only while the expected competence is >= delta, so outside it would never move, or never be held back)"), c.delta));
+                return Err(invalid(owner, "delta", format!("a float in [{lo_s}, {hi_s}] ({told}; the distribution moves only while the expected competence is >= delta, so outside it would never move, or never be held back)"), Num(c.delta)));
             }
             Teacher::GoalGan(c) if !(c.success_threshold > lo && c.success_threshold <= hi) => {
-                return Err(invalid(owner, "success_threshold", format!("a float in ({lo}, {hi}] ({told}; a competence >= success_threshold is a success, so outside every attempt would fail, or succeed)"), c.success_threshold));
+                return Err(invalid(owner, "success_threshold", format!("a float in ({lo_s}, {hi_s}] ({told}; a competence >= success_threshold is a success, so outside every attempt would fail, or succeed)"), Num(c.success_threshold)));
             }
             _ => {}
         }

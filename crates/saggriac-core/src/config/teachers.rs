@@ -170,11 +170,11 @@ impl AdrConfig {
         c.within("buffer_size", self.buffer_size, 1, MAX_COUNT)?;
         for (name, v) in [("t_low", self.t_low), ("t_high", self.t_high)] {
             if !(v.is_finite() && v.abs() <= 1e100) {
-                return Err(invalid("AdrSelector", name, "a finite float with |value| <= 1e100", v));
+                return Err(invalid("AdrSelector", name, "a finite float with |value| <= 1e100", Num(v)));
             }
         }
         if self.t_low >= self.t_high {
-            return Err(invalid("AdrSelector", "t_low", format!("a float < t_high (t_high = {})", self.t_high), self.t_low));
+            return Err(invalid("AdrSelector", "t_low", format!("a float < t_high (t_high = {})", Num(self.t_high)), Num(self.t_low)));
         }
         c.in_open_closed("step", self.step, 0.0, 1.0)?;
         c.probability("initial", self.initial)?;
@@ -231,7 +231,7 @@ impl PlrConfig {
         c.within("n_tasks", self.n_tasks, 1, MAX_COUNT)?;
         // rank^(-1/beta) must not underflow to 0 for every rank > 1 too soon: beta >= 0.01.
         if !(self.temperature.is_finite() && self.temperature >= 0.01) {
-            return Err(invalid("PlrSelector", "temperature", "a finite float >= 0.01", self.temperature));
+            return Err(invalid("PlrSelector", "temperature", "a finite float >= 0.01", Num(self.temperature)));
         }
         c.probability("staleness_coef", self.staleness_coef)?;
         c.probability("replay_prob", self.replay_prob)?;
@@ -272,17 +272,17 @@ impl SpdlConfig {
         let c = Check { owner: "SpdlSelector" };
         for (name, v) in [("init_mean", self.init_mean), ("target_mean", self.target_mean)] {
             if !(v.is_finite() && (0.0..=1.0).contains(&v)) {
-                return Err(invalid("SpdlSelector", name, "a float in [0, 1] (a position in the box scaled to [0, 1])", v));
+                return Err(invalid("SpdlSelector", name, "a float in [0, 1] (a position in the box scaled to [0, 1])", Num(v)));
             }
         }
         for (name, v) in [("init_std", self.init_std), ("target_std", self.target_std)] {
             if !(v.is_finite() && (1e-4..=10.0).contains(&v)) {
-                return Err(invalid("SpdlSelector", name, "a float in [1e-4, 10] (box widths)", v));
+                return Err(invalid("SpdlSelector", name, "a float in [1e-4, 10] (box widths)", Num(v)));
             }
         }
         c.positive("epsilon", self.epsilon)?;
         if !(self.delta.is_finite() && self.delta.abs() <= 1e100) {
-            return Err(invalid("SpdlSelector", "delta", "a finite float of absolute value <= 1e100", self.delta));
+            return Err(invalid("SpdlSelector", "delta", "a finite float of absolute value <= 1e100", Num(self.delta)));
         }
         c.within("update_every", self.update_every, 1, MAX_COUNT)?;
         c.within("warmup", self.warmup, 0, MAX_COUNT)?;
@@ -324,19 +324,19 @@ impl GoalGanConfig {
     pub fn validate(&self) -> Result<()> {
         let c = Check { owner: "GoalGanSelector" };
         if !(self.success_threshold.is_finite() && self.success_threshold.abs() <= 1e100) {
-            return Err(invalid("GoalGanSelector", "success_threshold", "a finite float of absolute value <= 1e100", self.success_threshold));
+            return Err(invalid("GoalGanSelector", "success_threshold", "a finite float of absolute value <= 1e100", Num(self.success_threshold)));
         }
         c.probability("r_min", self.r_min)?;
         c.probability("r_max", self.r_max)?;
         if self.r_min > self.r_max {
-            return Err(invalid("GoalGanSelector", "r_max", format!("a float >= r_min (r_min = {})", self.r_min), self.r_max));
+            return Err(invalid("GoalGanSelector", "r_max", format!("a float >= r_min (r_min = {})", Num(self.r_min)), Num(self.r_max)));
         }
         c.within("n_rollouts", self.n_rollouts, 1, 255)?;
         // A goal's success rate is k / n_rollouts: none in [r_min, r_max] and no goal is ever
         // good, so the GAN would never train.
         let n = self.n_rollouts as f64;
         if !(0..=self.n_rollouts).any(|k| (self.r_min..=self.r_max).contains(&(k as f64 / n))) {
-            return Err(invalid("GoalGanSelector", "r_max", format!("a float such that [r_min, r_max] holds a success rate k / n_rollouts (r_min = {}, n_rollouts = {})", self.r_min, self.n_rollouts), self.r_max));
+            return Err(invalid("GoalGanSelector", "r_max", format!("a float such that [r_min, r_max] holds a success rate k / n_rollouts (r_min = {}, n_rollouts = {})", Num(self.r_min), self.n_rollouts), Num(self.r_max)));
         }
         c.within("update_size", self.update_size, 1, 100_000)?;
         c.within("gan_iterations", self.gan_iterations, 0, 100_000)?;

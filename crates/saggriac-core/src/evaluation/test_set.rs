@@ -46,7 +46,7 @@ fn draw_goals(rng: &mut CoreRng, r: f64, goal_low: &[f64], goal_high: &[f64], n_
     let lo: Vec<f64> = goal_low.iter().map(|v| v.max(-r)).collect();
     let hi: Vec<f64> = goal_high.iter().map(|v| v.min(r)).collect();
     if !(0..m).all(|i| lo[i] < hi[i]) {
-        return Err(invalid("Evaluation", "goal_low/goal_high", format!("a box that meets the reachable ball of radius {r}"), format!("{goal_low:?}..{goal_high:?}")));
+        return Err(invalid("Evaluation", "goal_low/goal_high", format!("a box that meets the reachable ball of radius {}", crate::error::G(r)), format!("{goal_low:?}..{goal_high:?}")));
     }
     let mut tries = 0usize;
     while goals.len() < n_goals {

@@ -205,7 +205,7 @@ impl GoalSelector for Plr {
     }
     fn check_told(&self, goal: &[f64], _competence: f64) -> Result<()> {
         if self.task(goal).is_none() {
-            return Err(crate::Error::InvalidInput(format!("goal must be a task index, a whole number in [0, {}); got {}.", self.cfg.n_tasks, goal[0])));
+            return Err(crate::Error::InvalidInput(format!("goal must be a task index, a whole number in [0, {}); got {}.", self.cfg.n_tasks, crate::error::Num(goal[0]))));
         }
         Ok(())
     }
