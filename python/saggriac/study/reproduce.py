@@ -19,10 +19,9 @@ from ..runs.result import RunResult, run_stopped_early
 from ..runs.storage import read_manifest, signed_integers
 from . import IncompleteStudyWarning, Study, load_study, run_study
 from .backends import WORKER_TIMEOUT
+from .spec import MAX_SEEDS
 
 FIGURES = "figures"
-#: A study of more seeds is a cluster's job: the seed list and per-run bookkeeping are held in memory.
-MAX_SEEDS = 100_000
 
 
 def _atomic(path: Path, write: Any) -> Path:

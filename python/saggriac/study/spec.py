@@ -15,6 +15,7 @@ from typing import Any
 
 import numpy as np
 
+from .. import _core
 from ..config import Config, check_keys
 from ..errors import ParameterError, SaggriacError, StorageError
 from ..runs.runner import recover, run
@@ -27,6 +28,8 @@ LOCK_FILE = ".lock"
 RUNS_DIR = "runs"
 METRICS = ("reach_error", "pred_error", "dx_error", "n_goals", "n_regions")
 STUDY_FORMAT = 1
+#: A study of more seeds is a cluster's job: the seed list and per-run bookkeeping are held in memory.
+MAX_SEEDS = 100_000
 _SAFE_TEXT = re.compile(r"[A-Za-z0-9_.+-]+")
 
 
@@ -81,6 +84,25 @@ def _format_value(key: str, value: Any) -> str:
     )
 
 
+def _check_seeds(seeds: Any) -> tuple[int, ...]:
+    """The seeds as ints, refused past MAX_SEEDS before more are read (a range of 10**9 is not
+    walked through)."""
+    if isinstance(seeds, (int, np.integer)):
+        seeds = [seeds]
+    try:
+        head = list(itertools.islice(iter(seeds), MAX_SEEDS + 1))
+    except TypeError:
+        raise ParameterError(f"The 'seeds' parameter of Study must be an int or a list of ints. Got {seeds!r} instead.", "seeds", repr(seeds)) from None
+    if len(head) > MAX_SEEDS:
+        try:
+            got = f"{len(seeds)} seeds"
+        except (TypeError, OverflowError):
+            got = f"more than {MAX_SEEDS} seeds"
+        rule = f"a list of at most {MAX_SEEDS} seeds (a study of more is a cluster's job: the seed list and per-run bookkeeping are held in memory)"
+        raise ParameterError(f"The 'seeds' parameter of Study must be {rule}. Got {got} instead.", "seeds", got)
+    return tuple(check_seed(s) for s in head)
+
+
 @dataclass(frozen=True)
 class Task:
     """One run of a study: everything a worker needs, small and picklable."""
@@ -107,7 +129,7 @@ class Study:
         if not isinstance(self.base, Config):
             raise ParameterError(f"The 'base' parameter of Study must be a saggriac.Config. Got {type(self.base).__name__} instead.", "base", repr(self.base))
         conditions = (self.conditions,) if isinstance(self.conditions, str) else tuple(self.conditions)
-        seeds = tuple(check_seed(s) for s in ([self.seeds] if isinstance(self.seeds, (int, np.integer)) else self.seeds))
+        seeds = _check_seeds(self.seeds)
         grid = {} if self.grid is None else self.grid
         if not isinstance(grid, Mapping):
             raise ParameterError(f"The 'grid' parameter of Study must be a dict from parameter names to lists of values. Got {type(grid).__name__} instead.", "grid", repr(grid))
@@ -146,14 +168,17 @@ class Study:
 
     def tasks(self) -> list[Task]:
         """Every run, seed by seed (so a partial study compares conditions on the same seeds)."""
+        # A run's configuration does not depend on its seed: built and checked once per group.
+        groups = []
+        for condition in self.conditions:
+            for point in self.points():
+                cfg = self.base.replace(condition=condition, **point).to_dict()
+                groups.append((condition + "".join(f"__{k}={_format_value(k, v)}" for k, v in point.items()), condition, point, cfg))
         out = []
         for seed in self.seeds:
-            for condition in self.conditions:
-                for point in self.points():
-                    cfg = self.base.replace(condition=condition, **point)
-                    group = condition + "".join(f"__{k}={_format_value(k, v)}" for k, v in point.items())
-                    name = f"{group}/seed{seed}"
-                    out.append(Task(name=name, path=f"{RUNS_DIR}/{name}", condition=condition, params=point, seed=seed, config=cfg.to_dict()))
+            for group, condition, point, cfg in groups:
+                name = f"{group}/seed{seed}"
+                out.append(Task(name=name, path=f"{RUNS_DIR}/{name}", condition=condition, params=dict(point), seed=seed, config=dict(cfg)))
         return out
 
     def to_dict(self) -> dict[str, Any]:
@@ -186,7 +211,13 @@ class Study:
         try:
             return cls.from_dict(data["study"])
         except (KeyError, TypeError, ParameterError) as e:
-            raise StorageError(f"{path} does not describe a study this version of saggriac can read: {e}") from None
+            raise StorageError(f"{path} does not describe a study this version of saggriac ({_core.__version__}) can read{_written_by(data)}: {e}") from None
+
+
+def _written_by(data: Any) -> str:
+    """The saggriac a study.json records as its writer, for a message ("" if it records none)."""
+    version = data.get("created_with", {}).get("saggriac") if isinstance(data, dict) and isinstance(data.get("created_with"), dict) else None
+    return f" (it was written by saggriac {version})" if isinstance(version, str) else ""
 
 
 def run_task(task: Task, out_root: str | os.PathLike) -> str:
