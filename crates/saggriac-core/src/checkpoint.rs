@@ -89,7 +89,13 @@ fn config_text(cfg: &RunConfig, format: u32) -> String {
 }
 
 fn wrong_format(h: Head) -> Error {
-    refuse(format!("The checkpoint has format {} but this saggriac ({}) reads format {FORMAT}; it was written by saggriac {}.", h.format, env!("CARGO_PKG_VERSION"), h.version))
+    refuse(format!("The checkpoint has format {} but this saggriac ({}) reads formats 5 and {FORMAT}; it was written by saggriac {}.", h.format, env!("CARGO_PKG_VERSION"), h.version))
+}
+
+/// Which saggriac wrote a checkpoint, and which reads it: a checkpoint this one cannot use may
+/// belong to another version.
+fn versions(written: &str) -> String {
+    format!("it was written by saggriac {written}, this is saggriac {}", env!("CARGO_PKG_VERSION"))
 }
 
 fn refuse(why: impl Into<String>) -> Error {
@@ -131,11 +137,11 @@ impl Learner {
             return Err(wrong_format(Head { format: s.format, version: s.version }));
         }
         if s.config != config_text(&cfg, s.format) {
-            return Err(refuse("The checkpoint belongs to a run with another configuration; resume it with the configuration it was written with."));
+            return Err(refuse(format!("The checkpoint belongs to a run with another configuration ({}); resume it with the configuration it was written with.", versions(&s.version))));
         }
         let mut l = Learner::new(cfg, s.seeds.0, s.seeds.1)?;
         if !l.parts.restore(s.parts) {
-            return Err(refuse("The checkpoint does not match this run's goal selector or body."));
+            return Err(refuse(format!("The checkpoint does not match this run's goal selector or body ({}).", versions(&s.version))));
         }
         l.low_level.restore_progress(s.low_level);
         let c = l.parts.counters_mut();
@@ -167,9 +173,17 @@ mod tests {
         }
         let old = postcard::to_stdvec(&Old { format: 4, version: "0.3.0".into(), rest: vec![7; 40] }).unwrap();
         let e = Learner::restore(small(), &old).err().unwrap().to_string();
-        assert!(e.contains("format 4") && e.contains("reads format 6") && e.contains("saggriac 0.3.0"), "{e}");
+        assert!(e.contains("format 4") && e.contains("reads formats 5 and 6") && e.contains("saggriac 0.3.0"), "{e}");
         let e = Learner::restore(small(), b"\x00\x01garbage").err().unwrap().to_string();
         assert!(e.contains("damaged"), "{e}");
+    }
+
+    #[test]
+    fn a_checkpoint_of_another_run_names_the_version_that_wrote_it() {
+        let l = Learner::new(small(), 1, 2).unwrap();
+        let e = Learner::restore(RunConfig { n_steps: 400, ..small() }, &l.checkpoint().unwrap()).err().unwrap().to_string();
+        let v = env!("CARGO_PKG_VERSION");
+        assert!(e.contains(&format!("another configuration (it was written by saggriac {v}, this is saggriac {v})")), "{e}");
     }
 
     /// Checkpoints written by saggriac 0.5.0 (format 5, the arm's state inline; 4ffeabf, by

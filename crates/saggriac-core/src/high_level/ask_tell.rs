@@ -247,15 +247,17 @@ impl AskTell {
         };
         if s.format != FORMAT {
             return Err(refuse(format!(
-                "The saved teacher has format {} but this saggriac ({}) reads format {FORMAT}; it was written by saggriac {}.",
+                "The saved teacher has format {} but this saggriac ({}) reads formats 1 to {FORMAT}; it was written by saggriac {}.",
                 s.format,
                 env!("CARGO_PKG_VERSION"),
                 s.version
             )));
         }
-        let mut t = AskTell::new(s.spec)?;
+        let by = format!("it was written by saggriac {}, this is saggriac {}", s.version, env!("CARGO_PKG_VERSION"));
+        // A teacher this version no longer builds (a rule added since) is named as such.
+        let mut t = AskTell::new(s.spec).map_err(|e| Error::InvalidInput(format!("The saved teacher cannot be rebuilt ({by}): {e}")))?;
         if !t.selector.load(&s.state) {
-            return Err(refuse(format!("The saved state does not belong to a {} teacher.", t.spec.kind())));
+            return Err(refuse(format!("The saved state does not belong to a {} teacher ({by}).", t.spec.kind())));
         }
         (t.asked, t.asked_mode, t.asked_region) = (s.asked, s.asked_mode, s.asked_region);
         (t.told, t.told_competence, t.told_region) = (s.told, s.told_competence, s.told_region);
@@ -342,6 +344,18 @@ impl AskTell {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A teacher of 40 dimensions, as an older SPDL without a bound saved it: refused, naming
+    /// the rule and both versions.
+    #[test]
+    fn a_saved_teacher_this_version_cannot_rebuild_names_its_writer() {
+        let spec = TeacherSpec { teacher: Teacher::Spdl(crate::config::teachers::SpdlConfig::default()), low: vec![0.0; 40], high: vec![1.0; 40], seed: 0 };
+        let saved = Saved { format: FORMAT, version: "0.5.9".into(), spec, state: vec![], asked: vec![], asked_mode: vec![], asked_region: vec![], told: vec![], told_competence: vec![], told_region: vec![] };
+        let bytes = postcard::to_stdvec_crc32(&saved, CHECKSUM.digest()).unwrap();
+        let e = AskTell::restore(&bytes).err().unwrap().to_string();
+        let by = format!("it was written by saggriac 0.5.9, this is saggriac {}", env!("CARGO_PKG_VERSION"));
+        assert!(e.starts_with(&format!("The saved teacher cannot be rebuilt ({by}): The 'bounds' parameter of SpdlSelector must be bounds of at most 30")), "{e}");
+    }
 
     /// A SAGG-RIAC teacher saved by saggriac 0.2.0 (format 1; ac8c087, 200 goals told) restores
     /// with the reading it ran, and asks the 20 goals 0.2.0 asked next, to the bit.
