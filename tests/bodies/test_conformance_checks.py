@@ -107,7 +107,6 @@ def test_a_run_refuses_a_teacher_of_task_indices_as_config_does(teacher, name):
     assert "goal_low" not in str(run_says.value)  # no advice to make the goal space a range of indices
 
 
-@pytest.mark.xfail(strict=True, raises=InputError, reason="the core's episodic evaluation with episodic_refine places the body beyond its joint limits (crates/saggriac-core/src/evaluation/mod.rs, evaluate_episodic: the refined theta is not clamped, as the controller clamps its own); the built-in arm clamps it, a Python body now refuses it")
 def test_an_episodic_run_with_refinement_places_the_python_arm_within_its_limits():
     cfg = sg.Config.from_preset("exp1", n_steps=3000, paradigm="episodic", episodic_refine=True)
     np.testing.assert_array_equal(sg.run(cfg, 0, threads=1).reach_error, sg.run(cfg, 0, environment=PlanarArm(), threads=1).reach_error)

@@ -47,6 +47,9 @@ pub struct Evaluator {
     params: MicroParams,
     micro: MicroScratch,
     episodic: EpisodicConfig,
+    /// The body's joint limit: an episodic answer is placed within it, as the controller places
+    /// its own (a body need not clamp what it is given; a Python body refuses it).
+    joint_limit: f64,
     rcond: f64,
     /// Nearest-neighbour scratch of the episodic inverse model.
     nb: Vec<Neighbour>,
@@ -78,6 +81,7 @@ impl Evaluator {
             micro: MicroScratch::new(&params, n_joints, task_dim),
             params,
             episodic: run.episodic,
+            joint_limit: run.arm.joint_limit,
             rcond: run.local.pinv_rcond,
             nb: Vec::new(),
             next_eval: 0,
@@ -218,7 +222,7 @@ impl Evaluator {
     /// the inverse model without exploration noise, executed at once; each test configuration
     /// gets the forward model's prediction.
     fn evaluate_episodic(&mut self, memory: &EpisodicMemory, body: &mut dyn Body) -> EvalResult {
-        let (cfg, rcond) = (&self.episodic.clone(), self.rcond);
+        let (cfg, rcond, lim) = (&self.episodic.clone(), self.rcond, self.joint_limit);
         let mut nb = std::mem::take(&mut self.nb);
         let t0 = std::time::Instant::now();
         self.forward_cache.resize(self.tests.configs.len(), (Vec::new(), 0));
@@ -231,6 +235,7 @@ impl Evaluator {
                     if !memory.inverse(g, cfg, rcond, &mut nb, &mut theta) {
                         theta.iter_mut().for_each(|t| *t = 0.0);
                     }
+                    theta.iter_mut().for_each(|t| *t = t.clamp(-lim, lim));
                     arm.set_theta(&theta);
                     distance(g, &arm.position())
                 })
