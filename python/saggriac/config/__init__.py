@@ -259,10 +259,11 @@ class Config:
         return d
 
     @classmethod
-    def from_saved(cls, d: Mapping[str, Any]) -> Config:
+    def from_saved(cls, d: Mapping[str, Any], written_by: Any = None) -> Config:
         """The configuration a run.json or study.json recorded. Keys it predates take the values
         that reproduce what it ran, not today's defaults. Keys this version does not know (a
-        record of a newer saggriac) are refused with a message saying so."""
+        record of a newer saggriac) are refused with a message saying so, and naming the version
+        that wrote the record (``written_by``, the record's "version") where it is known."""
         if not isinstance(d, Mapping):
             raise StorageError(f"The saved configuration is not a JSON object (got {type(d).__name__}); the file is damaged.")
         known = {f.name for f in dataclasses.fields(cls)}
@@ -270,7 +271,7 @@ class Config:
         if unknown:
             raise StorageError(
                 f"The saved configuration has parameters this saggriac ({_core.__version__}) does not know: {', '.join(unknown)}. "
-                "It was written by another version of saggriac; read it with that version."
+                + (f"It was written by saggriac {written_by}; read it with that version." if isinstance(written_by, str) else "It was written by another version of saggriac; read it with that version.")
             )
         return cls(**{**{k: v for k, v in _LEGACY_VALUES.items() if k not in d}, **d})
 

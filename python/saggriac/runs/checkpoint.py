@@ -121,7 +121,7 @@ def read_description(ck: Path) -> tuple[Config, dict[str, Any], int]:
     except (OSError, ValueError, KeyError, TypeError, UnicodeDecodeError) as e:
         raise StorageError(f"The checkpoint {ck} is damaged: checkpoint.json cannot be read ({e}). {START_OVER}") from None
     check_seal(meta, ck / "checkpoint.json")
-    config = Config.from_saved(meta["config"])
+    config = Config.from_saved(meta["config"], meta.get("version"))
     try:
         seed = check_seed(info["seed"])
     except ParameterError:

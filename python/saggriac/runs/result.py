@@ -26,7 +26,7 @@ def run_stopped_early(manifest: dict[str, Any], metrics: pd.DataFrame | None = N
     if metrics is None or not len(metrics):
         return None
     try:
-        last = Config.from_saved(manifest["config"]).schedule()[-1]
+        last = Config.from_saved(manifest["config"], manifest.get("version")).schedule()[-1]
     except (KeyError, TypeError, ValueError, OSError):  # an unreadable config is reported where the run is read
         return None
     got = int(metrics["step"].iloc[-1])
@@ -102,7 +102,7 @@ class RunResult:
         manifest, tables = read_run(path)
         empty = pd.DataFrame()
         return cls(
-            config=Config.from_saved(manifest["config"]),
+            config=Config.from_saved(manifest["config"], manifest.get("version")),
             seed=manifest["seed"],
             metrics=tables["metrics"],
             goals=tables.get("goals", empty),

@@ -125,9 +125,10 @@ def is_finished(out: Path, task: Task) -> bool | str:
         return damage
     data = read_manifest(run_dir)
     try:
-        same = data["seed"] == task.seed and Config.from_saved(data["config"]) == Config(**task.config)
+        same = data["seed"] == task.seed and Config.from_saved(data["config"], data.get("version")) == Config(**task.config)
     except (KeyError, TypeError, ParameterError, StorageError) as e:
-        return f"{manifest} does not describe a run this version of saggriac can read ({e})"
+        writer = f", written by saggriac {data['version']}" if isinstance(data.get("version"), str) else ""
+        return f"{manifest} does not describe a run this version of saggriac ({_core.__version__}) can read{writer} ({e})"
     if not same:
         raise StorageError(f"{run_dir} holds a finished run of another configuration or seed; delete it to have the run redone.")
     early = run_stopped_early(data, _last_steps(run_dir))

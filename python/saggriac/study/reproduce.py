@@ -205,7 +205,8 @@ def split_null_model(out_dir: str | Path, n_parts: int = 4) -> pd.DataFrame:
         run_dir = out / task.path
         if task.condition not in ("sagg_riac", "sagg_random") or not _complete(run_dir):
             continue
-        cfg = Config.from_saved(read_manifest(run_dir)["config"])
+        manifest = read_manifest(run_dir)
+        cfg = Config.from_saved(manifest["config"], manifest.get("version"))
         if task.condition == "sagg_riac":
             regions, label = signed_integers(pd.read_parquet(run_dir / "regions.parquet")), "sagg_riac"
         else:

@@ -191,7 +191,7 @@ class Study:
 
     @classmethod
     def from_dict(cls, d: Mapping[str, Any]) -> Study:
-        return cls(base=Config.from_saved(d["base"]), conditions=tuple(d["conditions"]), seeds=tuple(d["seeds"]), grid=dict(d.get("grid") or {}))
+        return cls(base=Config.from_saved(d["base"], d.get("version")), conditions=tuple(d["conditions"]), seeds=tuple(d["seeds"]), grid=dict(d.get("grid") or {}))
 
     @classmethod
     def load(cls, out_dir: str | Path) -> Study:
