@@ -19,7 +19,7 @@ from typing import Any
 
 from . import _core, bodies, testing  # noqa: F401 (saggriac.bodies and saggriac.testing without their own import)
 from .config import PRESETS, Config
-from .errors import ConformanceError, InputError, ParameterError, SaggriacError, StorageError
+from .errors import ConformanceError, InputError, ParameterError, SaggriacError, StorageError, WorkerRefusalError
 from .teachers.competence import competence
 from .teachers import AdrSelector, AlpGmmSelector, CovarGmmSelector, DiscreteLpSelector, GoalGanSelector, PlrSelector, RandomSelector, RiacSelector, SaggRiacSelector, SpdlSelector, TaskListSelector, load_selector
 
@@ -151,6 +151,7 @@ __all__ = [
     "load_study",
     "SaggriacError",
     "ConformanceError",
+    "WorkerRefusalError",
     "ParameterError",
     "InputError",
     "StorageError",

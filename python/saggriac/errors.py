@@ -26,3 +26,10 @@ class StorageError(SaggriacError, OSError):
 
 class ConformanceError(SaggriacError, TypeError):
     """A user's environment or goal selector does not follow the protocol saggriac needs."""
+
+
+class WorkerRefusalError(SaggriacError, RuntimeError):
+    """A worker process refused the teacher it was given (a ConformanceError there), raised in the
+    process that started the worker. Not a TypeError like ConformanceError: it arrives from a
+    signal, wherever that process was, and code there that catches TypeError (pathlib does)
+    must not swallow it."""

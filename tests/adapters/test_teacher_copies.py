@@ -82,7 +82,7 @@ def test_sb3_subproc_workers_given_a_copy_of_one_teacher_are_refused_in_the_main
     # before: ConnectionResetError in the main process (a hang under fork) with two workers, and a
     # silent copy with one (the main process's teacher told 0)
     out, _ = _run(tmp_path, SB3_SPLIT, method, args=[str(n_workers), "no"], timeout=120)
-    assert out["refused"] and out["error"] == "ConformanceError", out
+    assert out["refused"] and out["error"] == "WorkerRefusalError", out
     assert "A worker process refused its teacher" in out["message"] and "handed to this worker when it started" in out["message"], out
     assert "saggriac.adapters.sb3.TeacherCallback" in out["message"] and "allow_copy=True" in out["message"], out
 
@@ -112,7 +112,7 @@ if __name__ == "__main__":
 @pytest.mark.parametrize("method", METHODS)
 def test_gymnasium_async_workers_sharing_one_teacher_are_refused(tmp_path, method):
     out, _ = _run(tmp_path, ASYNC_SPLIT, method, timeout=120)
-    assert out["refused"] and out["error"] == "ConformanceError", out  # before: ConnectionResetError
+    assert out["refused"] and out["error"] == "WorkerRefusalError", out  # before: ConnectionResetError
     assert "A worker process refused its teacher" in out["message"] and "VectorSelectorGoals" in out["message"], out
 
 
@@ -154,7 +154,8 @@ def test_one_teacher_given_to_two_pool_workers_is_refused_unless_allowed(tmp_pat
     # while it trains, and the pool starts both workers together.
     body = body.replace("    return os.getpid()", "    time.sleep(3)\n    return os.getpid()")
     out, _ = _run(tmp_path, "SHARED, ALLOW = True, False\n" + body, method)
-    assert out["refused"] and out["error"] == "ConformanceError" and "allow_copy=True" in out["message"], out
+    # the pool hands the worker's ConformanceError back; under fork the signal may come first
+    assert out["refused"] and out["error"] in ("ConformanceError", "WorkerRefusalError") and "allow_copy=True" in out["message"], out
     out, _ = _run(tmp_path, "SHARED, ALLOW = True, True\n" + body, method)
     assert not out["refused"] and out["told"] == [4, 4], out
 
@@ -184,5 +185,6 @@ def test_one_teacher_given_twice_to_a_pool_is_refused_even_when_the_tasks_do_not
     # refused or not from run to run; the second copy sent is now refused whatever the timing
     for _ in range(2):
         out, _ = _run(tmp_path, SEQUENTIAL, method, args=[str(workers)], timeout=120)
-        assert out["refused"] and out["error"] == "ConformanceError", out
+        # the pool hands the worker's ConformanceError back; under fork the signal may come first
+        assert out["refused"] and out["error"] in ("ConformanceError", "WorkerRefusalError"), out
         assert "copy number 2 of a teacher" in out["message"] and "allow_copy=True" in out["message"], out

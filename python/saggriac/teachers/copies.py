@@ -22,8 +22,8 @@ import uuid
 import weakref
 from typing import Any
 
-from ..errors import ConformanceError
-from .private_folder import Unchecked, open_claims_dir, read_private
+from ..errors import ConformanceError, WorkerRefusalError
+from .private_folder import folder, names, read_private, remove, write_new
 
 _lock = threading.RLock()
 #: how many copies of each identity this process has sent to other processes
@@ -33,6 +33,10 @@ _has_teachers = False
 _SIGNAL = signal.SIGRTMIN + 5 if hasattr(signal, "SIGRTMIN") else None  # a refusal in a worker, told to its parent
 _armed = False
 _REFUSAL_BYTES = 16384
+_QUIET_SECONDS = 10.0  # after raising a worker's refusal, the others' are not raised again for this long
+_told_at = -_QUIET_SECONDS - 1.0
+_forking = False  # inside a fork's hooks, where an exception raised is dropped
+_deferred = False  # a refusal came while forking, to be raised after
 _GOAL_WRAPPERS = ("SelectorGoals", "VectorSelectorGoals")
 #: teacher -> (the pid of the process it came to be in, the copy it is or None); a fork copies
 #: this table with the teachers, so a forked worker finds its teachers born elsewhere
@@ -119,46 +123,49 @@ def _arm() -> None:
     started = _start_time(os.getpid())
     if started is None:
         return
-    try:
-        dfd = open_claims_dir()
-    except (Unchecked, OSError):
-        return
-    try:
+    with folder(make=True) as dfd:
+        if dfd is None:
+            return
         name = f"listener-{os.getpid()}"
+        remove(dfd, name)  # one of a process that had this pid before
         try:
-            os.unlink(name, dir_fd=dfd)  # one of a process that had this pid before
+            write_new(dfd, name, started.encode())
         except OSError:
-            pass
-        fd = os.open(name, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW | os.O_CLOEXEC, 0o600, dir_fd=dfd)
-        try:
-            os.write(fd, started.encode())
-        finally:
-            os.close(fd)
-    except OSError:
-        return
-    finally:
-        os.close(dfd)
+            return
     signal.signal(_SIGNAL, _on_refusal)
     _armed = True
     atexit.register(_disarm, os.getpid())
+    # Registered now, after the libraries the process imported (logging among them): a fork
+    # runs this before-hook first and this after-hook last, so _forking covers all the others.
+    os.register_at_fork(before=_fork_starts, after_in_parent=_fork_ended)
+
+
+def _fork_starts() -> None:
+    global _forking
+    _forking = True
+
+
+def _fork_ended() -> None:
+    global _forking, _deferred
+    _forking = False
+    if _deferred:
+        # Raised from a fork's hooks, the refusal would be printed and dropped ("Exception
+        # ignored"): send it again once the fork has returned.
+        _deferred = False
+        timer = threading.Timer(0.01, os.kill, (os.getpid(), _SIGNAL))
+        timer.daemon = True
+        timer.start()
 
 
 def _disarm(pid: int) -> None:
     if pid != os.getpid():
         return
-    try:
-        dfd = open_claims_dir(make=False)
-    except (Unchecked, OSError):
-        return
-    try:
-        for name in os.listdir(dfd):
+    with folder() as dfd:
+        if dfd is None:
+            return
+        for name in names(dfd):
             if name == f"listener-{pid}" or name.startswith(f"refusal-{pid}-"):
-                try:
-                    os.unlink(name, dir_fd=dfd)
-                except OSError:
-                    pass
-    finally:
-        os.close(dfd)
+                remove(dfd, name)
 
 
 def before_fork() -> None:
@@ -167,9 +174,10 @@ def before_fork() -> None:
 
 
 def after_fork_in_child() -> None:
-    global _armed, _lock
+    global _armed, _lock, _forking, _deferred
     _lock = threading.RLock()  # another thread of the parent may have held it at the fork
     _sent.clear()
+    _forking = _deferred = False
     if _armed and _SIGNAL is not None:
         signal.signal(_SIGNAL, signal.SIG_DFL)  # the parent listens; a worker does not
     _armed = False
@@ -180,48 +188,41 @@ def tell_parent(message: str) -> None:
     parent = multiprocessing.parent_process()
     if parent is None or _SIGNAL is None or parent.pid is None:
         return
-    try:
-        dfd = open_claims_dir(make=False)
-    except (Unchecked, OSError):
-        return
-    try:
+    with folder() as dfd:
+        if dfd is None:
+            return
         started = read_private(dfd, f"listener-{parent.pid}", 64)
         if started is None or started.decode(errors="replace") != _start_time(parent.pid):
             return
-        name = f"refusal-{parent.pid}-{os.getpid()}-{uuid.uuid4().hex}"
-        fd = os.open(name, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW | os.O_CLOEXEC, 0o600, dir_fd=dfd)
         try:
-            os.write(fd, message.encode()[:_REFUSAL_BYTES])
-        finally:
-            os.close(fd)
-        os.kill(parent.pid, _SIGNAL)
-    except OSError:
-        return
-    finally:
-        os.close(dfd)
+            write_new(dfd, f"refusal-{parent.pid}-{os.getpid()}-{uuid.uuid4().hex}", message.encode()[:_REFUSAL_BYTES])
+            os.kill(parent.pid, _SIGNAL)
+        except OSError:
+            return
     time.sleep(0.5)  # let the parent take the signal before this worker's exit closes its pipes
 
 
 def _on_refusal(signum: int, frame: Any) -> None:
-    try:
-        dfd = open_claims_dir(make=False)
-    except (Unchecked, OSError):
+    global _deferred
+    if _forking:
+        _deferred = True
         return
     messages = []
-    try:
-        for name in sorted(os.listdir(dfd)):
+    with folder() as dfd:
+        if dfd is None:
+            return
+        for name in names(dfd):
             if name.startswith(f"refusal-{os.getpid()}-"):
                 body = read_private(dfd, name, _REFUSAL_BYTES)
-                try:
-                    os.unlink(name, dir_fd=dfd)
-                except OSError:
-                    pass
+                remove(dfd, name)
                 if body:
                     messages.append(body.decode(errors="replace"))
-    finally:
-        os.close(dfd)
-    if messages:
-        raise ConformanceError(f"A worker process refused its teacher ({len(messages)} refusal{'s' if len(messages) > 1 else ''}; the first follows). {messages[0]}")
+    global _told_at
+    # The workers of one vector environment refuse together: raise once, not again in the
+    # middle of the handling of the first (the others' signals come a moment later).
+    if messages and time.monotonic() - _told_at > _QUIET_SECONDS:
+        _told_at = time.monotonic()
+        raise WorkerRefusalError(f"A worker process refused its teacher ({len(messages)} refusal{'s' if len(messages) > 1 else ''}; the first follows). {messages[0]}")
 
 FIX = (
     "To keep one teacher for all workers, keep it in the main process: saggriac.adapters.sb3.TeacherCallback(teacher) for Stable-Baselines3, "

@@ -52,7 +52,7 @@ from ..errors import ConformanceError
 from ..files import Busy, CannotLock, flock_at
 from . import copies
 from .copies import FIX
-from .private_folder import Unchecked, alive, claims_dir, open_claims_dir, same_file
+from .private_folder import Unchecked, alive, claims_dir, folder, open_claims_dir, remove, same_file
 
 
 class OwnershipWarning(UserWarning):
@@ -298,19 +298,9 @@ def release(identity: str, token: int | None = None) -> None:
         del _claims[identity]
         if held.fd is None:
             return
-        try:
-            dfd = open_claims_dir(make=False)
-        except (Unchecked, OSError):
-            dfd = None
-        if dfd is not None:
-            name = f"{identity}.lock"
-            try:
-                if same_file(dfd, name, held.fd):
-                    os.unlink(name, dir_fd=dfd)
-            except OSError:
-                pass
-            finally:
-                os.close(dfd)
+        with folder() as dfd:
+            if dfd is not None and same_file(dfd, f"{identity}.lock", held.fd):
+                remove(dfd, f"{identity}.lock")
         os.close(held.fd)
 
 

@@ -8,10 +8,12 @@ user's, a bounded number of bytes at a time.
 
 from __future__ import annotations
 
+import contextlib
 import errno
 import os
 import stat
 import tempfile
+from collections.abc import Iterator
 from pathlib import Path
 
 
@@ -80,5 +82,43 @@ def alive(pid: int) -> bool:
 def same_file(dfd: int, name: str, fd: int) -> bool:
     try:
         return os.fstat(fd).st_ino == os.stat(name, dir_fd=dfd, follow_symlinks=False).st_ino
-    except FileNotFoundError:
+    except OSError:
         return False
+
+
+def names(dfd: int) -> list[str]:
+    """The folder's file names (none where it cannot be listed)."""
+    try:
+        return sorted(os.listdir(dfd))
+    except OSError:
+        return []
+
+
+@contextlib.contextmanager
+def folder(make: bool = False) -> Iterator[int | None]:
+    """The claims folder's descriptor for the block, or None where it is missing or unsafe (for
+    what only tidies up or tells, which then does nothing)."""
+    try:
+        dfd = open_claims_dir(make)
+    except (Unchecked, OSError):
+        yield None
+        return
+    try:
+        yield dfd
+    finally:
+        os.close(dfd)
+
+
+def write_new(dfd: int, name: str, data: bytes) -> None:
+    """Make the file ``name`` (it must not exist; never through a link) holding ``data``."""
+    fd = os.open(name, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW | os.O_CLOEXEC, 0o600, dir_fd=dfd)
+    try:
+        os.write(fd, data)
+    finally:
+        os.close(fd)
+
+
+def remove(dfd: int, name: str) -> None:
+    """Remove ``name`` (a link itself, never what it names) if it is there."""
+    with contextlib.suppress(OSError):
+        os.unlink(name, dir_fd=dfd)
