@@ -109,6 +109,10 @@ INTERNAL = {
     "saggriac.runs.storage.check_output_dir.overwrite",
     "saggriac.runs.storage.write_run.overwrite",
     "saggriac.teachers.ownership.claim.allow_copy",
+    "saggriac.teachers.private_folder.open_claims_dir.make",
+    "saggriac.teachers.private_folder.folder.make",
+    # A record the runner fills from run()'s checked overwrite, or a checkpoint's checked one.
+    "saggriac.runs.run_info.RunInfo.__init__.overwrite",
 }
 
 

@@ -35,18 +35,6 @@ def eta_squared(groups: Sequence[np.ndarray]) -> float:
     return float(ss_between / ss_total) if ss_total > 0 else float("nan")
 
 
-def hedges_g(a: np.ndarray, b: np.ndarray) -> float:
-    """Standardised mean difference (a - b) of two independent samples, small-sample corrected."""
-    na, nb = len(a), len(b)
-    if na < 2 or nb < 2:
-        return float("nan")
-    pooled = np.sqrt(((na - 1) * a.var(ddof=1) + (nb - 1) * b.var(ddof=1)) / (na + nb - 2))
-    if pooled == 0:
-        return float("nan")
-    d = (a.mean() - b.mean()) / pooled
-    return float(d * (1 - 3 / (4 * (na + nb) - 9)))
-
-
 def paired(a: np.ndarray, b: np.ndarray) -> dict[str, float]:
     """Paired comparison of a and b (same seeds, same order): the mean of a - b, its 95 %
     confidence interval (Student t), the paired t-test and Cohen's d_z = mean / sd of a - b."""

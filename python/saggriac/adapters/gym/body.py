@@ -74,7 +74,6 @@ class GymBody:
         self._set_joints = set_joints
         self._place = place or set_joints or _reset_to
         self.joint_limit, self.max_joint_step = float(joint_limit), float(max_joint_step)
-        self._seeded = False
         obs, _ = env.reset()
         self.theta = self._read_theta(obs)
         x = self._read_position(obs)
