@@ -38,11 +38,8 @@ impl PySelector {
 }
 
 impl GoalSelector for PySelector {
-    fn low(&self) -> &[f64] {
-        &self.low
-    }
-    fn high(&self) -> &[f64] {
-        &self.high
+    fn goal_box(&self) -> (&[f64], &[f64]) {
+        (&self.low, &self.high)
     }
     fn sample(&mut self) -> GoalChoice {
         let centre: Vec<f64> = self.low.iter().zip(&self.high).map(|(l, h)| 0.5 * (l + h)).collect();

@@ -45,11 +45,17 @@ pub struct LeafRow {
 
 /// A goal selector, usable inside the run loop or on its own.
 pub trait GoalSelector: Send + Sync {
-    fn low(&self) -> &[f64];
+    /// The box goals are drawn in: (low, high).
+    fn goal_box(&self) -> (&[f64], &[f64]);
+    fn low(&self) -> &[f64] {
+        self.goal_box().0
+    }
+    fn high(&self) -> &[f64] {
+        self.goal_box().1
+    }
     fn dim(&self) -> usize {
         self.low().len()
     }
-    fn high(&self) -> &[f64];
     fn sample(&mut self) -> GoalChoice;
     /// Report the competence obtained for a goal (or subgoal) at `point`; returns the region
     /// that recorded it, if the selector has regions.
@@ -171,11 +177,8 @@ impl SaggRiac {
 }
 
 impl GoalSelector for SaggRiac {
-    fn low(&self) -> &[f64] {
-        self.tree.low()
-    }
-    fn high(&self) -> &[f64] {
-        self.tree.high()
+    fn goal_box(&self) -> (&[f64], &[f64]) {
+        (self.tree.low(), self.tree.high())
     }
     fn sample(&mut self) -> GoalChoice {
         if self.tree.leaves().len() < 2 {
@@ -282,11 +285,8 @@ impl RandomGoals {
 }
 
 impl GoalSelector for RandomGoals {
-    fn low(&self) -> &[f64] {
-        &self.low
-    }
-    fn high(&self) -> &[f64] {
-        &self.high
+    fn goal_box(&self) -> (&[f64], &[f64]) {
+        (&self.low, &self.high)
     }
     fn sample(&mut self) -> GoalChoice {
         GoalChoice { goal: uniform_in(&mut self.rng, &self.low, &self.high), mode: Mode::Random, region: None }

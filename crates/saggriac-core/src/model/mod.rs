@@ -1,7 +1,7 @@
 //! The sensorimotor model (paper III.B): the memory of what was done and what happened
 //! (`memory`, stored in chunks, `chunked`), its exact nearest-neighbour index (`neighbours`,
-//! `block_index`, their distance kernels in `block_distances`; `kd_tree` kept as the measured
-//! alternative), the local linear models fitted to the neighbours (`local_model`, its kernels in `gram`), one query of the inverse model through them (`local_query`,
+//! `block_index`, their distance kernels in `block_distances`; the k-d tree `kd_tree` indexes the
+//! episodic memory's movements and ALP-GMM's history), the local linear models fitted to the neighbours (`local_model`, its kernels in `gram`), one query of the inverse model through them (`local_query`,
 //! shared by the learner and the evaluator), the episodic paradigm's memory of whole movements
 //! (`episodic_memory`), and the model the learner and the evaluator use through them
 //! (`sensorimotor_model`).

@@ -137,11 +137,8 @@ fn bits(goal: &[f64]) -> Vec<u64> {
 }
 
 impl GoalSelector for Adr {
-    fn low(&self) -> &[f64] {
-        &self.low
-    }
-    fn high(&self) -> &[f64] {
-        &self.high
+    fn goal_box(&self) -> (&[f64], &[f64]) {
+        (&self.low, &self.high)
     }
     fn sample(&mut self) -> GoalChoice {
         let d = self.low.len();

@@ -38,11 +38,8 @@ impl AlpGmm {
 }
 
 impl GoalSelector for AlpGmm {
-    fn low(&self) -> &[f64] {
-        &self.core.unit_box.low
-    }
-    fn high(&self) -> &[f64] {
-        &self.core.unit_box.high
+    fn goal_box(&self) -> (&[f64], &[f64]) {
+        (&self.core.unit_box.low, &self.core.unit_box.high)
     }
     fn sample(&mut self) -> GoalChoice {
         let d = self.core.unit_box.low.len();

@@ -41,11 +41,8 @@ impl CovarGmm {
 }
 
 impl GoalSelector for CovarGmm {
-    fn low(&self) -> &[f64] {
-        &self.core.unit_box.low
-    }
-    fn high(&self) -> &[f64] {
-        &self.core.unit_box.high
+    fn goal_box(&self) -> (&[f64], &[f64]) {
+        (&self.core.unit_box.low, &self.core.unit_box.high)
     }
     fn sample(&mut self) -> GoalChoice {
         let d = self.core.unit_box.low.len();

@@ -93,11 +93,8 @@ impl DiscreteLp {
 }
 
 impl GoalSelector for DiscreteLp {
-    fn low(&self) -> &[f64] {
-        &self.low
-    }
-    fn high(&self) -> &[f64] {
-        &self.high
+    fn goal_box(&self) -> (&[f64], &[f64]) {
+        (&self.low, &self.high)
     }
     fn sample(&mut self) -> GoalChoice {
         let p = self.distribution();

@@ -147,11 +147,8 @@ impl GoalGan {
 }
 
 impl GoalSelector for GoalGan {
-    fn low(&self) -> &[f64] {
-        &self.low
-    }
-    fn high(&self) -> &[f64] {
-        &self.high
+    fn goal_box(&self) -> (&[f64], &[f64]) {
+        (&self.low, &self.high)
     }
     fn sample(&mut self) -> GoalChoice {
         if let Some((goal, mode)) = self.st.queue.pop_front() {

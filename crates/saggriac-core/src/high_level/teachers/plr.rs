@@ -183,11 +183,8 @@ impl Plr {
 }
 
 impl GoalSelector for Plr {
-    fn low(&self) -> &[f64] {
-        &self.low
-    }
-    fn high(&self) -> &[f64] {
-        &self.high
+    fn goal_box(&self) -> (&[f64], &[f64]) {
+        (&self.low, &self.high)
     }
     fn sample(&mut self) -> GoalChoice {
         let n = self.cfg.n_tasks;

@@ -179,11 +179,8 @@ impl Riac {
 }
 
 impl GoalSelector for Riac {
-    fn low(&self) -> &[f64] {
-        &self.low
-    }
-    fn high(&self) -> &[f64] {
-        &self.high
+    fn goal_box(&self) -> (&[f64], &[f64]) {
+        (&self.low, &self.high)
     }
     fn sample(&mut self) -> GoalChoice {
         let u = unit(&mut self.rng);

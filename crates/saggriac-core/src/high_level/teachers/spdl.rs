@@ -162,11 +162,8 @@ impl Spdl {
 }
 
 impl GoalSelector for Spdl {
-    fn low(&self) -> &[f64] {
-        &self.unit_box.low
-    }
-    fn high(&self) -> &[f64] {
-        &self.unit_box.high
+    fn goal_box(&self) -> (&[f64], &[f64]) {
+        (&self.unit_box.low, &self.unit_box.high)
     }
     fn sample(&mut self) -> GoalChoice {
         let dist = &self.st.dist;
