@@ -79,7 +79,7 @@ def _drive(t, space, steps):
         elif kind == "update" and goal is not None:
             _call(t.update, goal.reshape(np.shape(goal)), c)
         elif kind == "update_batch" and goal is not None:
-            k = n if isinstance(n, int) and 0 <= n <= 40 else 2
+            k = n if isinstance(n, int) and not isinstance(n, bool) and 0 <= n <= 40 else 2
             _call(t.update_batch, np.repeat(np.atleast_1d(goal)[None, :], k, axis=0) if np.ndim(goal) else np.full(k, goal), np.full(k, c))
         elif kind == "outside":
             _call(t.update, np.atleast_1d(high) + 1.0 if np.ndim(high) else high + 1, c)
