@@ -14,7 +14,7 @@ the same code the run loop uses.
 
 from .adr import AdrSelector
 from .alp_gmm import AlpGmmSelector
-from .ask_tell import MAGIC, MODES, AskTellSelector, GoalSelectorProtocol, classes, load_selector
+from .ask_tell import MAGIC, MODES, AskTellSelector, GoalSelectorProtocol, available, classes, load_selector
 from .covar_gmm import CovarGmmSelector
 from .discrete_lp import DiscreteLpSelector
 from .goal_gan import GoalGanSelector
@@ -28,5 +28,5 @@ from .task_list import TaskListSelector
 __all__ = [
     "SaggRiacSelector", "RandomSelector", "RiacSelector", "AlpGmmSelector", "CovarGmmSelector", "AdrSelector", "SpdlSelector", "GoalGanSelector",
     "TaskListSelector", "DiscreteLpSelector", "PlrSelector",
-    "AskTellSelector", "GoalSelectorProtocol", "load_selector", "classes", "MAGIC", "MODES",
+    "AskTellSelector", "GoalSelectorProtocol", "load_selector", "available", "classes", "MAGIC", "MODES",
 ]

@@ -112,6 +112,9 @@ class AskTellSelector:
     _kind = ""
     #: The competences the teacher takes (saggriac.testing.check_goal_selector tells these).
     competence_range = (-1.0, 0.0)
+    #: The goal spaces the teacher takes: "box" (built as ``cls(low, high, seed=s)``) or "tasks"
+    #: (a task list, built as ``cls(n_tasks, seed=s)``). The bench reads it, for a user's class too.
+    spaces: tuple[str, ...] = ("box",)
 
     def __init__(self, low: Any, high: Any, seed: int, **params: Any) -> None:
         owner = type(self).__name__
@@ -274,6 +277,13 @@ def load_selector(path: str | os.PathLike[str]) -> AskTellSelector:
 
 def _subclasses(cls: type) -> list[type]:
     return [d for c in cls.__subclasses__() for d in [c, *_subclasses(c)]]
+
+
+def available() -> dict[str, type[AskTellSelector]]:
+    """Every built-in teacher's class by its name (``Config(teacher=...)``, the CLI, saved
+    teachers), in the core's registry order: the one list of teachers the rest reads."""
+    found = classes()
+    return {kind: found[kind] for kind in _core.teacher_defaults() if kind in found}
 
 
 def classes() -> dict[str, type[AskTellSelector]]:

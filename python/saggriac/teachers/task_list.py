@@ -15,6 +15,8 @@ class TaskListSelector(AskTellSelector):
     ``[i]``, ``sample_task()`` the int) and ``update`` takes an index or ``[index]``. Syllabus's
     ``DiscreteTaskSpace`` takes any of them (:class:`saggriac.adapters.syllabus.SelectorCurriculum`)."""
 
+    spaces = ("tasks",)
+
     def __init__(self, n_tasks: int, seed: int, **params: Any) -> None:
         # The goals are task indices: no box.
         super().__init__([], [], seed, n_tasks=n_tasks, **params)
