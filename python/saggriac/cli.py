@@ -225,6 +225,12 @@ def _cmd_stats(args: argparse.Namespace) -> int:
     return rc
 
 
+def _cmd_bench(args: argparse.Namespace) -> int:
+    from .bench.command import run_command
+
+    return run_command(args, _parse_value)
+
+
 def build_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="saggriac", description="SAGG-RIAC goal exploration (Baranes & Oudeyer, IROS 2010).")
     p.add_argument("--version", action="version", version=f"saggriac {_core.__version__}")
@@ -265,6 +271,12 @@ def build_parser() -> argparse.ArgumentParser:
     st = sub.add_parser("stats", help="rebuild the statistics table of a study folder and print it")
     st.add_argument("study", help="study folder written by saggriac reproduce or saggriac.run_study")
     st.set_defaults(func=_cmd_stats)
+
+    from .bench.command import add_arguments
+
+    b = sub.add_parser("bench", help="place a teacher (built-in, or yours by import path) on the bench's leaderboard among the built-in teachers (docs/bench.md)")
+    add_arguments(b)
+    b.set_defaults(func=_cmd_bench)
     return p
 
 

@@ -1,0 +1,119 @@
+"""``saggriac bench``: the command's parser arguments and what it prints."""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+from pathlib import Path
+from typing import Any
+
+import pandas as pd
+
+from ..errors import ParameterError
+from ..teachers import available
+from . import shipped
+from .runner import BenchError
+from .suite import BenchResult, run_bench
+from .tasks import TASKS, TIERS
+from .teachers import CALL_TIMEOUT, parse_teacher
+
+
+def add_arguments(b: argparse.ArgumentParser) -> None:
+    b.add_argument("--list", action="store_true", help="print the tasks (space, learner, budget per tier, expected time) and the built-in teachers, and stop")
+    b.add_argument("--teacher", action="append", default=[], metavar="NAME_OR_PATH", help="a built-in teacher's name, or a class by import path: pkg.mod:Class or path/file.py:Class (repeatable); every built-in teacher is on the board too")
+    b.add_argument("--teacher-param", action="append", default=[], metavar="KEY=VALUE", help="a keyword argument of the --teacher classes (values read as TOML: 3, 0.5, true, \"text\")")
+    b.add_argument("--tier", default="quick", choices=list(TIERS), help="quick (5 seeds), standard (10) or full (20 seeds, the studies' budgets); default quick")
+    b.add_argument("--out", help="output folder (default bench-TIER); rerunning the same command there resumes it")
+    b.add_argument("--seeds", type=int, help="seeds 0..N-1 (default: the tier's)")
+    b.add_argument("--tasks", help="comma-separated subset of the tasks (default: all)")
+    b.add_argument("--workers", type=int, help="worker processes (default: all cores; 1 runs in this process)")
+    b.add_argument("--scheduler", help="address of a running Dask scheduler to run on (the per-call bound is not enforced there)")
+    b.add_argument("--timeout", type=float, default=CALL_TIMEOUT, help=f"seconds one call of a teacher may take (default {CALL_TIMEOUT:g})")
+    b.add_argument("--rerun", action="store_true", help="rerun the built-in teachers instead of reading the results shipped with the package, and say whether they differ")
+    b.add_argument("--write-shipped", action="store_true", help="(maintainers) with --rerun: write the built-in teachers' runs as the package's shipped results of the tier")
+    b.add_argument("--no-progress", action="store_true", help="no progress bar")
+
+
+def expected_seconds(tier: str) -> dict[str, float]:
+    """Per task, the mean seconds of one run over the shipped built-in teachers' runs (measured)."""
+    ship = shipped.load(tier) or shipped.load("quick")
+    if ship is None:
+        return {}
+    return ship[0].groupby("task").seconds.mean().to_dict()
+
+
+def listing() -> str:
+    rows = []
+    times = {tier: expected_seconds(tier) for tier in TIERS}
+    for name, cls in TASKS.items():
+        row: dict[str, Any] = dict(task=name, space=cls.space, learner=cls.learner)
+        for tier in TIERS:
+            row[f"{tier} ({TIERS[tier]} seeds)"] = f"{cls.budgets[tier]:,} {cls.unit}"
+        s = times["quick"].get(name)
+        row["s/run (quick, measured)"] = "" if s is None else f"{s:.2f}"
+        rows.append(row)
+    table = pd.DataFrame(rows).to_string(index=False)
+    names = ", ".join(f"{n} ({'/'.join(c.spaces)})" for n, c in available().items())
+    total = sum(times["quick"].get(n, 0.0) for n, c in TASKS.items()) * TIERS["quick"]
+    return f"{table}\n\nbuilt-in teachers: {names}\nquick tier, one box teacher, all tasks: about {total:.0f} s of CPU (the shipped runs' mean seconds per run x {TIERS['quick']} seeds)"
+
+
+def _teacher_params(pairs: list[str], parse_value: Any) -> dict[str, Any]:
+    out: dict[str, Any] = {}
+    for p in pairs:
+        if "=" not in p or not p.split("=", 1)[0].strip().isidentifier():
+            raise ParameterError(f"The '--teacher-param' parameter of saggriac bench must be KEY=VALUE with KEY a Python name. Got {p!r} instead.", "teacher-param", p)
+        k, v = (x.strip() for x in p.split("=", 1))
+        if k in out:
+            raise ParameterError(f"The '--teacher-param' parameter of saggriac bench gives {k!r} twice; give it once.", "teacher-param", p)
+        out[k] = parse_value(v)
+    return out
+
+
+def run_command(args: argparse.Namespace, parse_value: Any) -> int:
+    if args.list:
+        print(listing())
+        return 0
+    # As `python -m` does: a teacher module in the current folder is found by its import path.
+    if os.getcwd() not in sys.path:
+        sys.path.insert(0, os.getcwd())
+    params = _teacher_params(args.teacher_param, parse_value)
+    if params and not args.teacher:
+        raise ParameterError("The '--teacher-param' parameter of saggriac bench applies to the --teacher classes; give --teacher too.", "teacher-param", repr(args.teacher_param))
+    specs = [parse_teacher(t, params) for t in args.teacher]
+    if args.write_shipped and not args.rerun:
+        raise ParameterError("The '--write-shipped' parameter of saggriac bench needs --rerun (the shipped results are written from runs made now).", "write-shipped", "True")
+    tasks = None if args.tasks is None else [t.strip() for t in args.tasks.split(",")]
+    out = Path(args.out or f"bench-{args.tier}")
+    try:
+        result = run_bench(specs, out=out, tier=args.tier, seeds=args.seeds, tasks=tasks, workers=args.workers, timeout=args.timeout, rerun=args.rerun, progress=not args.no_progress, scheduler=args.scheduler)
+        rc = 0
+    except BenchError as e:
+        print(f"saggriac: error: {e}", file=sys.stderr)
+        result, rc = e.result, 1  # type: ignore[attr-defined]
+    report(result, specs)
+    if args.write_shipped and rc == 0:
+        builtin = result.runs[result.runs.teacher.isin(list(available()))]
+        curves = result.curves.merge(builtin[["task", "teacher", "seed"]], on=["task", "teacher", "seed"])
+        seeds = sorted(set(builtin.seed))
+        command = f"saggriac bench --tier {args.tier} --rerun --write-shipped" + (f" --seeds {args.seeds}" if args.seeds else "")
+        for p in shipped.write(args.tier, builtin, curves, seeds, command):
+            print(f"shipped results: {p}")
+    return rc
+
+
+def report(result: BenchResult, specs: list[Any]) -> None:
+    for note in result.notes:
+        print(note)
+    board = result.board
+    mine = [s.label for s in specs]
+    if not board.empty:
+        shown = board[board.teacher.isin(mine)] if mine else board
+        print(shown[["task", "teacher", "seeds", "area", "final", "diff_area", "ci_low", "ci_high", "p_holm", "rank"]].to_string(index=False, float_format=lambda v: f"{v:.3g}"))
+    print(f"\n{result.computed} runs computed in {result.wall_seconds:.1f} s on {result.workers} worker(s); {result.kept} kept from {result.out}; {result.from_shipped} from the shipped results")
+    for label in mine:
+        cpu = result.cpu_seconds(label)
+        print(f"{label}: {cpu:.1f} s of CPU over its {int((result.runs.teacher == label).sum())} runs (about {cpu / max(1, result.workers):.1f} s on {result.workers} worker(s))")
+    for name, path in result.written.items():
+        print(f"{name}: {path}")

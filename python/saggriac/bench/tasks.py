@@ -1,0 +1,261 @@
+"""The bench's tasks: small learners a teacher chooses goals for, each with a score that is higher
+when the learner is better, and a registry that adds a task with one line (``register(MyTask)``).
+
+A task is built for one run, ``MyTask(seed)``, from the seed the runner derives for it. It offers
+a space (a box ``low``/``high``, or a list of ``n_tasks`` tasks whose goals are indices), and
+``attempt(goal)`` practises one goal and returns the competence reached, in [0, 1] (the runner
+maps it into each teacher's ``competence_range``). ``score()`` is the learner's skill now;
+``oracle()`` is the goal a perfect teacher (one that sees the learner's state) would ask next,
+which the tests use as a known answer. A task whose learner runs a loop of its own (the arm)
+overrides ``play`` instead.
+"""
+
+from __future__ import annotations
+
+from typing import Any, Callable, ClassVar
+
+import numpy as np
+
+from ..errors import ParameterError
+from ..teachers.progress_niches import ProgressNiches
+
+#: The tiers: seeds per task (0 .. N-1) and which budget each task takes. ``quick`` is every task
+#: with few seeds; ``full`` has the sizes of the studies the toy tasks came from.
+TIERS = {"quick": 5, "standard": 10, "full": 20}
+
+#: The registry, in the order tasks were registered: name -> class.
+TASKS: dict[str, type["BenchTask"]] = {}
+
+
+def register(cls: type["BenchTask"]) -> type["BenchTask"]:
+    """Add a task to the bench (usable as a class decorator). Its name must be new."""
+    name = getattr(cls, "name", "")
+    if not isinstance(name, str) or not name or name in TASKS:
+        raise ParameterError(f"The 'name' of a bench task must be a new, non-empty str. Got {name!r} instead (taken: {', '.join(TASKS)}).", "name", repr(name))
+    if cls.space not in ("box", "tasks") or set(cls.budgets) != set(TIERS):
+        raise ParameterError(f"The bench task {name!r} must have space 'box' or 'tasks' and a budget for each tier {tuple(TIERS)}. Got space {cls.space!r}, budgets {cls.budgets!r}.", "budgets", repr(cls.budgets))
+    TASKS[name] = cls
+    return cls
+
+
+class BenchTask:
+    """A task of the bench. Subclasses set the class attributes and implement the methods."""
+
+    name: ClassVar[str] = ""
+    space: ClassVar[str] = "box"
+    #: The learner, in a few words (``saggriac bench --list``).
+    learner: ClassVar[str] = ""
+    #: What a teacher must do well to score high here (docs/bench.md).
+    measures: ClassVar[str] = ""
+    #: Goals per run, by tier.
+    budgets: ClassVar[dict[str, int]] = {}
+    #: Points on the score curve (the score after every budget // points goals).
+    points: ClassVar[int] = 20
+    #: What the curve's x axis counts.
+    unit: ClassVar[str] = "goals"
+    low: np.ndarray
+    high: np.ndarray
+    n_tasks: int
+
+    def __init__(self, seed: int) -> None:
+        self.seed = seed
+
+    def attempt(self, goal: Any) -> float:
+        raise NotImplementedError
+
+    def score(self) -> float:
+        raise NotImplementedError
+
+    def oracle(self) -> Any:
+        raise NotImplementedError
+
+    def play(self, ask: Callable[[], Any], tell: Callable[[Any, float], None], budget: int) -> list[tuple[int, float]]:
+        """Run ``budget`` goals: ``ask()`` a goal, attempt it, ``tell(goal, competence)``. The
+        score curve: (goals so far, score) at every budget // points goals."""
+        every = max(1, budget // self.points)
+        curve = []
+        for t in range(1, budget + 1):
+            goal = ask()
+            tell(goal, self.attempt(goal))
+            if t % every == 0 or t == budget:
+                if not curve or curve[-1][0] != t:
+                    curve.append((t, self.score()))
+        return curve
+
+
+class Hypercube(BenchTask):
+    """Hypercube unlocking (after the toy space of Portelas et al., ALP-GMM, CoRL 2019): the
+    first ``relevant`` dimensions of [0, 1]^d are cut into ``bins`` cells each, the others change
+    nothing. The cell at the origin is unlocked; a cell is unlocked when a neighbour (one bin
+    away on one relevant dimension) is mastered, and mastered after ``need`` tries. The
+    competence is a cell's progress (tries / need), 0 in a locked cell; the score is the share of
+    the cells that can be mastered that are. With ``reach``, only cells whose bin indices sum to
+    at most ``reach`` can ever be unlocked (the rest is impossible, like goals out of an arm's
+    reach)."""
+
+    space = "box"
+    learner = "hypercube unlocking"
+    points = 20
+    relevant, bins, irrelevant, need, reach = 2, 10, 0, 20, None
+
+    def __init__(self, seed: int) -> None:
+        super().__init__(seed)
+        self.dim = self.relevant + self.irrelevant
+        self.low, self.high = np.zeros(self.dim), np.ones(self.dim)
+        self.n_cells = self.n_tasks = self.bins**self.relevant
+        self.strides = self.bins ** np.arange(self.relevant)
+        self.index = (np.arange(self.n_cells)[:, None] // self.strides) % self.bins
+        self.possible = np.ones(self.n_cells, bool) if self.reach is None else self.index.sum(axis=1) <= self.reach
+        self.practice = np.zeros(self.n_cells, np.int64)
+        self.unlocked = np.zeros(self.n_cells, bool)
+        self.unlocked[0] = True
+
+    def cell(self, goal: Any) -> int:
+        g = np.asarray(goal, float)[: self.relevant]
+        return int(np.minimum((g * self.bins).astype(np.int64), self.bins - 1) @ self.strides)
+
+    def centre(self, cell: int) -> np.ndarray:
+        return np.concatenate([(self.index[cell] + 0.5) / self.bins, np.full(self.irrelevant, 0.5)])
+
+    def attempt_cell(self, c: int) -> float:
+        if not self.unlocked[c]:
+            return 0.0
+        if self.practice[c] < self.need:
+            self.practice[c] += 1
+            if self.practice[c] == self.need:
+                for j in range(self.relevant):
+                    for step in (-1, 1):
+                        if 0 <= self.index[c, j] + step < self.bins:
+                            n = c + step * int(self.strides[j])
+                            self.unlocked[n] = self.possible[n]
+        return float(self.practice[c] / self.need)
+
+    def attempt(self, goal: Any) -> float:
+        return self.attempt_cell(self.cell(goal))
+
+    def mastered(self) -> np.ndarray:
+        return self.practice >= self.need
+
+    def score(self) -> float:
+        return float(np.mean(self.mastered()[self.possible]))
+
+    def oracle_cell(self) -> int:
+        """An unlocked cell not yet mastered (the first by index); any cell once all are mastered."""
+        frontier = np.flatnonzero(self.unlocked & ~self.mastered())
+        return int(frontier[0]) if len(frontier) else 0
+
+    def oracle(self) -> Any:
+        return self.centre(self.oracle_cell())
+
+
+class HypercubeCells(Hypercube):
+    """The hypercube given as a list of its cells (goals are cell indices): for task-list teachers."""
+
+    space = "tasks"
+
+    def attempt(self, goal: Any) -> float:
+        return self.attempt_cell(int(goal))
+
+    def oracle(self) -> Any:
+        return self.oracle_cell()
+
+
+BUDGETS_10K = {"quick": 10_000, "standard": 10_000, "full": 10_000}
+
+
+@register
+class Cube2d(Hypercube):
+    name, budgets = "2d", BUDGETS_10K
+    measures = "finding the frontier of what can be learnt now and following it (100 cells, a chain from the origin)"
+
+
+@register
+class Cube5d(Hypercube):
+    name, relevant, bins = "5d", 5, 3
+    budgets = {"quick": 15_000, "standard": 15_000, "full": 15_000}
+    measures = "the same in 5 dimensions (243 cells): a frontier a teacher cannot see by drawing uniformly"
+
+
+@register
+class Cube2dPlus3(Hypercube):
+    name, irrelevant, budgets = "2d+3", 3, BUDGETS_10K
+    measures = "ignoring 3 dimensions that change nothing (the 2d task in a 5-D box)"
+
+
+@register
+class Cube2dReach(Hypercube):
+    name, reach, budgets = "2d-reach", 5, BUDGETS_10K
+    measures = "leaving an impossible region alone: 79 % of the box can never be learnt (21 cells can)"
+
+
+@register
+class Cube2dCells(HypercubeCells):
+    name, budgets = "2d-cells", BUDGETS_10K
+    measures = "the 2d task given as its 100 cells, for task-list teachers"
+
+
+class Niches(BenchTask):
+    """Progress niches (saggriac.teachers.progress_niches): a chain of niches where skill grows
+    with practice once unlocked, noisy cells that teach nothing but answer at random, impossible
+    cells that always answer 0, and distractor dimensions. The score is the mean skill over the
+    niches."""
+
+    space = "box"
+    learner = "progress niches"
+    budgets = {"quick": 8_000, "standard": 8_000, "full": 8_000}
+    points = 32
+    distractors = 0
+    learning_rate = 0.02
+
+    def __init__(self, seed: int) -> None:
+        super().__init__(seed)
+        self.env = ProgressNiches(seed, distractors=self.distractors, learning_rate=self.learning_rate)
+        self.low, self.high = self.env.low, self.env.high
+        self.n_tasks = self.env.n_cells
+
+    def attempt(self, goal: Any) -> float:
+        return self.env.attempt(goal)
+
+    def score(self) -> float:
+        return self.env.mastery()
+
+    def oracle_niche(self) -> int:
+        """The last unlocked niche while the chain is not all open; then the least skilled."""
+        if self.env.unlocked < len(self.env.skill):
+            return self.env.unlocked - 1
+        return int(np.argmin(self.env.skill))
+
+    def oracle(self) -> Any:
+        j, i = self.env.niche_cells[self.oracle_niche()]
+        return self.env.centre(j * self.env.nx + i)
+
+
+@register
+class Niches0(Niches):
+    name = "niches-0"
+    measures = "moving along a chain of niches as each opens, and spending little on noisy cells (whose competence moves without progress) and impossible ones"
+
+
+@register
+class Niches4(Niches):
+    name, distractors = "niches-4", 4
+    measures = "the same with 4 distractor dimensions (a 6-D box)"
+
+
+@register
+class Niches8(Niches):
+    name, distractors = "niches-8", 8
+    measures = "the same with 8 distractor dimensions (a 10-D box)"
+
+
+@register
+class NichesCells(Niches):
+    name, space = "niches-cells", "tasks"
+    measures = "the niches given as their 16 cells, for task-list teachers"
+
+    def attempt(self, goal: Any) -> float:
+        return self.env.attempt(self.env.centre(int(goal)))
+
+    def oracle(self) -> Any:
+        j, i = self.env.niche_cells[self.oracle_niche()]
+        return j * self.env.nx + i

@@ -1,0 +1,243 @@
+"""Which teacher a bench run uses, how it is built for a task, and the guard every call to it goes
+through: a bound on each call's time, goals checked against the space, and competences mapped
+into the range the teacher takes.
+
+A teacher is a built-in one by name (``saggriac.teachers.available()``, read at each call, so a
+new built-in teacher is benched with no edit here) or a user's class by import path,
+``pkg.mod:Class`` or ``path/to/file.py:Class``. The class follows saggriac's teacher protocol:
+``Class(low, high, seed=s, **params)`` for a box or ``Class(n_tasks, seed=s, **params)`` for a
+task list, ``sample()`` and ``update(goal, competence)``; its ``spaces`` class attribute says which
+spaces it takes (("box",) if it has none), and its ``competence_range`` the competences it expects
+((0, 1) if it has none).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import importlib
+import importlib.util
+import math
+import re
+import signal
+import sys
+import threading
+from contextlib import contextmanager
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Callable, Iterator
+
+import numpy as np
+
+from ..errors import ParameterError, SaggriacError
+from ..teachers import RandomSelector, available
+
+#: The teacher every other one is compared with (paired by seed).
+REFERENCE = "random"
+#: Seconds one call of a teacher (sample or update) may take before the run is stopped.
+CALL_TIMEOUT = 30.0
+SPACES = ("box", "tasks")
+
+
+class TeacherError(SaggriacError):
+    """A teacher failed in a bench run: it raised, took too long, or asked a goal outside the
+    space. The message names the teacher, the task and the seed."""
+
+
+class _Hang(BaseException):
+    """Raised by the alarm inside a call that took too long (a BaseException, so that a
+    teacher's own ``except Exception`` does not swallow it)."""
+
+
+@dataclass(frozen=True)
+class TeacherSpec:
+    """A teacher as the bench names it: ``ref`` (a built-in name or an import path) and the
+    keyword parameters it is built with."""
+
+    ref: str
+    params: tuple[tuple[str, Any], ...] = ()
+
+    @property
+    def builtin(self) -> bool:
+        return ":" not in self.ref
+
+    @property
+    def label(self) -> str:
+        """The name on the leaderboard: the ref, and the parameters if any."""
+        if not self.params:
+            return self.ref
+        return f"{self.ref}[{','.join(f'{k}={v!r}' for k, v in self.params)}]"
+
+    @property
+    def slug(self) -> str:
+        """A folder name for the teacher's runs: the label in plain characters, and a digest
+        when that changed it or it is long."""
+        plain = re.sub(r"[^A-Za-z0-9_.=+-]+", "_", self.label)
+        if plain == self.label and len(plain) <= 60:
+            return plain
+        return f"{plain[:40]}-{hashlib.sha256(self.label.encode()).hexdigest()[:10]}"
+
+    def load(self) -> type:
+        """The teacher's class."""
+        if self.builtin:
+            return available()[self.ref]
+        module, _, name = self.ref.rpartition(":")
+        if module.endswith(".py"):
+            path = Path(module)
+            key = "saggriac_bench_user_" + hashlib.sha256(str(path).encode()).hexdigest()[:12]
+            mod = sys.modules.get(key)
+            if mod is None:
+                spec = importlib.util.spec_from_file_location(key, path)
+                if spec is None or spec.loader is None:
+                    raise ParameterError(f"The '--teacher' parameter of saggriac bench names the file {module!r}, which cannot be imported.", "teacher", self.ref)
+                mod = importlib.util.module_from_spec(spec)
+                sys.modules[key] = mod
+                try:
+                    spec.loader.exec_module(mod)
+                except BaseException:
+                    del sys.modules[key]
+                    raise
+        else:
+            mod = importlib.import_module(module)
+        cls = getattr(mod, name, None)
+        if not isinstance(cls, type):
+            raise ParameterError(f"The '--teacher' parameter of saggriac bench must name a class ('module:Class'). Got {self.ref!r}: {module} has no class {name!r}.", "teacher", self.ref)
+        return cls
+
+    def spaces(self) -> tuple[str, ...]:
+        """The spaces the teacher takes (its class's ``spaces``, else ("box",))."""
+        cls = self.load()
+        value = getattr(cls, "spaces", ("box",))
+        spaces = (value,) if isinstance(value, str) else tuple(value)
+        if not spaces or any(s not in SPACES for s in spaces):
+            raise ParameterError(f"The 'spaces' attribute of the teacher {self.label} must be a tuple of 'box' and/or 'tasks'. Got {value!r} instead.", "spaces", repr(value))
+        return spaces
+
+    def takes(self, space: str) -> bool:
+        """Whether the bench runs this teacher on a task of ``space`` (the reference, random,
+        runs on task lists too: uniform over the tasks)."""
+        return space in self.spaces() or (self.ref == REFERENCE and not self.params)
+
+
+def parse_teacher(text: str, params: dict[str, Any] | None = None) -> TeacherSpec:
+    """The spec of ``--teacher TEXT``: a built-in name, ``pkg.mod:Class`` or ``file.py:Class`` (made
+    absolute, so that workers elsewhere in the tree find it). Its class is loaded here, so that a
+    wrong name fails before anything runs."""
+    if not isinstance(text, str) or not text.strip():
+        raise ParameterError(f"The '--teacher' parameter of saggriac bench must be a built-in teacher's name ({', '.join(available())}) or an import path 'pkg.mod:Class'. Got {text!r} instead.", "teacher", repr(text))
+    text = text.strip()
+    if ":" in text:
+        module, _, name = text.rpartition(":")
+        if not module or not name.isidentifier():
+            raise ParameterError(f"The '--teacher' parameter of saggriac bench must be 'pkg.mod:Class' or 'path/file.py:Class'. Got {text!r} instead.", "teacher", text)
+        if module.endswith(".py"):
+            path = Path(module).expanduser().resolve()
+            if not path.is_file():
+                raise ParameterError(f"The '--teacher' parameter of saggriac bench names the file {module!r}, which does not exist (looked for {path}).", "teacher", text)
+            text = f"{path}:{name}"
+    elif text not in available():
+        raise ParameterError(f"The '--teacher' parameter of saggriac bench must be a built-in teacher's name ({', '.join(available())}) or an import path 'pkg.mod:Class'. Got {text!r} instead.", "teacher", text)
+    items = tuple(sorted((params or {}).items()))
+    spec = TeacherSpec(text, items)
+    spec.spaces()  # imports the class: a wrong path fails here
+    return spec
+
+
+def competence_map(cls: type, label: str) -> Callable[[float], float]:
+    """c in [0, 1] (what the tasks tell) mapped linearly into the class's ``competence_range``."""
+    value = getattr(cls, "competence_range", (0.0, 1.0))
+    try:
+        lo, hi = (float(v) for v in value)
+    except (TypeError, ValueError):
+        lo, hi = math.nan, math.nan
+    if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
+        raise ParameterError(f"The 'competence_range' attribute of the teacher {label} must be two finite floats lo < hi. Got {value!r} instead.", "competence_range", repr(value))
+    if (lo, hi) == (0.0, 1.0):
+        return float
+    return lambda c: lo + c * (hi - lo)
+
+
+class Guarded:
+    """A teacher built for one task and seed, every call bounded and checked."""
+
+    def __init__(self, spec: TeacherSpec, task: Any, seed: int, timeout: float = CALL_TIMEOUT) -> None:
+        self.spec, self.task, self.seed, self.timeout = spec, task, seed, timeout
+        self.where = f"teacher {spec.label} on task {task.name!r}, seed {seed}"
+        self.calls = 0
+        self.to_task: Callable[[Any], Any] | None = None
+        cls = spec.load()
+        self.tell_map = competence_map(cls, spec.label)
+        params = dict(spec.params)
+        if task.space == "box":
+            make: Callable[[], Any] = lambda: cls(task.low.copy(), task.high.copy(), seed=seed, **params)
+        elif task.space in spec.spaces():
+            make = lambda: cls(task.n_tasks, seed=seed, **params)
+        else:  # the reference on a task list: uniform over the tasks
+            n = task.n_tasks
+            make = lambda: RandomSelector([0.0], [float(n)], seed=seed)
+            self.to_task = lambda g: min(int(np.asarray(g, float).reshape(-1)[0]), n - 1)
+            self.tell_map = lambda c: c - 1.0
+        self.teacher = self._call("was built", make)
+
+    def _call(self, what: str, work: Callable[[], Any]) -> Any:
+        bounded = signal.getsignal(signal.SIGALRM) is _alarm if hasattr(signal, "setitimer") else False
+        try:
+            if bounded:
+                signal.setitimer(signal.ITIMER_REAL, self.timeout)
+            try:
+                return work()
+            finally:
+                if bounded:
+                    signal.setitimer(signal.ITIMER_REAL, 0)
+        except _Hang:
+            raise TeacherError(f"The {self.where} took more than {self.timeout:g} s in one call (it {what}; call {self.calls}). Raise the bound with --timeout if it is only slow.") from None
+        except Exception as e:
+            raise TeacherError(f"The {self.where} raised {type(e).__name__}: {e} (when it {what}; call {self.calls}).") from e
+
+    def ask(self) -> Any:
+        """The next goal, checked: an array in the box, or a task's index."""
+        self.calls += 1
+        raw = self._call("was asked a goal (sample)", self.teacher.sample)
+        self.last_raw = raw
+        return self.to_task(raw) if self.to_task is not None else self._checked(raw)
+
+    def tell(self, goal: Any, competence: float) -> None:
+        """Tell the competence in [0, 1] reached at ``goal``, mapped into the teacher's range. A
+        task list's teacher is told the goal as it gave it (an index, or ``[index]``)."""
+        told = self.last_raw if self.task.space == "tasks" else goal
+        self._call("was told a competence (update)", lambda: self.teacher.update(told, self.tell_map(competence)))
+
+    def _checked(self, raw: Any) -> Any:
+        task = self.task
+        if task.space == "tasks":
+            g = np.asarray(raw)
+            ok = g.size == 1 and np.issubdtype(g.dtype, np.number) and np.isfinite(g).all()
+            i = float(g.reshape(-1)[0]) if ok else math.nan
+            if not (ok and i == int(i) and 0 <= i < task.n_tasks):
+                raise TeacherError(f"The {self.where} asked the goal {raw!r} (call {self.calls}), which is not a task index: the goals are ints in [0, {task.n_tasks}).")
+            return int(i)
+        try:
+            g = np.asarray(raw, dtype=np.float64)
+        except (TypeError, ValueError):
+            g = np.full(0, math.nan)
+        if g.shape != task.low.shape or not np.all(np.isfinite(g)) or np.any(g < task.low) or np.any(g > task.high):
+            raise TeacherError(f"The {self.where} asked the goal {raw!r} (call {self.calls}), which is outside the space: the goals are {task.low.size} floats in the box low={task.low.tolist()}, high={task.high.tolist()}.")
+        return g
+
+
+@contextmanager
+def alarm_handler() -> Iterator[None]:
+    """While active, a Guarded call past its bound raises _Hang: a timer signal, so only in a
+    process's main thread (where the bench's workers run its runs); elsewhere calls are unbounded."""
+    if threading.current_thread() is not threading.main_thread() or not hasattr(signal, "setitimer"):
+        yield
+        return
+    previous = signal.signal(signal.SIGALRM, _alarm)
+    try:
+        yield
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, previous)
+
+
+def _alarm(signum: int, frame: Any) -> None:
+    raise _Hang()

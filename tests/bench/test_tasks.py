@@ -1,0 +1,82 @@
+"""Every task's score against a case whose answer is known: a perfect teacher (one that sees the
+learner's state, ``task.oracle()``) and a constant one (the box's centre)."""
+
+import math
+
+import numpy as np
+import pytest
+
+import saggriac as sg
+from saggriac.bench import TASKS, TeacherSpec, run_one
+from saggriac.bench.runner import Job, child_seeds
+from saggriac.bench.tasks import Hypercube, Niches
+
+TOY = [n for n, c in TASKS.items() if issubclass(c, (Hypercube, Niches))]
+
+
+def _play(task, ask, budget):
+    return task.play(ask, lambda goal, c: None, budget)
+
+
+@pytest.mark.parametrize("name", [n for n in TOY if issubclass(TASKS[n], Hypercube)])
+def test_hypercube_perfect_teacher_masters_a_cell_every_need_goals(name):
+    cls = TASKS[name]
+    task = cls(0)
+    budget = cls.budgets["quick"]
+    curve = _play(task, task.oracle, budget)
+    n = int(task.possible.sum())
+    # One cell mastered every `need` goals, in an order that always keeps a frontier open.
+    assert curve == [(t, min(t // cls.need, n) / n) for t, _ in curve]
+    assert curve[-1][1] == 1.0 and len(curve) == cls.points
+
+
+@pytest.mark.parametrize("name", TOY)
+def test_a_teacher_that_always_asks_the_centre_learns_nothing(name):
+    cls = TASKS[name]
+    task = cls(0)
+    middle = np.full(len(task.low), 0.5)
+    if cls.space == "box":
+        goal = (task.low + task.high) / 2
+    else:  # the cell holding the box's centre
+        goal = task.cell(middle) if issubclass(cls, Hypercube) else task.env.cell(middle)
+    curve = _play(task, lambda: goal, 2000)
+    # The centre is a locked cell of the hypercubes and an impossible cell of the niches.
+    assert [s for _, s in curve] == [0.0] * len(curve)
+
+
+@pytest.mark.parametrize("name", [n for n in TOY if issubclass(TASKS[n], Niches)])
+def test_niches_perfect_teacher_follows_the_chain_in_closed_form(name):
+    cls = TASKS[name]
+    task = cls(0)
+    curve = _play(task, task.oracle, cls.budgets["quick"])
+    lr, unlock = task.env.learning_rate, task.env.unlock_at
+    per_niche = math.ceil(math.log(1 - unlock) / math.log(1 - lr))  # practices until the next one opens (46)
+    n = len(task.env.skill)
+    t, s = curve[0]
+    full, part = divmod(t, per_niche)
+    expect = (full * (1 - (1 - lr) ** per_niche) + (1 - (1 - lr) ** part)) / n
+    assert t == 250 and full < n and s == pytest.approx(expect, rel=1e-12)
+    # Once the chain is open it keeps the least skilled niche practised: about 1000 tries each.
+    assert curve[-1][1] == pytest.approx(1 - (1 - lr) ** (cls.budgets["quick"] // n), abs=1e-6)
+
+
+def test_the_arm_with_random_goals_is_the_runs_own_sagg_random():
+    """arm-episodic with the built-in random teacher asks exactly the goals of saggriac.run's
+    condition sagg_random (the teacher is seeded as the run's high level): the same scores."""
+    row = run_one(Job("arm-episodic", "quick", TeacherSpec("random"), 4))
+    cfg = sg.Config.from_preset("explauto", n_steps=TASKS["arm-episodic"].budgets["quick"], n_evals=TASKS["arm-episodic"].evals, condition="sagg_random")
+    m = sg.run(cfg, seed=4, threads=1).metrics
+    assert [s for _, s in row["curve"]] == list(-m.reach_error.to_numpy()[1:])
+    assert row["row"]["final"] == -m.reach_error.iloc[-1] < 0
+
+
+def test_seeds_are_children_of_the_runs_root_seed():
+    a, b = child_seeds(7)
+    assert a != b and 0 <= a < 2**63 and 0 <= b < 2**63 and child_seeds(7) == (a, b) and child_seeds(8) != (a, b)
+
+
+def test_the_same_job_gives_the_same_bits():
+    job = Job("niches-4", "quick", TeacherSpec("sagg_riac"), 2)
+    one, two = run_one(job), run_one(job)
+    one["row"].pop("seconds"), two["row"].pop("seconds")
+    assert one == two
