@@ -9,16 +9,19 @@ import pytest
 import saggriac as sg
 from saggriac.bench import TASKS, TeacherSpec, run_one
 from saggriac.bench.runner import Job, child_seeds
+from saggriac.bench.challenges import Abilities, Forgetting, Rugged
 from saggriac.bench.tasks import Hypercube, Niches
 
 TOY = [n for n, c in TASKS.items() if issubclass(c, (Hypercube, Niches))]
+#: The hypercubes where a perfect teacher masters one cell every `need` goals.
+CHAIN = [n for n in TOY if issubclass(TASKS[n], Hypercube) and not issubclass(TASKS[n], (Forgetting, Rugged))]
 
 
 def _play(task, ask, budget):
     return task.play(ask, lambda goal, c: None, budget)
 
 
-@pytest.mark.parametrize("name", [n for n in TOY if issubclass(TASKS[n], Hypercube)])
+@pytest.mark.parametrize("name", CHAIN)
 def test_hypercube_perfect_teacher_masters_a_cell_every_need_goals(name):
     cls = TASKS[name]
     task = cls(0)
@@ -40,11 +43,13 @@ def test_a_teacher_that_always_asks_the_centre_learns_nothing(name):
     else:  # the cell holding the box's centre
         goal = task.cell(middle) if issubclass(cls, Hypercube) else task.env.cell(middle)
     curve = _play(task, lambda: goal, 2000)
-    # The centre is a locked cell of the hypercubes and an impossible cell of the niches.
-    assert [s for _, s in curve] == [0.0] * len(curve)
+    # The centre is a locked cell of the hypercubes, an impossible cell of the niches and a
+    # trivial goal of trivial-90; in the rugged grid it is one open cell, mastered once.
+    expect = 1 / task.n_cells if cls is Rugged else 0.0
+    assert [s for _, s in curve][-1] == expect and max(s for _, s in curve) == expect
 
 
-@pytest.mark.parametrize("name", [n for n in TOY if issubclass(TASKS[n], Niches)])
+@pytest.mark.parametrize("name", [n for n in TOY if issubclass(TASKS[n], Niches) and not issubclass(TASKS[n], Abilities)])
 def test_niches_perfect_teacher_follows_the_chain_in_closed_form(name):
     cls = TASKS[name]
     task = cls(0)
@@ -58,6 +63,36 @@ def test_niches_perfect_teacher_follows_the_chain_in_closed_form(name):
     assert t == 250 and full < n and s == pytest.approx(expect, rel=1e-12)
     # Once the chain is open it keeps the least skilled niche practised: about 1000 tries each.
     assert curve[-1][1] == pytest.approx(1 - (1 - lr) ** (cls.budgets["quick"] // n), abs=1e-6)
+
+
+def test_forgetting_perfect_teacher_keeps_everything_and_others_forget():
+    cls = TASKS["forgetting"]
+    task = cls(0)
+    curve = _play(task, task.oracle, cls.budgets["quick"])
+    # Until the first cell can be forgotten it is the plain chain; at the end all is held.
+    assert curve[0] == (500, 25 / 100) and curve[-1][1] == 1.0
+    task = cls(0)
+    for c in [0] * 20 + [1] * (cls.forget_after + 1):
+        task.attempt_cell(c)
+    assert task.practice[0] == task.need // 2 and task.unlocked[1] and not task.mastered()[0]
+
+
+def test_rugged_perfect_teacher_takes_the_easiest_cells_first():
+    cls = TASKS["rugged"]
+    task = cls(3)
+    needs = np.sort(task.needs)
+    curve = _play(task, task.oracle, cls.budgets["quick"])
+    assert [s for _, s in curve] == [np.searchsorted(np.cumsum(needs), t, side="right") / task.n_cells for t, _ in curve]
+    assert set(np.unique(needs)) == {5, 10, 20, 40, 80}
+
+
+def test_abilities_students_differ_by_seed_and_a_perfect_teacher_teaches_each():
+    rates = [TASKS["abilities"](s).learning_rate for s in range(10)]
+    assert min(rates) >= 0.005 and max(rates) <= 0.08 and max(rates) / min(rates) > 4
+    for seed in (0, 1):
+        task = TASKS["abilities"](seed)
+        curve = _play(task, task.oracle, 8000)
+        assert curve[-1][1] > 1 - (1 - task.learning_rate) ** 900
 
 
 def test_the_arm_with_random_goals_is_the_runs_own_sagg_random():

@@ -13,7 +13,7 @@ resuming), ``report`` (the leaderboard and figures), ``shipped`` (the built-in t
 that ship with the package) and ``suite`` (``run_bench``).
 """
 
-from . import arm  # noqa: F401 (registers the arm's tasks)
+from . import arm, challenges  # noqa: F401 (register the arm's tasks and the challenges)
 from .runner import BenchError, Job, run_one
 from .suite import BenchResult, run_bench
 from .tasks import TASKS, TIERS, BenchTask, register
