@@ -8,7 +8,6 @@ pub mod high_level;
 pub mod low_level;
 pub mod model;
 pub mod rules;
-pub mod teacher_thresholds;
 pub mod teachers;
 
 pub use body::{ArmConfig, ArmKind, BodyChange};

@@ -13,6 +13,7 @@
 use nalgebra::DVector;
 
 use crate::error::Result;
+use crate::high_level::teachers::Build;
 use crate::high_level::goal_selection::{GoalChoice, GoalSelector};
 use crate::high_level::teachers::gmm::Gmm;
 pub use crate::high_level::teachers::mixture::AlpGmmConfig;
@@ -75,6 +76,12 @@ impl GoalSelector for AlpGmm {
             self.index.add(&self.core.unit_box.to_unit(p));
         }
         true
+    }
+}
+
+impl Build for AlpGmmConfig {
+    fn build(&self, low: &[f64], high: &[f64], seed: u64) -> Result<Box<dyn GoalSelector>> {
+        Ok(Box::new(AlpGmm::new(low, high, *self, seed)?))
     }
 }
 

@@ -13,6 +13,7 @@
 use nalgebra::DVector;
 
 use crate::error::Result;
+use crate::high_level::teachers::Build;
 use crate::high_level::goal_selection::{GoalChoice, GoalSelector};
 use crate::high_level::teachers::gmm::Gmm;
 use crate::high_level::teachers::mixture::MixtureCore;
@@ -87,6 +88,12 @@ impl GoalSelector for CovarGmm {
     fn load(&mut self, state: &[u8]) -> bool {
         let d = self.core.unit_box.low.len();
         self.core.load(state, d + 1, d + 2)
+    }
+}
+
+impl Build for CovarGmmConfig {
+    fn build(&self, low: &[f64], high: &[f64], seed: u64) -> Result<Box<dyn GoalSelector>> {
+        Ok(Box::new(CovarGmm::new(low, high, *self, seed)?))
     }
 }
 

@@ -18,6 +18,8 @@ use serde::{Deserialize, Serialize};
 
 pub use crate::config::teachers::DiscreteLpConfig;
 use crate::error::Result;
+use crate::config::teachers::TeacherParams;
+use crate::high_level::teachers::Build;
 use crate::high_level::goal_selection::{load_state, save_state, GoalChoice, GoalSelector, Mode};
 use crate::rng::{rng_from_seed, unit, CoreRng};
 
@@ -130,6 +132,12 @@ impl GoalSelector for DiscreteLp {
             }
             _ => false,
         }
+    }
+}
+
+impl Build for DiscreteLpConfig {
+    fn build(&self, _low: &[f64], _high: &[f64], seed: u64) -> Result<Box<dyn GoalSelector>> {
+        Ok(Box::new(DiscreteLp::new(*self, seed)?))
     }
 }
 

@@ -92,7 +92,7 @@ impl MixtureCore {
             let rule = format!("bounds of at most {MAX_MIXTURE_DIM} dimensions (each refit runs EM on full covariance matrices, whose cost grows as the cube of the dimension)");
             return Err(crate::error::invalid(owner, "bounds", rule, format!("{} dimensions", low.len())));
         }
-        cfg.validate(owner)?;
+        cfg.check(owner)?;
         Ok(MixtureCore {
             cfg,
             unit_box: UnitBox { low: low.to_vec(), high: high.to_vec() },

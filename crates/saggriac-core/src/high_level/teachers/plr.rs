@@ -26,6 +26,8 @@ use serde::{Deserialize, Serialize};
 
 pub use crate::config::teachers::{PlrConfig, PlrScore, ReplaySchedule};
 use crate::error::Result;
+use crate::config::teachers::TeacherParams;
+use crate::high_level::teachers::Build;
 use crate::high_level::goal_selection::{load_state, save_state, GoalChoice, GoalSelector, Mode};
 use crate::rng::{index, rng_from_seed, unit, CoreRng};
 
@@ -233,6 +235,12 @@ impl GoalSelector for Plr {
             }
             _ => false,
         }
+    }
+}
+
+impl Build for PlrConfig {
+    fn build(&self, _low: &[f64], _high: &[f64], seed: u64) -> Result<Box<dyn GoalSelector>> {
+        Ok(Box::new(Plr::new(*self, seed)?))
     }
 }
 

@@ -17,6 +17,8 @@
 
 use crate::config::high_level::check_bounds;
 use crate::error::Result;
+use crate::config::teachers::TeacherParams;
+use crate::high_level::teachers::Build;
 use crate::high_level::goal_selection::{load_state, save_state, GoalChoice, GoalSelector, LeafRow, Mode};
 use crate::high_level::teachers::mixture::UnitBox;
 use crate::rng::{normal, rng_from_seed, CoreRng};
@@ -199,6 +201,12 @@ impl GoalSelector for Spdl {
         }
         self.st = st;
         true
+    }
+}
+
+impl Build for SpdlConfig {
+    fn build(&self, low: &[f64], high: &[f64], seed: u64) -> Result<Box<dyn GoalSelector>> {
+        Ok(Box::new(Spdl::new(low, high, *self, seed)?))
     }
 }
 

@@ -1,0 +1,75 @@
+//! Goal GAN's parameters (Florensa et al., ICML 2018).
+
+use serde::{Deserialize, Serialize};
+
+use crate::config::teachers::{Registered, TeacherParams};
+use crate::error::{invalid, Check, Num, Result};
+
+/// Goal GAN's parameters (Florensa et al., ICML 2018).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct GoalGanConfig {
+    /// A told competence of at least this is a success (0.5, for competences in [0, 1]).
+    pub success_threshold: f64,
+    /// A goal of intermediate difficulty has a success rate in [r_min, r_max] (0.1, 0.9).
+    pub r_min: f64,
+    pub r_max: f64,
+    /// Times each proposed goal is asked in a row, its success rate being theirs (2).
+    pub n_rollouts: usize,
+    /// Labelled goals between trainings of the GAN (100).
+    pub update_size: usize,
+    /// Steps of each training: one of the discriminator, one of the generator (250).
+    pub gan_iterations: usize,
+    /// Share of goals replayed from those labelled so far (1/3).
+    pub p_old: f64,
+    /// Dimension of the generator's noise (4).
+    pub noise_dim: usize,
+    /// Units of each of the two hidden layers of both networks (32; the paper's 128).
+    pub hidden: usize,
+    /// Adam's step size for both networks (0.001).
+    pub learning_rate: f64,
+}
+
+impl Default for GoalGanConfig {
+    fn default() -> Self {
+        GoalGanConfig { success_threshold: 0.5, r_min: 0.1, r_max: 0.9, n_rollouts: 2, update_size: 100, gan_iterations: 250, p_old: 1.0 / 3.0, noise_dim: 4, hidden: 32, learning_rate: 0.001 }
+    }
+}
+
+impl TeacherParams for GoalGanConfig {
+    fn validate(&self) -> Result<()> {
+        let c = Check { owner: Self::CLASS };
+        if !(self.success_threshold.is_finite() && self.success_threshold.abs() <= 1e100) {
+            return Err(invalid(Self::CLASS, "success_threshold", "a finite float of absolute value <= 1e100", Num(self.success_threshold)));
+        }
+        c.probability("r_min", self.r_min)?;
+        c.probability("r_max", self.r_max)?;
+        if self.r_min > self.r_max {
+            return Err(invalid(Self::CLASS, "r_max", format!("a float >= r_min (r_min = {})", Num(self.r_min)), Num(self.r_max)));
+        }
+        c.within("n_rollouts", self.n_rollouts, 1, 255)?;
+        // A goal's success rate is k / n_rollouts: none in [r_min, r_max] and no goal is ever
+        // good, so the GAN would never train.
+        let n = self.n_rollouts as f64;
+        if !(0..=self.n_rollouts).any(|k| (self.r_min..=self.r_max).contains(&(k as f64 / n))) {
+            return Err(invalid(Self::CLASS, "r_max", format!("a float such that [r_min, r_max] holds a success rate k / n_rollouts (r_min = {}, n_rollouts = {})", Num(self.r_min), self.n_rollouts), Num(self.r_max)));
+        }
+        c.within("update_size", self.update_size, 1, 100_000)?;
+        c.within("gan_iterations", self.gan_iterations, 0, 100_000)?;
+        c.probability("p_old", self.p_old)?;
+        c.within("noise_dim", self.noise_dim, 1, 1024)?;
+        c.within("hidden", self.hidden, 1, 1024)?;
+        c.in_open_closed("learning_rate", self.learning_rate, 0.0, 1.0)?;
+        Ok(())
+    }
+
+    fn scaled_to_competences(self, lo: f64, hi: f64) -> Self {
+        GoalGanConfig { success_threshold: lo + self.success_threshold * (hi - lo), ..self }
+    }
+
+    fn check_competences(&self, lo: f64, hi: f64, told: &str) -> Result<()> {
+        if !(self.success_threshold > lo && self.success_threshold <= hi) {
+            return Err(invalid(Self::CLASS, "success_threshold", format!("a float in ({}, {}] ({told}; a competence >= success_threshold is a success, so outside every attempt would fail, or succeed)", Num(lo), Num(hi)), Num(self.success_threshold)));
+        }
+        Ok(())
+    }
+}

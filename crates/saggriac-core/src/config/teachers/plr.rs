@@ -1,0 +1,64 @@
+//! PLR's parameters (Jiang, Grefenstette & Rocktäschel, ICML 2021).
+
+use serde::{Deserialize, Serialize};
+
+use crate::config::teachers::{Registered, TeacherParams};
+use crate::error::{invalid, Check, Num, Result, MAX_COUNT};
+
+/// How PLR decides between a new level and a replay (P_D).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ReplaySchedule {
+    /// Replay with probability |seen| / n.
+    Proportionate,
+    /// Replay with probability `replay_prob` once a level is seen, always once all are.
+    Fixed,
+}
+
+/// What PLR makes of the value `update` is told.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum PlrScore {
+    /// A competence: the level's score is |competence - its previous competence|.
+    Progress,
+    /// The score itself (the paper's value loss, computed by the learner).
+    Told,
+}
+
+/// Parameters of Prioritized Level Replay (Jiang, Grefenstette & Rocktäschel, ICML 2021).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct PlrConfig {
+    pub n_tasks: usize,
+    /// beta, the rank prioritisation's temperature (0.1 in the paper).
+    pub temperature: f64,
+    /// rho, the staleness share of the replay distribution (0.1 in the paper).
+    pub staleness_coef: f64,
+    pub replay_schedule: ReplaySchedule,
+    /// The replay probability of the `fixed` schedule (0.5, Syllabus's and Robust PLR's).
+    pub replay_prob: f64,
+    pub score: PlrScore,
+}
+
+impl Default for PlrConfig {
+    /// The paper's beta, rho and schedule; `n_tasks` has no default worth the name (the Python
+    /// class requires it), 1 is the least valid.
+    fn default() -> Self {
+        PlrConfig { n_tasks: 1, temperature: 0.1, staleness_coef: 0.1, replay_schedule: ReplaySchedule::Proportionate, replay_prob: 0.5, score: PlrScore::Progress }
+    }
+}
+
+impl TeacherParams for PlrConfig {
+    const HAS_BOX: bool = false;
+
+    fn validate(&self) -> Result<()> {
+        let c = Check { owner: Self::CLASS };
+        c.within("n_tasks", self.n_tasks, 1, MAX_COUNT)?;
+        // rank^(-1/beta) must not underflow to 0 for every rank > 1 too soon: beta >= 0.01.
+        if !(self.temperature.is_finite() && self.temperature >= 0.01) {
+            return Err(invalid(Self::CLASS, "temperature", "a finite float >= 0.01", Num(self.temperature)));
+        }
+        c.probability("staleness_coef", self.staleness_coef)?;
+        c.probability("replay_prob", self.replay_prob)?;
+        Ok(())
+    }
+}

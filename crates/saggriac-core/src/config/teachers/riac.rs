@@ -1,0 +1,49 @@
+//! RIAC's parameters, as the baseline of Portelas et al. (CoRL 2019).
+
+use serde::{Deserialize, Serialize};
+
+use crate::config::rules::{check_int, float_rule};
+use crate::config::teachers::{Registered, TeacherParams};
+use crate::error::{invalid, Check, Num, Result};
+
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct RiacConfig {
+    /// Measurements a leaf holds before it is split (200 in Portelas et al.).
+    pub max_region_size: usize,
+    /// Random cuts tried per split (50).
+    pub split_attempts: usize,
+    /// Least share of the leaf's measurements in each child (1/4).
+    pub min_child_share: f64,
+    /// Least width of a child in every dimension, as a share of the initial range (1/6).
+    pub min_dims_range_ratio: f64,
+    /// Share of goals from a leaf drawn by ALP, uniform in it (0.7).
+    pub p_alp: f64,
+    /// Share of goals uniform in the whole box (0.2); the rest go near a leaf's worst goal.
+    pub p_random: f64,
+}
+
+impl Default for RiacConfig {
+    fn default() -> Self {
+        RiacConfig { max_region_size: 200, split_attempts: 50, min_child_share: 0.25, min_dims_range_ratio: 1.0 / 6.0, p_alp: 0.7, p_random: 0.2 }
+    }
+}
+
+impl TeacherParams for RiacConfig {
+    fn validate(&self) -> Result<()> {
+        let c = Check { owner: Self::CLASS };
+        check_int(&c, "max_region_size", self.max_region_size)?;
+        check_int(&c, "split_attempts", self.split_attempts)?;
+        if !(self.min_child_share.is_finite() && self.min_child_share > 0.0 && self.min_child_share <= 0.5) {
+            return Err(invalid(Self::CLASS, "min_child_share", float_rule("min_child_share"), Num(self.min_child_share)));
+        }
+        if !(self.min_dims_range_ratio.is_finite() && self.min_dims_range_ratio > 0.0 && self.min_dims_range_ratio <= 0.5) {
+            return Err(invalid(Self::CLASS, "min_dims_range_ratio", float_rule("min_dims_range_ratio"), Num(self.min_dims_range_ratio)));
+        }
+        c.probability("p_alp", self.p_alp)?;
+        c.probability("p_random", self.p_random)?;
+        if self.p_alp + self.p_random > 1.0 + 1e-12 {
+            return Err(invalid(Self::CLASS, "p_alp", format!("a float with p_alp + p_random <= 1 (p_random = {})", Num(self.p_random)), Num(self.p_alp)));
+        }
+        Ok(())
+    }
+}

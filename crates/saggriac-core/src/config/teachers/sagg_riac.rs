@@ -1,0 +1,22 @@
+//! SAGG-RIAC's high level as a teacher (Baranes & Oudeyer, IROS 2010): the region tree's and the
+//! goal modes' parameters.
+
+use serde::{Deserialize, Serialize};
+
+use crate::config::high_level::{ModeProbabilities, RegionTreeConfig};
+use crate::config::teachers::TeacherParams;
+use crate::error::Result;
+
+/// SAGG-RIAC's high level: the region tree's and the goal modes' parameters (by their names in
+/// `Config`, which sets them for a run's own high level).
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct SaggRiacConfig {
+    pub tree: RegionTreeConfig,
+    pub modes: ModeProbabilities,
+}
+
+impl TeacherParams for SaggRiacConfig {
+    fn validate(&self) -> Result<()> {
+        self.tree.validate().and_then(|_| self.modes.validate())
+    }
+}
