@@ -83,7 +83,7 @@ class ArmEpisodic(ArmTask):
     name, preset, unit = "arm-episodic", "explauto", "movements"
     learner = "15-joint arm, episodic (explauto)"
     budgets = {"quick": 2_000, "standard": 5_000, "full": 20_000}
-    measures = "helping a real learner: goals that teach the arm's inverse model most per movement; a quarter of the box is out of reach"
+    measures = "helping a real learner: goals that teach the arm's inverse model most per movement; about a fifth of the box (its corners) is out of reach"
 
 
 @register
@@ -91,4 +91,4 @@ class ArmExp1(ArmTask):
     name, preset, unit = "arm-exp1", "exp1", "micro-actions"
     learner = "15-joint arm, micro-actions (exp1)"
     budgets = {"quick": 20_000, "standard": 50_000, "full": 50_000}
-    measures = "the paper's own setting: few goals (one per movement of many micro-actions), each costly; the box's left half is mostly unreachable"
+    measures = "the paper's own setting: few goals (one per movement of many micro-actions), each costly; about a fifth of the box (its corners) is out of reach"

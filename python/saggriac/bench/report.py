@@ -3,7 +3,9 @@ on the same seeds) and its figures."""
 
 from __future__ import annotations
 
+import warnings
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import pandas as pd
@@ -11,6 +13,9 @@ import pandas as pd
 from ..analysis.statistics import holm, paired
 from .tasks import TASKS
 from .teachers import REFERENCE
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
 COLUMNS = ["task", "teacher", "seeds", "area", "area_sd", "final", "final_sd", "diff_area", "ci_low", "ci_high", "p_holm", "diff_final", "rank", "us_per_goal"]
 
@@ -41,6 +46,18 @@ def leaderboard(runs: pd.DataFrame) -> pd.DataFrame:
     order = {t: i for i, t in enumerate(dict.fromkeys(board.task))}
     board["order"] = board.task.map(order)
     return board.sort_values(["order", "rank", "teacher"]).reset_index(drop=True)[COLUMNS]
+
+
+def short(label: str) -> str:
+    """A teacher's label for a figure: a file path's folders left out."""
+    return label.rsplit("/", 1)[-1]
+
+
+def _tight(fig: "Figure", **kw: Any) -> None:
+    """Tight layout where it fits; long names may not, and then the figure is kept as it is."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UserWarning)
+        fig.tight_layout(**kw)
 
 
 def _p(p: float) -> str:
@@ -78,7 +95,7 @@ def curves_figure(curves: pd.DataFrame, path: Path) -> Path:
         for teacher, c in curves[curves.task == task].groupby("teacher", sort=False):
             g = c.groupby("step").score
             mu, sd = g.mean(), g.std().fillna(0.0)
-            ax.plot(mu.index, mu.to_numpy(), ls=styles[teacher], color=colours[teacher], label=teacher, lw=1.2)
+            ax.plot(mu.index, mu.to_numpy(), ls=styles[teacher], color=colours[teacher], label=short(teacher), lw=1.2)
             ax.fill_between(mu.index, (mu - sd).to_numpy(), (mu + sd).to_numpy(), color=colours[teacher], alpha=0.08)
         cls = TASKS.get(task)
         ax.set_title(task, fontsize=10)
@@ -96,7 +113,7 @@ def curves_figure(curves: pd.DataFrame, path: Path) -> Path:
                 seen.add(h.get_label())
                 handles.append(h)
     fig.legend(handles, [h.get_label() for h in handles], loc="lower center", ncol=min(6, len(handles)), fontsize=8, frameon=False)
-    fig.tight_layout(rect=(0, 0.8 / (3.3 * nrows + 0.8) + 0.02, 1, 1))
+    _tight(fig, rect=(0, 0.8 / (3.3 * nrows + 0.8) + 0.02, 1, 1))
     fig.savefig(path, dpi=90)
     return path
 
@@ -118,9 +135,9 @@ def rank_figure(board: pd.DataFrame, path: Path) -> Path:
             if not np.isnan(v):
                 ax.text(j, i, f"{int(v)}", ha="center", va="center", fontsize=7, color="w" if v > grid.max().max() / 2 else "k")
     ax.set_xticks(range(len(tasks)), tasks, rotation=45, ha="right", fontsize=8)
-    ax.set_yticks(range(len(teachers)), teachers, fontsize=8)
+    ax.set_yticks(range(len(teachers)), [short(t) for t in teachers], fontsize=8)
     ax.set_title("rank by area on each task (1 is best)", fontsize=9)
     fig.colorbar(im, ax=ax, shrink=0.8)
-    fig.tight_layout()
+    _tight(fig)
     fig.savefig(path, dpi=90)
     return path

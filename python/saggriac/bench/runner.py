@@ -65,7 +65,7 @@ def run_one(job: Job) -> dict[str, Any]:
     task = cls(task_seed)
     start = time.perf_counter()
     with alarm_handler():
-        guard = Guarded(job.teacher, task, teacher_seed, job.timeout)
+        guard = Guarded(job.teacher, task, teacher_seed, job.timeout, run_seed=job.seed)
         curve = task.play(guard.ask, guard.tell, budget)
     seconds = time.perf_counter() - start
     scores = [s for _, s in curve]

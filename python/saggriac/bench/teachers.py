@@ -159,9 +159,10 @@ def competence_map(cls: type, label: str) -> Callable[[float], float]:
 class Guarded:
     """A teacher built for one task and seed, every call bounded and checked."""
 
-    def __init__(self, spec: TeacherSpec, task: Any, seed: int, timeout: float = CALL_TIMEOUT) -> None:
+    def __init__(self, spec: TeacherSpec, task: Any, seed: int, timeout: float = CALL_TIMEOUT, run_seed: int | None = None) -> None:
         self.spec, self.task, self.seed, self.timeout = spec, task, seed, timeout
-        self.where = f"teacher {spec.label} on task {task.name!r}, seed {seed}"
+        # Messages name the run's seed (the bench's), not the teacher's child of it.
+        self.where = f"teacher {spec.label} on task {task.name!r}, seed {seed if run_seed is None else run_seed}"
         self.calls = 0
         self.to_task: Callable[[Any], Any] | None = None
         cls = spec.load()

@@ -1,0 +1,43 @@
+"""The built-in teachers' results that ship with the package: they say which saggriac and which
+seeds made them, and a rerun on the same version gives the same numbers."""
+
+import pandas as pd
+import pytest
+
+from saggriac import _core
+from saggriac.bench import TASKS, TIERS, TeacherSpec, run_one, shipped
+from saggriac.bench.runner import Job
+from saggriac.bench.suite import compare_with_shipped
+from saggriac.teachers import available
+
+SHIP = shipped.load("quick")
+
+
+def test_the_quick_results_ship_with_version_seeds_and_command():
+    assert SHIP is not None, "python/saggriac/bench/results/quick_* are missing"
+    runs, curves, meta = SHIP
+    assert meta["seeds"] == list(range(TIERS["quick"])) and meta["tier"] == "quick" and meta["command"].startswith("saggriac bench --tier quick --rerun")
+    assert set(meta["teachers"]) == set(runs.teacher) and set(runs.seed) == set(meta["seeds"])
+    assert len(curves) >= len(runs) and {"task", "teacher", "seed", "step", "score"} <= set(curves.columns)
+
+
+@pytest.mark.skipif(SHIP is None or SHIP[2]["version"] != _core.__version__, reason="the shipped results were made by another version")
+@pytest.mark.parametrize("task", ["2d-reach", "niches-cells"])
+def test_the_shipped_results_equal_a_rerun_on_this_version(task):
+    runs = SHIP[0]
+    seed = 1
+    names = [n for n in available() if TeacherSpec(n).takes(TASKS[task].space) and n in set(runs.teacher)]
+    assert len(names) >= 3
+    for name in names:
+        row = run_one(Job(task, "quick", TeacherSpec(name), seed))["row"]
+        ship = runs[(runs.task == task) & (runs.teacher == name) & (runs.seed == seed)].iloc[0]
+        assert (row["area"], row["final"]) == (ship.area, ship.final), name
+
+
+def test_a_rerun_says_whether_it_differs_and_which_versions_made_what():
+    ship = pd.DataFrame([dict(task="2d", teacher="riac", seed=0, goals=10, area=0.5, final=0.9)])
+    same = compare_with_shipped(ship.copy(), ship, {"version": "0.0.1"})
+    assert same == ["Rerun: the 1 runs shipped for these teachers, tasks and seeds were recomputed and are the same numbers."]
+    moved = ship.assign(area=0.25)
+    (note,) = compare_with_shipped(moved, ship, {"version": "0.0.1"})
+    assert note.startswith("Rerun: 1 of 1 shipped runs differ (riac; largest area change 0.25)") and f"made by saggriac 0.0.1, these by saggriac {_core.__version__}" in note
