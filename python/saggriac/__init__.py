@@ -21,7 +21,11 @@ from . import _core, bodies, testing  # noqa: F401 (saggriac.bodies and saggriac
 from .config import PRESETS, Config
 from .errors import ConformanceError, InputError, ParameterError, SaggriacError, StorageError, WorkerRefusalError
 from .teachers.competence import competence
-from .teachers import AdrSelector, AlpGmmSelector, CovarGmmSelector, DiscreteLpSelector, GoalGanSelector, PlrSelector, RandomSelector, RiacSelector, SaggRiacSelector, SpdlSelector, TaskListSelector, load_selector
+from . import teachers as _teachers
+from .teachers import TaskListSelector, load_selector
+
+# Every teacher's class (the core's registry) under its name here too.
+globals().update({name: getattr(_teachers, name) for name in _teachers.TEACHERS})
 
 __version__ = _core.__version__
 
@@ -57,6 +61,7 @@ MOVED = {
     "saggriac.progress_niches": "saggriac.teachers.progress_niches",
     "saggriac.teacher_params": "saggriac.teachers.params",
     "saggriac.goal_selection": "saggriac.teachers",
+    "saggriac.teachers.random_goals": "saggriac.teachers.random",
     "saggriac.learner": "saggriac.runs.learner",
     "saggriac.resources": "saggriac.runs.resources",
     "saggriac.result": "saggriac.runs.result",
@@ -134,17 +139,8 @@ __all__ = [
     "run",
     "resume",
     "RunResult",
-    "SaggRiacSelector",
-    "RandomSelector",
-    "RiacSelector",
-    "DiscreteLpSelector",
-    "AlpGmmSelector",
-    "CovarGmmSelector",
-    "AdrSelector",
-    "PlrSelector",
+    *_teachers.TEACHERS,
     "TaskListSelector",
-    "SpdlSelector",
-    "GoalGanSelector",
     "load_selector",
     "Study",
     "run_study",

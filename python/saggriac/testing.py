@@ -278,3 +278,15 @@ def _check_restore(selector: Any, n_goals: int, rng: np.random.Generator, compet
         c = float(rng.uniform(*competences))
         for s in (selector, *(o for _, o in copies)):
             s.update(g, c)
+
+
+def example_teacher(teacher: Any, seed: int = 0, dim: int = 2, n_tasks: int = 6, **params: Any) -> Any:
+    """A teacher of the class ``teacher`` (or of that name in ``saggriac.teachers.available()``)
+    over a small space of its kind (its ``spaces``): the box [0, 1]^dim, or ``n_tasks`` tasks.
+    Tests, benchmarks and the bench build any registered teacher this way, without a list."""
+    from .teachers import available
+
+    cls = available()[teacher] if isinstance(teacher, str) else teacher
+    if "tasks" in getattr(cls, "spaces", ("box",)):
+        return cls(n_tasks, seed=seed, **params)
+    return cls(np.zeros(dim), np.ones(dim), seed=seed, **params)

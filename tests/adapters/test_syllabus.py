@@ -34,16 +34,16 @@ def progress_of(task):
     return float(np.exp(-np.sum(((t - np.array(LOW)) / (np.array(HIGH) - np.array(LOW))) ** 2)))
 
 
-BOX_TEACHERS = {
-    "sagg_riac": lambda s: sg.SaggRiacSelector(LOW, HIGH, seed=s),
-    "riac": lambda s: sg.RiacSelector(LOW, HIGH, seed=s, max_region_size=30),
-    "alp_gmm": lambda s: sg.AlpGmmSelector(LOW, HIGH, seed=s, fit_rate=40, bootstrap=40),
-    "covar_gmm": lambda s: sg.CovarGmmSelector(LOW, HIGH, seed=s, fit_rate=40, bootstrap=40),
-    "random": lambda s: sg.RandomSelector(LOW, HIGH, seed=s),
-    "adr": lambda s: sg.AdrSelector(LOW, HIGH, seed=s, buffer_size=3, t_low=0.2, t_high=0.4),
-    "spdl": lambda s: sg.SpdlSelector(LOW, HIGH, seed=s, update_every=20, warmup=20),
-    "goal_gan": lambda s: sg.GoalGanSelector(LOW, HIGH, seed=s, update_size=10, gan_iterations=10, hidden=8),
+QUICK = {
+    "riac": {"max_region_size": 30},
+    "alp_gmm": {"fit_rate": 40, "bootstrap": 40},
+    "covar_gmm": {"fit_rate": 40, "bootstrap": 40},
+    "adr": {"buffer_size": 3, "t_low": 0.2, "t_high": 0.4},
+    "spdl": {"update_every": 20, "warmup": 20},
+    "goal_gan": {"update_size": 10, "gan_iterations": 10, "hidden": 8},
 }
+# Every registered teacher of a box (the registry's), quick where it has slow parameters.
+BOX_TEACHERS = {kind: (lambda s, cls=cls: cls(LOW, HIGH, seed=s, **QUICK.get(cls._kind, {}))) for kind, cls in sg.teachers.available().items() if "box" in cls.spaces}
 
 
 @pytest.mark.parametrize("name", list(BOX_TEACHERS))

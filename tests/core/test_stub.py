@@ -80,5 +80,9 @@ def test_each_default_is_declared_once_by_the_core():
         assert set(sig) - {"low", "high", "seed"} == set(teachers[kind]), kind
         given = {k: p.default for k, p in sig.items() if k in teachers[kind] and p.default is not p.empty}
         assert given == {k: teachers[kind][k] for k in given} and len(given) >= len(teachers[kind]) - 1, kind
+    # The registry names each class and its goal space as the Python classes are, in order.
+    from saggriac.teachers import available
+
+    assert [(k, c.__name__, c.spaces) for k, c in available().items()] == [(k, cls, (space,)) for k, cls, space in _core.teacher_registry()]
     # SAGG-RIAC's own high level in a run and on its own: the same defaults.
     assert teachers["sagg_riac"] == {k: core[k] for k in teachers["sagg_riac"]}

@@ -3,6 +3,7 @@ file, sizes have stated bounds, strings, bools and extreme values are refused or
 
 from __future__ import annotations
 
+import functools
 import os
 from pathlib import Path
 
@@ -15,17 +16,7 @@ from saggriac.errors import InputError, ParameterError, SaggriacError, StorageEr
 from tests.special_files import snapshot, special_files
 
 
-TEACHERS = {
-    "sagg_riac": lambda: saggriac.SaggRiacSelector([0.0, 0.0], [1.0, 1.0], seed=1),
-    "riac": lambda: saggriac.RiacSelector([0.0, 0.0], [1.0, 1.0], seed=1),
-    "alp_gmm": lambda: saggriac.AlpGmmSelector([0.0, 0.0], [1.0, 1.0], seed=1),
-    "covar_gmm": lambda: saggriac.CovarGmmSelector([0.0, 0.0], [1.0, 1.0], seed=1),
-    "discrete_lp": lambda: saggriac.DiscreteLpSelector(4, seed=1),
-    "adr": lambda: saggriac.AdrSelector([0.0, 0.0], [1.0, 1.0], seed=1),
-    "plr": lambda: saggriac.PlrSelector(4, seed=1),
-    "spdl": lambda: saggriac.SpdlSelector([0.0, 0.0], [1.0, 1.0], seed=1),
-    "goal_gan": lambda: saggriac.GoalGanSelector([0.0, 0.0], [1.0, 1.0], seed=1),
-}
+TEACHERS = {kind: functools.partial(saggriac.testing.example_teacher, kind, 1) for kind in saggriac.teachers.available() if kind != "random"}
 
 
 

@@ -1,6 +1,7 @@
 """Saving and restoring teachers: pickle, copy, a file; each continues with the same goals."""
 
 import copy
+import functools
 import pickle
 
 import numpy as np
@@ -8,19 +9,26 @@ import pytest
 
 import saggriac as sg
 
-TEACHERS = [
+# Every registered teacher, with its slow parameters made quick where it has them.
+QUICK = {
+    "sagg_riac": {"g_max": 12, "zeta": 6},
+    "riac": {"max_region_size": 20, "split_attempts": 10},
+    "alp_gmm": {"fit_rate": 40, "bootstrap": 40, "max_components": 4},
+    "covar_gmm": {"fit_rate": 40, "bootstrap": 40, "max_components": 4},
+    "adr": {"buffer_size": 3, "t_low": 0.3, "t_high": 0.6},
+    "spdl": {"update_every": 20, "warmup": 20, "delta": -0.6},
+    "goal_gan": {"update_size": 10, "gan_iterations": 10, "hidden": 8, "success_threshold": -0.5},
+}
+TEACHERS = [functools.partial(sg.testing.example_teacher, kind, seed, **QUICK.get(kind, {})) for seed, kind in enumerate(sg.teachers.available(), start=3)]
+TEACHERS += [
     lambda: sg.SaggRiacSelector([0.0, -1.0, 5.0], [1.0, 1.0, 6.0], seed=7, g_max=12, zeta=6),
-    lambda: sg.RandomSelector([0.0], [2.0], seed=9),
-    lambda: sg.RiacSelector([0.0, -1.0], [1.0, 1.0], seed=3, max_region_size=20, split_attempts=10),
-    lambda: sg.DiscreteLpSelector(6, seed=4),
-    lambda: sg.AlpGmmSelector([0.0, -1.0], [1.0, 1.0], seed=5, fit_rate=40, bootstrap=40, max_components=4),
     lambda: sg.CovarGmmSelector([0.0], [3.0], seed=6, fit_rate=40, bootstrap=40, max_components=4),
-    lambda: sg.AdrSelector([0.0, -1.0], [1.0, 1.0], seed=8, buffer_size=3, t_low=0.3, t_high=0.6),
-    lambda: sg.PlrSelector(7, seed=10),
     lambda: sg.PlrSelector(5, seed=11, score="told", replay_schedule="fixed", staleness_coef=0.3),
-    lambda: sg.SpdlSelector([0.0, -1.0], [1.0, 1.0], seed=12, update_every=20, warmup=20, delta=-0.6),
-    lambda: sg.GoalGanSelector([0.0, -1.0], [1.0, 1.0], seed=13, update_size=10, gan_iterations=10, hidden=8, success_threshold=-0.5),
 ]
+
+
+def test_the_quick_settings_name_registered_teachers():
+    assert set(QUICK) <= set(sg.teachers.available())
 
 
 def competence(g, teacher=None):

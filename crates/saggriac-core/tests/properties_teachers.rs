@@ -6,7 +6,7 @@ mod common;
 use proptest::prelude::*;
 
 use common::{cases, TestResult};
-use saggriac_core::config::teachers::{AdrConfig, GoalGanConfig, PlrConfig, PlrScore, RandomConfig, ReplaySchedule, SaggRiacConfig, SpdlConfig, Teacher};
+use saggriac_core::config::teachers::{AdrConfig, GoalGanConfig, PlrConfig, PlrScore, RandomConfig, ReplaySchedule, SaggRiacConfig, SpdlConfig, Teacher, TsclConfig, TsclPolicy, TsclVariant};
 use saggriac_core::high_level::ask_tell::AskTell;
 use saggriac_core::high_level::goal_selection::ModeProbabilities;
 use saggriac_core::high_level::interest::InterestDivisor;
@@ -89,6 +89,17 @@ fn spec() -> impl Strategy<Value = TeacherSpec> {
         hidden,
         ..GoalGanConfig::default()
     });
+    let variant = prop_oneof![Just(TsclVariant::Window), Just(TsclVariant::Sampling)];
+    let policy = prop_oneof![Just(TsclPolicy::EpsilonGreedy), Just(TsclPolicy::Boltzmann)];
+    let tscl = (1usize..=12, variant, 2usize..=20, policy, 0.0..=1.0f64, 1e-4..1.0f64, any::<bool>()).prop_map(|(n_tasks, variant, window, policy, epsilon, temperature, absolute)| TsclConfig {
+        n_tasks,
+        variant,
+        window,
+        policy,
+        epsilon,
+        temperature,
+        absolute,
+    });
     let teacher = prop_oneof![
         tree.prop_map(|tree| Teacher::SaggRiac(SaggRiacConfig { tree, modes: ModeProbabilities::default() })),
         Just(Teacher::Random(RandomConfig {})),
@@ -100,11 +111,22 @@ fn spec() -> impl Strategy<Value = TeacherSpec> {
         plr.prop_map(Teacher::Plr),
         spdl.prop_map(Teacher::Spdl),
         goal_gan.prop_map(Teacher::GoalGan),
+        tscl.prop_map(Teacher::Tscl),
     ];
     (bounds, teacher, any::<u64>()).prop_map(|((low, high), teacher, seed)| {
         let (low, high) = if teacher.has_box() { (low, high) } else { (Vec::new(), Vec::new()) };
         TeacherSpec { teacher, low, high, seed }
     })
+}
+
+/// The strategy has an arm for every teacher of the registry.
+#[test]
+fn every_registered_teacher_is_drawn() {
+    use proptest::strategy::ValueTree;
+    let mut runner = proptest::test_runner::TestRunner::deterministic();
+    let drawn: std::collections::BTreeSet<&str> = (0..2000).map(|_| spec().new_tree(&mut runner).unwrap().current().kind()).collect();
+    let all: std::collections::BTreeSet<&str> = Teacher::all().iter().map(|t| t.kind()).collect();
+    assert_eq!(drawn, all);
 }
 
 /// A competence with structure (a slope and a noisy patch), from the goal and a generator; a

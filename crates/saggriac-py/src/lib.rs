@@ -51,6 +51,13 @@ fn teacher_defaults(py: Python<'_>) -> PyResult<Bound<'_, pyo3::types::PyDict>> 
     teachers::defaults(py)
 }
 
+/// teacher_registry() -> list[tuple[str, str, str]]: each teacher of the core's registry as
+/// (name, Python class, goal space: "box" or "tasks"), in the registry's order.
+#[pyfunction]
+fn teacher_registry() -> Vec<(&'static str, &'static str, &'static str)> {
+    saggriac_core::config::teachers::Teacher::all().iter().map(|t| (t.kind(), t.class(), if t.has_box() { "box" } else { "tasks" })).collect()
+}
+
 /// child_seed(parent, stream) -> int: the core's seed of one component (SplitMix64 mixing; stream
 /// 1 is the high level, 2 the low level's generator).
 #[pyfunction]
@@ -72,6 +79,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(config_defaults, m)?)?;
     m.add_function(wrap_pyfunction!(teacher_defaults, m)?)?;
     m.add_function(wrap_pyfunction!(teacher_param_rule, m)?)?;
+    m.add_function(wrap_pyfunction!(teacher_registry, m)?)?;
     m.add_function(wrap_pyfunction!(child_seed, m)?)?;
     m.add_function(wrap_pyfunction!(competence::competence, m)?)?;
     m.add_function(wrap_pyfunction!(chain::chain_forward, m)?)?;

@@ -12,21 +12,17 @@ The region tree, the interest (competence progress) and the three goal modes are
 the same code the run loop uses.
 """
 
-from .adr import AdrSelector
-from .alp_gmm import AlpGmmSelector
+from importlib import import_module
+
+from .. import _core
 from .ask_tell import MAGIC, MODES, AskTellSelector, GoalSelectorProtocol, available, classes, load_selector
-from .covar_gmm import CovarGmmSelector
-from .discrete_lp import DiscreteLpSelector
-from .goal_gan import GoalGanSelector
-from .plr import PlrSelector
-from .random_goals import RandomSelector
-from .riac import RiacSelector
-from .sagg_riac import SaggRiacSelector
-from .spdl import SpdlSelector
 from .task_list import TaskListSelector
 
-__all__ = [
-    "SaggRiacSelector", "RandomSelector", "RiacSelector", "AlpGmmSelector", "CovarGmmSelector", "AdrSelector", "SpdlSelector", "GoalGanSelector",
-    "TaskListSelector", "DiscreteLpSelector", "PlrSelector",
-    "AskTellSelector", "GoalSelectorProtocol", "load_selector", "available", "classes", "MAGIC", "MODES",
-]
+# The core's registry names every teacher; each has its class in the module of its name here
+# (teachers/<name>.py), imported now so that available() and the names below know it.
+for _kind in _core.teacher_defaults():
+    import_module(f".{_kind}", __name__)
+TEACHERS = tuple(c.__name__ for c in available().values())
+globals().update({c.__name__: c for c in available().values()})
+
+__all__ = [*TEACHERS, "TaskListSelector", "AskTellSelector", "GoalSelectorProtocol", "load_selector", "available", "classes", "MAGIC", "MODES"]

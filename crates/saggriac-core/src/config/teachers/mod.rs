@@ -30,6 +30,7 @@ macro_rules! registry {
             plr: Plr(PlrConfig),
             spdl: Spdl(SpdlConfig),
             goal_gan: GoalGan(GoalGanConfig),
+            tscl: Tscl(TsclConfig),
         }
     };
 }
