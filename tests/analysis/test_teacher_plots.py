@@ -106,3 +106,16 @@ def test_bad_input_names_the_parameter(kw, param):
     with pytest.raises(ParameterError, match=rf"The '{param}' parameter of plot_teacher must be") as e:
         plot_teacher(source, **kw)
     assert e.value.param == param
+
+
+def test_each_kind_of_draw_has_one_colour_in_every_panel():
+    t = _taught("goal_gan", n=600)
+    fig = plot_teacher(t, windows=3)
+    colours: dict[str, set] = {}
+    for ax in fig.axes:
+        for c in ax.collections:
+            if c.get_label() != "intermediate difficulty":
+                colours.setdefault(c.get_label(), set()).add(tuple(np.round(c.get_facecolor()[0][:3], 3)))
+    assert len(colours) >= 2 and all(len(v) == 1 for v in colours.values()), colours
+    assert len({next(iter(v)) for v in colours.values()}) == len(colours)
+    assert "intermediate difficulty" in [t.get_text() for t in fig.axes[-1].get_legend().get_texts()]

@@ -11,6 +11,7 @@ from typing import Any, Mapping
 
 import numpy as np
 from matplotlib.figure import Figure
+from matplotlib.lines import Line2D
 from matplotlib.patches import Ellipse, Rectangle
 
 from ..errors import ParameterError
@@ -64,6 +65,8 @@ def teacher_figure(source: Any, windows: int = 4, dims: tuple[int, int] = (0, 1)
     fig = Figure(figsize=(3.6 * len(spans), 3.9), layout="constrained")
     axes = fig.subplots(1, len(spans), squeeze=False)[0]
     labels = _labels(kind, h)
+    # One colour per label in every panel.
+    colour = {label: f"C{i}" for i, label in enumerate(dict.fromkeys(labels))}
     for k, (start, end) in enumerate(spans):
         ax = axes[k]
         chosen = goals[start:end]
@@ -76,14 +79,17 @@ def teacher_figure(source: Any, windows: int = 4, dims: tuple[int, int] = (0, 1)
             i, j = dims
             for label in dict.fromkeys(labels[start:end]):
                 sel = labels[start:end] == label
-                ax.scatter(chosen[sel, i], chosen[sel, j], s=4, alpha=0.5, label=label.replace("_share", ""), rasterized=True)
+                ax.scatter(chosen[sel, i], chosen[sel, j], s=4, alpha=0.5, color=colour[label], label=label.replace("_share", ""), rasterized=True)
             _overlay(ax, teacher, kind, h, chosen, (start, end), (i, j), last)
             ax.set_xlim(low[i], high[i])
             ax.set_ylim(low[j], high[j])
             ax.set_xlabel(f"goal[{i}]")
             ax.set_ylabel(f"goal[{j}]")
-            if k == 0 and len(set(labels[start:end])) > 1:
-                ax.legend(fontsize=7, markerscale=3, loc="upper right")
+            handles = [Line2D([], [], linestyle="", marker="o", color=c, label=label.replace("_share", "")) for label, c in colour.items()]
+            if kind == "goal_gan":
+                handles.append(Line2D([], [], linestyle="", marker="o", markerfacecolor="none", color="k", label="intermediate difficulty"))
+            if k == len(spans) - 1 and len(handles) > 1:
+                ax.legend(handles=handles, fontsize=7, loc="upper right")
         ax.set_title(f"goals {start}-{end}", fontsize=10)
     fig.suptitle(f"{name}: the goals it chose over time", fontsize=11)
     return fig
