@@ -6,7 +6,7 @@
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyString};
 use pythonize::{depythonize, pythonize};
-use saggriac_core::config::teachers::Teacher;
+use saggriac_core::config::teachers::{Rule, Teacher};
 use saggriac_core::error::invalid;
 use saggriac_core::Error;
 
@@ -31,18 +31,64 @@ fn nested<'py>(py: Python<'py>, t: &Teacher) -> PyResult<Bound<'py, PyDict>> {
     Ok(outer.cast_into::<PyDict>()?.get_item(t.kind())?.ok_or_else(|| pyo3::exceptions::PyRuntimeError::new_err("a teacher without parameters"))?.cast_into::<PyDict>()?)
 }
 
-/// The rule a value must follow to stand where `default` stands, if it does not.
-pub fn wrong_type(value: &Bound<'_, PyAny>, default: &Bound<'_, PyAny>) -> Option<&'static str> {
+/// Whether `value` has the type of `default` (an int for an int, a number for a float, a bool
+/// for a bool, a str for a choice): the one type check of a teacher's parameters.
+pub fn right_type(value: &Bound<'_, PyAny>, default: &Bound<'_, PyAny>) -> bool {
     let is_bool = value.is_instance_of::<PyBool>();
     if default.is_instance_of::<PyBool>() {
-        (!is_bool).then_some("a bool")
+        is_bool
     } else if default.is_instance_of::<PyInt>() {
-        (is_bool || !value.is_instance_of::<PyInt>() || value.extract::<u64>().is_err()).then_some("an int >= 0")
+        !is_bool && value.is_instance_of::<PyInt>() && value.extract::<u64>().is_ok()
     } else if default.is_instance_of::<PyFloat>() {
-        (is_bool || !(value.is_instance_of::<PyFloat>() || value.is_instance_of::<PyInt>())).then_some("a float")
+        !is_bool && (value.is_instance_of::<PyFloat>() || value.is_instance_of::<PyInt>())
     } else {
-        (!value.is_instance_of::<PyString>()).then_some("a str")
+        value.is_instance_of::<PyString>()
     }
+}
+
+/// The type `default`'s value stands for, as a rule states it, if `value` is not of it (a run's
+/// parameters, whose range the core's `validate` then tells).
+pub fn wrong_type(value: &Bound<'_, PyAny>, default: &Bound<'_, PyAny>) -> Option<&'static str> {
+    (!right_type(value, default)).then(|| {
+        if default.is_instance_of::<PyBool>() {
+            "a bool"
+        } else if default.is_instance_of::<PyInt>() {
+            "an int >= 0"
+        } else if default.is_instance_of::<PyFloat>() {
+            "a float"
+        } else {
+            "a str"
+        }
+    })
+}
+
+/// The rule of the parameter `key` of `teacher` as a message states it (a choice's from serde,
+/// which names the choices), None for a name the teacher has not.
+pub fn rule_text(py: Python<'_>, teacher: &Teacher, key: &str) -> PyResult<Option<String>> {
+    Ok(match teacher.rule(key) {
+        None => None,
+        Some(Rule::Choice) => {
+            // A name no choice has: serde's refusal lists the choices.
+            let nested = nested(py, teacher)?;
+            place(&nested, key, &PyString::new(py, "\u{1}").into_any())?;
+            let one = PyDict::new(py);
+            one.set_item(teacher.kind(), &nested)?;
+            Some(depythonize::<Teacher>(&one).err().map(|e| serde_rule(&e.to_string())).unwrap_or_else(|| Rule::Choice.text()))
+        }
+        Some(rule) => Some(rule.text()),
+    })
+}
+
+/// Put `value` under `key` where serde expects it: at the top, or in the nested struct holding it.
+fn place(nested: &Bound<'_, PyDict>, key: &str, value: &Bound<'_, PyAny>) -> PyResult<()> {
+    for (_, inner) in nested.iter() {
+        if let Ok(inner) = inner.cast::<PyDict>() {
+            if inner.contains(key)? {
+                return inner.set_item(key, value);
+            }
+        }
+    }
+    nested.set_item(key, value)
 }
 
 /// The teacher `kind` with the parameters `given` names, the others at their defaults. Messages
@@ -61,24 +107,12 @@ pub fn teacher(py: Python<'_>, default: Teacher, given: Option<&Bound<'_, PyDict
             return Err(to_py(py, invalid(owner, what, rule, format!("a dict with key '{key}'"))));
         };
         let shown = || v.repr().map(|r| r.to_string()).unwrap_or_else(|_| "?".into());
-        if let Some(rule) = wrong_type(&v, &d) {
-            // The parameter's own rule where the core states one: the text a value out of range is told.
-            let rule = saggriac_core::config::teachers::param_rule(&key).unwrap_or_else(|| rule.to_string());
+        if !right_type(&v, &d) {
+            // The parameter's rule, the text a value out of range is told.
+            let rule = rule_text(py, &default, &key)?.unwrap_or_default();
             return Err(to_py(py, invalid(owner, &format!("{prefix}{key}"), rule, shown())));
         }
-        // Where serde expects it: at the top, or in the nested struct holding it.
-        let mut placed = false;
-        for (_, inner) in nested.iter() {
-            if let Ok(inner) = inner.cast::<PyDict>() {
-                if inner.contains(&key)? {
-                    inner.set_item(&key, &v)?;
-                    placed = true;
-                }
-            }
-        }
-        if !placed {
-            nested.set_item(&key, &v)?;
-        }
+        place(&nested, &key, &v)?;
         // A value of the right type serde still refuses (a str naming no choice) is named here.
         let one = PyDict::new(py);
         one.set_item(kind, &nested)?;

@@ -6,10 +6,8 @@ own file, naming its kind and its parameters."""
 
 from __future__ import annotations
 
-import functools
 import math
 import os
-import re
 from pathlib import Path
 from typing import Any, Protocol, runtime_checkable
 
@@ -19,6 +17,7 @@ from .. import _core
 from ..errors import InputError, ParameterError, StorageError
 from ..files import MAX_TEACHER_BYTES, as_path, check_flag, read_bounded, starts_with, write_file
 from ..values import as_numbers as _numbers
+from ..values import plain
 from . import copies, ownership
 
 # Every teacher's parameters and defaults are the core's (one declaration): each class below
@@ -53,56 +52,12 @@ def _vector(name: str, value: Any, dim: int | None = None) -> np.ndarray:
 
 
 def _int_param(owner: str, name: str, value: Any, low: int, high: int) -> int:
-    """An int argument in [low, high): numpy ints are taken, floats and bools refused (never
-    truncated), and the range is checked here so the core's fixed-width ints never overflow
-    (the core checks each parameter's own rule)."""
+    """An int argument in [low, high) (a seed, a batch size): numpy ints are taken, floats and
+    bools refused (never truncated), and the range is checked here so the core's fixed-width
+    ints never overflow."""
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not low <= int(value) < high:
-        # The parameter's own rule where the core states one: the same text as for a value out of range.
-        rule = _core.teacher_param_rule(name) or f"an int in [{low}, 2**{high.bit_length() - 1})"
-        raise ParameterError(f"The '{name}' parameter of {owner} must be {rule}. Got {value!r} instead.", name, repr(value))
+        raise ParameterError(f"The '{name}' parameter of {owner} must be an int in [{low}, 2**{high.bit_length() - 1}). Got {value!r} instead.", name, repr(value))
     return int(value)
-
-
-def _float_param(owner: str, name: str, value: Any) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
-        rule = _core.teacher_param_rule(name) or "a float"
-        raise ParameterError(f"The '{name}' parameter of {owner} must be {rule}. Got {value!r} instead.", name, repr(value))
-    return float(value)
-
-
-@functools.lru_cache(maxsize=None)
-def _int_rule(kind: str, name: str) -> str:
-    """The core's rule for the int parameter ``name`` of the teacher ``kind``, in the words it
-    tells a value out of range: stated by name where the core lists it, else found by building
-    the teacher with 0 and then with 2**64 - 1 (one of them breaks every rule with bounds)."""
-    rule = _core.teacher_param_rule(name)
-    if rule:
-        return rule
-    for probe in (0, 2**64 - 1):
-        try:
-            _core.AskTell(kind, [0.0], [1.0], 0, {name: probe})
-        except ParameterError as e:
-            found = re.search(r" must be (.*)\. Got .* instead\.$", str(e), re.DOTALL)
-            if e.param == name and found:
-                return found.group(1)
-    return "an int >= 0"
-
-
-def _typed(kind: str, owner: str, name: str, value: Any, default: Any) -> Any:
-    """``value`` as the type of the parameter's default: numpy scalars taken, floats and bools
-    never taken for ints. An int of the wrong type or past the core's integers is told the rule
-    the core tells a value out of range, so that every wrong value hears one rule."""
-    if isinstance(default, bool):
-        return check_flag(value, name, owner)
-    if isinstance(default, int):
-        if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not 0 <= int(value) < 2**63:
-            raise ParameterError(f"The '{name}' parameter of {owner} must be {_int_rule(kind, name)}. Got {value!r} instead.", name, repr(value))
-        return int(value)
-    if isinstance(default, float):
-        return _float_param(owner, name, value)
-    if not isinstance(value, str):
-        raise ParameterError(f"The '{name}' parameter of {owner} must be a str. Got {value!r} instead.", name, repr(value))
-    return value
 
 
 class AskTellSelector:
@@ -120,7 +75,9 @@ class AskTellSelector:
         owner = type(self).__name__
         lo, hi = _vector("low", low), _vector("high", high)
         seed = _int_param(owner, "seed", seed, 0, 2**64)
-        self._inner = _core.AskTell(self._kind, lo.tolist(), hi.tolist(), seed, {k: _typed(self._kind, owner, k, v, DEFAULTS[self._kind][k]) for k, v in params.items()})
+        # numpy scalars as the numbers they stand for; the core checks each value's type and rule
+        # (crates/saggriac-py/src/teachers.rs, config/rules.rs): one check, one message.
+        self._inner = _core.AskTell(self._kind, lo.tolist(), hi.tolist(), seed, {k: plain(v) for k, v in params.items()})
         self.last_mode: str | None = None
         self.last_region: int | None = None
 

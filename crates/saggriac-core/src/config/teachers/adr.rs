@@ -3,7 +3,8 @@
 use serde::{Deserialize, Serialize};
 
 use crate::config::teachers::{Registered, TeacherParams};
-use crate::error::{invalid, Check, Num, Result, MAX_COUNT};
+use crate::config::rules::{check_float, check_int, open_closed, Rule, COUNT, PROBABILITY};
+use crate::error::{invalid, Num, Result};
 
 /// Parameters of Automatic Domain Randomization (Akkaya et al., 2019, Algorithm 1).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -34,22 +35,28 @@ impl Default for AdrConfig {
 }
 
 impl TeacherParams for AdrConfig {
+    const RULES: &'static [(&'static str, Rule)] = &[
+        ("boundary_prob", PROBABILITY),
+        ("buffer_size", COUNT),
+        ("t_low", Rule::Finite),
+        ("t_high", Rule::Finite),
+        ("step", open_closed(0.0, 1.0)),
+        ("initial", PROBABILITY),
+        ("initial_width", PROBABILITY),
+    ];
+
     fn validate(&self) -> Result<()> {
-        let c = Check { owner: Self::CLASS };
-        c.probability("boundary_prob", self.boundary_prob)?;
-        c.within("buffer_size", self.buffer_size, 1, MAX_COUNT)?;
-        for (name, v) in [("t_low", self.t_low), ("t_high", self.t_high)] {
-            if !(v.is_finite() && v.abs() <= 1e100) {
-                return Err(invalid(Self::CLASS, name, "a finite float with |value| <= 1e100", Num(v)));
-            }
-        }
+        let (o, r) = (Self::CLASS, Self::RULES);
+        check_float(o, r, "boundary_prob", self.boundary_prob)?;
+        check_int(o, r, "buffer_size", self.buffer_size)?;
+        check_float(o, r, "t_low", self.t_low)?;
+        check_float(o, r, "t_high", self.t_high)?;
         if self.t_low >= self.t_high {
-            return Err(invalid(Self::CLASS, "t_low", format!("a float < t_high (t_high = {})", Num(self.t_high)), Num(self.t_low)));
+            return Err(invalid(o, "t_low", format!("a float < t_high (t_high = {})", Num(self.t_high)), Num(self.t_low)));
         }
-        c.in_open_closed("step", self.step, 0.0, 1.0)?;
-        c.probability("initial", self.initial)?;
-        c.probability("initial_width", self.initial_width)?;
-        Ok(())
+        check_float(o, r, "step", self.step)?;
+        check_float(o, r, "initial", self.initial)?;
+        check_float(o, r, "initial_width", self.initial_width)
     }
 
     fn scaled_to_competences(self, lo: f64, hi: f64) -> Self {

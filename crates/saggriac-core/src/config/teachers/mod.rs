@@ -11,7 +11,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{invalid, Result};
 
-pub use crate::config::rules::param_rule;
+pub use crate::config::rules::Rule;
 
 /// The registry: every teacher as `file: Variant(Parameters)`, in the order they are listed to
 /// users. `file` is the teacher's name (the Python classes, the CLI, `Config(teacher=...)` and
@@ -49,6 +49,11 @@ pub trait Registered {
 pub trait TeacherParams: Registered + Copy + Default + Serialize + DeserializeOwned {
     /// Goals are points of a box (true) or indices into a task list (false).
     const HAS_BOX: bool = true;
+
+    /// Every parameter by its name (as `Config`'s `teacher_params` and the Python class name
+    /// it) with its rule: `validate` checks each value against it, and a value of the wrong type
+    /// is told its text.
+    const RULES: &'static [(&'static str, Rule)];
 
     /// The parameters' rules (the box is checked by the teacher).
     fn validate(&self) -> Result<()>;
@@ -118,6 +123,18 @@ macro_rules! declare_teachers {
                 }
             }
 
+            /// Every parameter of the teacher with its rule.
+            pub fn rules(&self) -> &'static [(&'static str, Rule)] {
+                match self {
+                    $(Teacher::$variant(_) => <$params as TeacherParams>::RULES,)*
+                }
+            }
+
+            /// The rule of the parameter `name`, None for a name the teacher has not.
+            pub fn rule(&self, name: &str) -> Option<Rule> {
+                crate::config::rules::rule_of(self.rules(), name)
+            }
+
             /// The parameters' rules (the box is checked by the teacher).
             pub fn validate(&self) -> Result<()> {
                 match self {
@@ -175,6 +192,19 @@ pub fn flat_params<T: Serialize>(params: &T) -> Vec<(String, String)> {
 #[cfg(test)]
 mod tests {
     use super::Teacher;
+
+    /// Every parameter has its rule, and only its parameters have one.
+    #[test]
+    fn every_parameter_has_a_rule() {
+        for t in Teacher::all() {
+            let names: Vec<String> = super::flat_params(&t).into_iter().map(|(k, _)| k).collect();
+            let ruled: Vec<String> = t.rules().iter().map(|r| r.0.to_string()).collect();
+            assert_eq!(ruled.len(), names.len(), "{}", t.kind());
+            for n in &names {
+                assert!(ruled.contains(n), "{}: {n}", t.kind());
+            }
+        }
+    }
 
     /// The name `kind()` gives (the file's) is the one serde writes in saved teachers.
     #[test]

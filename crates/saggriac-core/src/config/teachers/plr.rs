@@ -3,7 +3,8 @@
 use serde::{Deserialize, Serialize};
 
 use crate::config::teachers::{Registered, TeacherParams};
-use crate::error::{invalid, Check, Num, Result, MAX_COUNT};
+use crate::config::rules::{check_float, check_int, Rule, COUNT, PROBABILITY};
+use crate::error::Result;
 
 /// How PLR decides between a new level and a replay (P_D).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -50,15 +51,21 @@ impl Default for PlrConfig {
 impl TeacherParams for PlrConfig {
     const HAS_BOX: bool = false;
 
-    fn validate(&self) -> Result<()> {
-        let c = Check { owner: Self::CLASS };
-        c.within("n_tasks", self.n_tasks, 1, MAX_COUNT)?;
+    const RULES: &'static [(&'static str, Rule)] = &[
+        ("n_tasks", COUNT),
         // rank^(-1/beta) must not underflow to 0 for every rank > 1 too soon: beta >= 0.01.
-        if !(self.temperature.is_finite() && self.temperature >= 0.01) {
-            return Err(invalid(Self::CLASS, "temperature", "a finite float >= 0.01", Num(self.temperature)));
-        }
-        c.probability("staleness_coef", self.staleness_coef)?;
-        c.probability("replay_prob", self.replay_prob)?;
-        Ok(())
+        ("temperature", Rule::Float { lo: 0.01, lo_in: true, hi: f64::INFINITY, hi_in: false, note: "" }),
+        ("staleness_coef", PROBABILITY),
+        ("replay_schedule", Rule::Choice),
+        ("replay_prob", PROBABILITY),
+        ("score", Rule::Choice),
+    ];
+
+    fn validate(&self) -> Result<()> {
+        let (o, r) = (Self::CLASS, Self::RULES);
+        check_int(o, r, "n_tasks", self.n_tasks)?;
+        check_float(o, r, "temperature", self.temperature)?;
+        check_float(o, r, "staleness_coef", self.staleness_coef)?;
+        check_float(o, r, "replay_prob", self.replay_prob)
     }
 }

@@ -3,7 +3,8 @@
 use serde::{Deserialize, Serialize};
 
 use crate::config::teachers::{Registered, TeacherParams};
-use crate::error::{invalid, Check, Num, Result, MAX_COUNT};
+use crate::config::rules::{check_float, check_int, Rule, COUNT, POSITIVE};
+use crate::error::{invalid, Num, Result, MAX_COUNT};
 
 /// SPDL's parameters (Klink et al., NeurIPS 2020 / JMLR 2021), in the box scaled to [0, 1]:
 /// both Gaussians are diagonal, with one mean and one standard deviation for every dimension.
@@ -33,26 +34,31 @@ impl Default for SpdlConfig {
     }
 }
 
+const MEAN: Rule = Rule::Float { lo: 0.0, lo_in: true, hi: 1.0, hi_in: true, note: "a position in the box scaled to [0, 1]" };
+const STD: Rule = Rule::Float { lo: 1e-4, lo_in: true, hi: 10.0, hi_in: true, note: "box widths" };
+
 impl TeacherParams for SpdlConfig {
+    const RULES: &'static [(&'static str, Rule)] = &[
+        ("init_mean", MEAN),
+        ("init_std", STD),
+        ("target_mean", MEAN),
+        ("target_std", STD),
+        ("epsilon", POSITIVE),
+        ("delta", Rule::Finite),
+        ("update_every", COUNT),
+        ("warmup", Rule::Int(0, MAX_COUNT)),
+    ];
+
     fn validate(&self) -> Result<()> {
-        let c = Check { owner: Self::CLASS };
-        for (name, v) in [("init_mean", self.init_mean), ("target_mean", self.target_mean)] {
-            if !(v.is_finite() && (0.0..=1.0).contains(&v)) {
-                return Err(invalid(Self::CLASS, name, "a float in [0, 1] (a position in the box scaled to [0, 1])", Num(v)));
-            }
-        }
-        for (name, v) in [("init_std", self.init_std), ("target_std", self.target_std)] {
-            if !(v.is_finite() && (1e-4..=10.0).contains(&v)) {
-                return Err(invalid(Self::CLASS, name, "a float in [1e-4, 10] (box widths)", Num(v)));
-            }
-        }
-        c.positive("epsilon", self.epsilon)?;
-        if !(self.delta.is_finite() && self.delta.abs() <= 1e100) {
-            return Err(invalid(Self::CLASS, "delta", "a finite float of absolute value <= 1e100", Num(self.delta)));
-        }
-        c.within("update_every", self.update_every, 1, MAX_COUNT)?;
-        c.within("warmup", self.warmup, 0, MAX_COUNT)?;
-        Ok(())
+        let (o, r) = (Self::CLASS, Self::RULES);
+        check_float(o, r, "init_mean", self.init_mean)?;
+        check_float(o, r, "init_std", self.init_std)?;
+        check_float(o, r, "target_mean", self.target_mean)?;
+        check_float(o, r, "target_std", self.target_std)?;
+        check_float(o, r, "epsilon", self.epsilon)?;
+        check_float(o, r, "delta", self.delta)?;
+        check_int(o, r, "update_every", self.update_every)?;
+        check_int(o, r, "warmup", self.warmup)
     }
 
     fn scaled_to_competences(self, lo: f64, hi: f64) -> Self {
