@@ -178,3 +178,30 @@ def test_a_teacher_that_is_not_saggriacs_gets_the_callbacks_counts(tmp_path):
 def test_figure_every_must_be_a_positive_int(bad):
     with pytest.raises(sg.errors.ParameterError, match=r"The 'figure_every' parameter of TeacherCallback must be an int >= 1 .* Got " + repr(bad).replace(".", r"\.") + " instead"):
         TeacherCallback(sg.RandomSelector(LOW, HIGH), figure_every=bad)
+
+
+@pytest.mark.parametrize("algo", ["ppo", "sac"])
+def test_each_row_of_the_log_covers_the_goals_asked_since_the_row_before(tmp_path, algo):
+    """On-policy (a log per rollout) and off-policy (a log every few episodes, rollouts of one
+    step): each row's shares are those of the goals asked between its count and the previous
+    row's, so no goal is counted twice or lost."""
+    from stable_baselines3 import SAC
+
+    from saggriac.teachers import MODES
+
+    teacher = sg.SaggRiacSelector(LOW, HIGH, seed=0, g_max=10)
+    venv = make_vec_env(lambda: gymnasium.make(ENV, max_episode_steps=10), n_envs=1, seed=0)
+    if algo == "ppo":
+        model = PPO("MultiInputPolicy", venv, n_steps=32, batch_size=32, n_epochs=1, seed=0, device="cpu")
+    else:
+        # No gradient step (learning_starts past the end): the rollouts and logs are what is tested.
+        model = SAC("MultiInputPolicy", venv, buffer_size=500, learning_starts=10_000, seed=0, device="cpu")
+    model.set_logger(configure(str(tmp_path), ["csv"]))
+    model.learn(total_timesteps=320, callback=TeacherCallback(teacher, competence="distance"), log_interval=2)
+    model.logger.close()
+    log = pd.read_csv(tmp_path / "progress.csv")
+    modes = np.array([MODES[int(m)] for m in teacher.history()["asked_mode"]])
+    asked = log["teacher/asked"].astype(int).tolist()
+    assert len(asked) >= 5 and asked == sorted(asked) and asked[-1] <= len(modes)
+    for a, b, share in zip([0, *asked], asked, log["teacher/uniform_share"]):
+        assert share == pytest.approx(np.isin(modes[a:b], ["initial", "global"]).mean()), (a, b)
