@@ -182,16 +182,21 @@ impl ModeProbabilities {
 
 /// Bounds must be finite, of equal non-zero length, and strictly ordered.
 pub fn check_bounds(owner: &'static str, low: &[f64], high: &[f64]) -> Result<()> {
+    check_bounds_named(owner, "bounds", low, high)
+}
+
+/// `check_bounds` with the messages naming the bounds `param` (a run's "goal_low/goal_high").
+pub fn check_bounds_named(owner: &'static str, param: &str, low: &[f64], high: &[f64]) -> Result<()> {
     if low.is_empty() || low.len() != high.len() {
-        return Err(invalid(owner, "bounds", format!("low and high of equal non-zero length (low has {})", low.len()), high.len()));
+        return Err(invalid(owner, param, format!("low and high of equal non-zero length (low has {})", low.len()), high.len()));
     }
     for (i, (l, h)) in low.iter().zip(high).enumerate() {
         if !(l.is_finite() && h.is_finite() && l < h) {
-            return Err(invalid(owner, "bounds", format!("finite with low < high in every dimension (dimension {i}: low = {})", Num(*l)), Num(*h)));
+            return Err(invalid(owner, param, format!("finite with low < high in every dimension (dimension {i}: low = {})", Num(*l)), Num(*h)));
         }
         // Goals are drawn as low + u * (high - low): the width itself must be a finite float.
         if !(h - l).is_finite() {
-            return Err(invalid(owner, "bounds", format!("such that high - low is a finite float in every dimension (dimension {i}: low = {l:?})"), format!("{h:?}")));
+            return Err(invalid(owner, param, format!("such that high - low is a finite float in every dimension (dimension {i}: low = {l:?})"), format!("{h:?}")));
         }
     }
     Ok(())
