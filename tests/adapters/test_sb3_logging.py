@@ -205,3 +205,18 @@ def test_each_row_of_the_log_covers_the_goals_asked_since_the_row_before(tmp_pat
     assert len(asked) >= 5 and asked == sorted(asked) and asked[-1] <= len(modes)
     for a, b, share in zip([0, *asked], asked, log["teacher/uniform_share"]):
         assert share == pytest.approx(np.isin(modes[a:b], ["initial", "global"]).mean()), (a, b)
+
+
+def test_many_per_dimension_readings_stay_off_stdout_but_reach_the_csv(tmp_path, capsys, monkeypatch):
+    import saggriac.adapters.sb3 as sb3
+
+    teacher = sg.AdrSelector(LOW, HIGH, seed=0, t_low=-2e6, t_high=-1e6)
+    monkeypatch.setattr(sb3, "STDOUT_ITEMS", 3)  # ADR's 4 bounds in 2-D are then too many
+    _train(teacher, tmp_path / "few", steps=128, formats=("stdout", "csv"))
+    out = capsys.readouterr().out
+    assert "boundary_share" in out and "low_0" not in out and "high_1" not in out
+    assert {"teacher/low_0", "teacher/high_1"} <= set(pd.read_csv(tmp_path / "few" / "progress.csv").columns)
+    monkeypatch.setattr(sb3, "STDOUT_ITEMS", 4)
+    _train(sg.AdrSelector(LOW, HIGH, seed=0, t_low=-2e6, t_high=-1e6), tmp_path / "all", steps=128, formats=("stdout",))
+    out = capsys.readouterr().out
+    assert "low_0" in out and "high_1" in out
