@@ -105,6 +105,16 @@ fn typed<T: Serialize + DeserializeOwned + Default>(d: &Bound<'_, PyDict>, check
             Some(rule) if !default.is_none() && !is_list(&default) => return Err(to_py(py, invalid("Config", &key, rule, shown))),
             _ => merged.set_item(&key, &v)?,
         }
+        // Serde would take 1.5 for a time step and True for a length: each element of a list
+        // must be a number of its kind (the one type check of a run's parameters).
+        if is_list(&v) {
+            let ints = key.contains("schedule");
+            let element_ok = |x: Bound<'_, PyAny>| !x.is_instance_of::<PyBool>() && if ints { x.extract::<u64>().is_ok() && x.is_instance_of::<PyInt>() } else { x.is_instance_of::<PyFloat>() || x.is_instance_of::<PyInt>() };
+            if !v.try_iter()?.all(|x| x.map(element_ok).unwrap_or(false)) {
+                let rule = if ints { "a list of ints >= 0" } else { "a list of floats" };
+                return Err(to_py(py, invalid("Config", &key, rule, shown)));
+            }
+        }
         // What serde refuses of a value (a str naming no choice, a list of another type) is named here.
         if let Err(e) = depythonize::<T>(&merged) {
             let e = e.to_string();
