@@ -151,3 +151,18 @@ def test_a_teacher_that_is_not_saggriacs_reads_nothing():
 def test_window_positions_are_checked(name, bad):
     with pytest.raises(sg.errors.ParameterError, match=rf"The '{name}' parameter of teacher_readings must be an int >= 0 .*Got {bad!r} instead"):
         teacher_readings(sg.RandomSelector([0.0], [1.0]), **{name: bad})
+
+
+@pytest.mark.parametrize("dim", [1, 2, 5])
+def test_goal_rates_against_a_scan_of_every_tell(dim):
+    from saggriac.analysis.readings import goal_rates
+
+    rng = np.random.default_rng(dim)
+    distinct = rng.normal(size=(40, dim))
+    told = distinct[rng.integers(40, size=300)]
+    comp = rng.random(300)
+    goals, counts, rates, inverse = goal_rates(told, comp)
+    assert len(goals) == 40 and np.array_equal(goals[inverse], told.astype(np.float32))
+    for k, g in enumerate(goals):
+        mine = np.all(told.astype(np.float32) == g, axis=1)
+        assert counts[k] == mine.sum() and rates[k] == pytest.approx(np.mean(comp[mine] >= 0.5))
