@@ -174,6 +174,18 @@ def test_a_teacher_that_is_not_saggriacs_gets_the_callbacks_counts(tmp_path):
     assert log["teacher/told"].iloc[-1] == len(cb.history) and log["teacher/asked"].iloc[-1] == cb.asked
 
 
+def test_figure_every_is_refused_for_a_teacher_it_cannot_draw():
+    class Mine:
+        def sample(self):
+            return np.zeros(2)
+
+        def update(self, goal, competence):
+            pass
+
+    with pytest.raises(sg.errors.ParameterError, match=r"The 'figure_every' parameter of TeacherCallback draws one of saggriac's teachers .* Got figure_every=2 instead"):
+        TeacherCallback(Mine(), figure_every=2)
+
+
 @pytest.mark.parametrize("bad", [0, -1, 2.0, True, "2"])
 def test_figure_every_must_be_a_positive_int(bad):
     with pytest.raises(sg.errors.ParameterError, match=r"The 'figure_every' parameter of TeacherCallback must be an int >= 1 .* Got " + repr(bad).replace(".", r"\.") + " instead"):

@@ -126,6 +126,8 @@ class TeacherCallback(BaseCallback):
         self.goal_attr = goal_attr
         self.save_with = save_with
         self.allow_copy = allow_copy
+        if figure_every is not None and kind_of(teacher) is None:
+            raise ParameterError(f"The 'figure_every' parameter of TeacherCallback draws one of saggriac's teachers (saggriac.analysis.plot_teacher reads its history), and {teacher!r} is not one; leave it out, or draw your teacher yourself. Got figure_every={figure_every!r} instead.", "figure_every", repr(figure_every))
         self.figure_every = None if figure_every is None else int(figure_every)
         self.asked = 0
         # The teacher's history when this callback started, the window of the next readings
