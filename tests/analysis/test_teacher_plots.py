@@ -119,3 +119,20 @@ def test_each_kind_of_draw_has_one_colour_in_every_panel():
     assert len(colours) >= 2 and all(len(v) == 1 for v in colours.values()), colours
     assert len({next(iter(v)) for v in colours.values()}) == len(colours)
     assert "intermediate difficulty" in [t.get_text() for t in fig.axes[-1].get_legend().get_texts()]
+
+
+@pytest.mark.parametrize("kind", ["sagg_riac", "adr", "spdl", "goal_gan"])
+def test_a_1d_teacher_gets_histograms_and_a_3d_one_the_plane_asked_for(kind):
+    one = example_teacher(kind, seed=0, dim=1)
+    for _ in range(200):
+        one.update(one.sample(), 1.0)
+    fig = plot_teacher(one, windows=2)
+    assert all(ax.get_xlabel() == "goal" and len(ax.patches) == 40 for ax in fig.axes)
+    three = example_teacher(kind, seed=0, dim=3)
+    for _ in range(200):
+        three.update(three.sample(), 1.0)
+    fig = plot_teacher(three, windows=2, dims=(2, 0))
+    goals = three.history()["asked_goal"]
+    assert fig.axes[0].get_xlabel() == "goal[2]" and fig.axes[0].get_ylabel() == "goal[0]"
+    shown = np.vstack([c.get_offsets() for c in fig.axes[0].collections if c.get_label() != "intermediate difficulty"])
+    assert np.allclose(np.sort(shown[:, 0]), np.sort(goals[:100, 2]))
