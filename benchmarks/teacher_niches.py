@@ -40,7 +40,8 @@ TEACHERS = ("sagg_riac", "riac", "alp_gmm", "covar_gmm", "discrete_lp", "random"
 # the teachers added after the protocol was written (issue 36).
 EXTRA = ("sagg_riac_w", *[k for k in sg.teachers.available() if k not in TEACHERS])
 ORDER = ("sagg_riac", "sagg_riac_w", *[k for k in sg.teachers.available() if k not in ("sagg_riac", "random")], "random")
-NAMES = {"sagg_riac": "SAGG-RIAC", "sagg_riac_w": "SAGG-RIAC (w divisor, <= 0.2)", "riac": "RIAC", "alp_gmm": "ALP-GMM", "covar_gmm": "Covar-GMM", "discrete_lp": "discrete LP", "random": "random", "adr": "ADR", "plr": "PLR", "spdl": "SPDL", "goal_gan": "Goal GAN", "tscl": "TSCL"}
+NAMES = {"sagg_riac": "SAGG-RIAC", "sagg_riac_w": "SAGG-RIAC (w divisor, <= 0.2)", "riac": "RIAC", "alp_gmm": "ALP-GMM", "covar_gmm": "Covar-GMM", "discrete_lp": "discrete LP", "random": "random", "adr": "ADR", "plr": "PLR", "spdl": "SPDL", "goal_gan": "Goal GAN"}
+NAMES.update({k: k for k in sg.teachers.available() if k not in NAMES})  # a teacher without a display name here
 TASK_LISTS = tuple(k for k, c in sg.teachers.available().items() if "tasks" in c.spaces)  # given the 16 cells as a task list
 METRICS = ("final", "auc", "share_noisy", "share_impossible")
 SHORT = {"sagg_riac_w": "SAGG-RIAC\n(w, <= 0.2)", "covar_gmm": "Covar-\nGMM", "discrete_lp": "discrete\nLP"}

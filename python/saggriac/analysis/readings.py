@@ -2,8 +2,8 @@
 paper plots, as a flat dict that a logger takes (SB3's ``TeacherCallback`` writes them as
 ``teacher/<name>``). numpy only, so a training loop can call it at every rollout.
 
-Each built-in teacher has a reader here (``READERS``, by the registry's name; a test checks that
-every registered teacher has one). The numbers that describe goals asked or told "lately" cover a
+Each built-in teacher names its reader here (its class's ``reading``) and what its goal modes
+mean (``mode_shares``); ``READERS`` and ``SHARES`` gather them by the registry's name. The numbers that describe goals asked or told "lately" cover a
 window of the teacher's history, from ``asked_from`` and ``told_from`` (positions in
 ``history()``) to its end; the totals (``asked``, ``told``) are the teacher's own, so they go on
 across a save and a resume.
@@ -19,22 +19,10 @@ from ..errors import ParameterError
 from ..teachers import MODES, available
 
 #: What each kind's goal modes mean, as the share of the window's goals logged under that name
-#: (modes not listed are not counted apart). A mode's meaning is the teacher's: ADR's "random"
-#: draws are uniform in its current ranges, not in the box, and Goal GAN's "global" ones are
-#: replays of goals labelled before.
-SHARES: dict[str, dict[str, str]] = {
-    "sagg_riac": {"initial": "uniform_share", "global": "uniform_share", "interest": "interest_share", "lowest_competence": "lowest_share"},
-    "random": {"random": "uniform_share"},
-    "riac": {"global": "uniform_share", "interest": "alp_share", "lowest_competence": "worst_share"},
-    "discrete_lp": {},
-    "alp_gmm": {"global": "uniform_share", "interest": "mixture_share"},
-    "covar_gmm": {"global": "uniform_share", "interest": "mixture_share"},
-    "adr": {"interest": "boundary_share"},
-    "plr": {"initial": "new_share", "interest": "replay_share"},
-    "spdl": {},
-    "goal_gan": {"initial": "uniform_share", "interest": "generated_share", "global": "replay_share"},
-    "tscl": {"initial": "untried_share", "random": "uniform_share", "interest": "bandit_share"},
-}
+#: (modes not listed are not counted apart), from each class's ``mode_shares``. A mode's meaning
+#: is the teacher's: ADR's "random" draws are uniform in its current ranges, not in the box, and
+#: Goal GAN's "global" ones are replays of goals labelled before.
+SHARES: dict[str, dict[str, str]] = {kind: dict(cls.mode_shares) for kind, cls in available().items()}
 
 #: Goal GAN's goals of intermediate difficulty as the paper defines and plots them (Florensa et
 #: al. 2018, Sec. 4.1 and Fig. 2): a success rate in [R_MIN, R_MAX] over the goal's attempts, an
@@ -190,9 +178,8 @@ def _goal_gan(teacher: Any, h: dict[str, np.ndarray], w: dict[str, np.ndarray]) 
 
 
 def _task_list(teacher: Any, h: dict[str, np.ndarray], w: dict[str, np.ndarray]) -> dict[str, Any]:
-    """PLR, discrete LP and TSCL (Jiang et al. 2021, Fig. 3; Kanitscheider et al. 2021; Matiisen
-    et al. 2017, Fig. 4): per task, its share of the window's draws (the teacher's sampling
-    distribution as drawn: the core does not expose the probabilities it draws from) and the
+    """The task-list teachers (as PLR's paper plots it, Jiang et al. 2021, Fig. 3): per task, its
+    share of the window's draws (the teacher's sampling distribution as drawn: the core does not expose the probabilities it draws from) and the
     last value told for it (PLR's score with ``score="told"``, else its competence; NaN before
     its first tell), and the number of tasks told at least once."""
     n = int(teacher.n_tasks)
@@ -211,17 +198,9 @@ def _task_list(teacher: Any, h: dict[str, np.ndarray], w: dict[str, np.ndarray])
     return out
 
 
-#: Each built-in teacher's reader, by the registry's name.
-READERS: dict[str, Callable[[Any, dict[str, np.ndarray], dict[str, np.ndarray]], dict[str, Any]] | None] = {
-    "sagg_riac": _tree,
-    "random": None,
-    "riac": _tree,
-    "discrete_lp": _task_list,
-    "alp_gmm": _mixture,
-    "covar_gmm": _mixture,
-    "adr": _adr,
-    "plr": _task_list,
-    "spdl": _spdl,
-    "goal_gan": _goal_gan,
-    "tscl": _task_list,
-}
+#: The readers by the name a teacher class gives in ``reading``.
+_BY_READING = {"tree": _tree, "task_list": _task_list, "mixture": _mixture, "adr": _adr, "spdl": _spdl, "goal_gan": _goal_gan}
+
+
+#: Each built-in teacher's reader, by the registry's name (from its class's ``reading``).
+READERS: dict[str, Callable[[Any, dict[str, np.ndarray], dict[str, np.ndarray]], dict[str, Any]] | None] = {kind: None if cls.reading is None else _BY_READING[cls.reading] for kind, cls in available().items()}

@@ -70,6 +70,11 @@ class AskTellSelector:
     #: The goal spaces the teacher takes: "box" (built as ``cls(low, high, seed=s)``) or "tasks"
     #: (a task list, built as ``cls(n_tasks, seed=s)``). The bench reads it, for a user's class too.
     spaces: tuple[str, ...] = ("box",)
+    #: What the teacher's goal modes mean (``MODES`` names), as the share of goals logged under
+    #: each name by ``saggriac.analysis.teacher_readings``; modes not listed are not counted apart.
+    mode_shares: dict[str, str] = {}
+    #: Which reader of ``saggriac.analysis.readings`` logs its state (None: only the shares).
+    reading: str | None = None
 
     def __init__(self, low: Any, high: Any, seed: int, **params: Any) -> None:
         owner = type(self).__name__

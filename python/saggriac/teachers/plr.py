@@ -25,6 +25,8 @@ class PlrSelector(TaskListSelector):
     """
 
     _kind = "plr"
+    #: What its goal modes mean, as logged (saggriac.analysis.teacher_readings).
+    mode_shares = {"initial": "new_share", "interest": "replay_share"}
     competence_range = (0.0, 1.0)
 
     def __init__(self, n_tasks: int, seed: int = 0, *, temperature: float = _PLR["temperature"], staleness_coef: float = _PLR["staleness_coef"], replay_schedule: str = _PLR["replay_schedule"], replay_prob: float = _PLR["replay_prob"], score: str = _PLR["score"]) -> None:

@@ -26,6 +26,7 @@ class SpdlSelector(AskTellSelector):
     """
 
     _kind = "spdl"
+    reading = "spdl"
     competence_range = (0.0, 1.0)
 
     def __init__(self, low: Any, high: Any, seed: int = 0, *, init_mean: float = _SPDL["init_mean"], init_std: float = _SPDL["init_std"], target_mean: float = _SPDL["target_mean"], target_std: float = _SPDL["target_std"], epsilon: float = _SPDL["epsilon"], delta: float = _SPDL["delta"], update_every: int = _SPDL["update_every"], warmup: int = _SPDL["warmup"]) -> None:
