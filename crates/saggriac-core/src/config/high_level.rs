@@ -1,7 +1,7 @@
 //! The high level's parameters: competence, the region tree, the goal selection modes, and the
 //! rule every box of a goal space obeys.
 
-use crate::config::rules::{check_float, check_int, Rule, PROBABILITY};
+use crate::config::rules::{check_fields, PROBABILITY, Rule};
 use crate::error::{invalid, Num, Result, MAX_COUNT};
 
 /// What an attempt's final distance to its goal is measured against.
@@ -143,9 +143,7 @@ pub const SAGG_RIAC_RULES: &[(&str, Rule)] = &[
 impl RegionTreeConfig {
     pub fn validate(&self) -> Result<()> {
         let (o, r) = ("RegionTree", SAGG_RIAC_RULES);
-        check_int(o, r, "g_max", self.g_max)?;
-        check_int(o, r, "zeta", self.zeta)?;
-        check_int(o, r, "min_child", self.min_child)?;
+        check_fields!(o, r, self, int g_max, int zeta, int min_child);
         if 2 * self.min_child > self.g_max + 1 {
             return Err(invalid(o, "min_child", format!("an int with 2 * min_child <= g_max + 1 (g_max = {})", self.g_max), self.min_child));
         }
@@ -169,9 +167,7 @@ impl Default for ModeProbabilities {
 impl ModeProbabilities {
     pub fn validate(&self) -> Result<()> {
         let (o, r) = ("SaggRiac", SAGG_RIAC_RULES);
-        check_float(o, r, "p_interest", self.p_interest)?;
-        check_float(o, r, "p_global", self.p_global)?;
-        check_float(o, r, "p_lowest", self.p_lowest)?;
+        check_fields!(o, r, self, float p_interest, float p_global, float p_lowest);
         let s = self.p_interest + self.p_global + self.p_lowest;
         if (s - 1.0).abs() > 1e-9 {
             return Err(invalid("SaggRiac", "p_lowest", format!("such that p_interest + p_global + p_lowest = 1 (p_interest = {}, p_global = {})", Num(self.p_interest), Num(self.p_global)), Num(self.p_lowest)));

@@ -93,6 +93,21 @@ pub fn check_float(owner: &'static str, rules: &[(&'static str, Rule)], name: &s
     }
 }
 
+/// Checks each listed field of `$p` against its rule in `$rules`, in order, as
+/// `check_int`/`check_float` (`int name` or `float name`; the field's name is the parameter's).
+macro_rules! check_fields {
+    ($owner:expr, $rules:expr, $p:expr, $($kind:ident $field:ident),+ $(,)?) => {{
+        $($crate::config::rules::check_fields!(@one $owner, $rules, $p, $kind $field);)+
+    }};
+    (@one $o:expr, $r:expr, $p:expr, int $f:ident) => {
+        $crate::config::rules::check_int($o, $r, stringify!($f), $p.$f)?
+    };
+    (@one $o:expr, $r:expr, $p:expr, float $f:ident) => {
+        $crate::config::rules::check_float($o, $r, stringify!($f), $p.$f)?
+    };
+}
+pub(crate) use check_fields;
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -3,7 +3,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::config::teachers::{Registered, TeacherParams};
-use crate::config::rules::{check_float, check_int, open_closed, Rule, COUNT, PROBABILITY};
+use crate::config::rules::{check_fields, open_closed, COUNT, PROBABILITY, Rule};
 use crate::error::{invalid, Num, Result};
 
 /// Parameters of Automatic Domain Randomization (Akkaya et al., 2019, Algorithm 1).
@@ -47,16 +47,12 @@ impl TeacherParams for AdrConfig {
 
     fn validate(&self) -> Result<()> {
         let (o, r) = (Self::CLASS, Self::RULES);
-        check_float(o, r, "boundary_prob", self.boundary_prob)?;
-        check_int(o, r, "buffer_size", self.buffer_size)?;
-        check_float(o, r, "t_low", self.t_low)?;
-        check_float(o, r, "t_high", self.t_high)?;
+        check_fields!(o, r, self, float boundary_prob, int buffer_size, float t_low, float t_high);
         if self.t_low >= self.t_high {
             return Err(invalid(o, "t_low", format!("a float < t_high (t_high = {})", Num(self.t_high)), Num(self.t_low)));
         }
-        check_float(o, r, "step", self.step)?;
-        check_float(o, r, "initial", self.initial)?;
-        check_float(o, r, "initial_width", self.initial_width)
+        check_fields!(o, r, self, float step, float initial, float initial_width);
+        Ok(())
     }
 
     fn scaled_to_competences(self, lo: f64, hi: f64) -> Self {

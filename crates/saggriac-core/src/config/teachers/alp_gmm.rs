@@ -2,7 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::config::rules::{check_float, check_int, Rule, PROBABILITY};
+use crate::config::rules::{check_fields, PROBABILITY, Rule};
 use crate::config::teachers::{Registered, TeacherParams};
 use crate::error::{invalid, Result, MAX_COUNT};
 
@@ -43,10 +43,7 @@ impl AlpGmmConfig {
     /// The rules, with `owner`'s name in the messages (Covar-GMM shares them).
     pub fn check(&self, owner: &'static str) -> Result<()> {
         let r = <Self as TeacherParams>::RULES;
-        check_int(owner, r, "fit_rate", self.fit_rate)?;
-        check_int(owner, r, "max_components", self.max_components)?;
-        check_int(owner, r, "bootstrap", self.bootstrap)?;
-        check_float(owner, r, "random_task_ratio", self.random_task_ratio)?;
+        check_fields!(owner, r, self, int fit_rate, int max_components, int bootstrap, float random_task_ratio);
         if self.max_components > self.fit_rate {
             return Err(invalid(owner, "max_components", format!("an int <= fit_rate (fit_rate = {})", self.fit_rate), self.max_components));
         }

@@ -3,7 +3,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::config::teachers::{Registered, TeacherParams};
-use crate::config::rules::{check_float, check_int, open_closed, Rule, COUNT};
+use crate::config::rules::{check_fields, open_closed, COUNT, Rule};
 use crate::error::Result;
 
 /// Parameters of the discrete learning-progress teacher.
@@ -36,8 +36,7 @@ impl TeacherParams for DiscreteLpConfig {
 
     fn validate(&self) -> Result<()> {
         let (o, r) = (Self::CLASS, Self::RULES);
-        check_int(o, r, "n_tasks", self.n_tasks)?;
-        check_float(o, r, "alpha", self.alpha)?;
-        check_float(o, r, "theta", self.theta)
+        check_fields!(o, r, self, int n_tasks, float alpha, float theta);
+        Ok(())
     }
 }

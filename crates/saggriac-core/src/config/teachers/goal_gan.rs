@@ -3,7 +3,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::config::teachers::{Registered, TeacherParams};
-use crate::config::rules::{check_float, check_int, open_closed, Rule, PROBABILITY};
+use crate::config::rules::{check_fields, open_closed, PROBABILITY, Rule};
 use crate::error::{invalid, Num, Result};
 
 /// Goal GAN's parameters (Florensa et al., ICML 2018).
@@ -52,25 +52,19 @@ impl TeacherParams for GoalGanConfig {
 
     fn validate(&self) -> Result<()> {
         let (o, r) = (Self::CLASS, Self::RULES);
-        check_float(o, r, "success_threshold", self.success_threshold)?;
-        check_float(o, r, "r_min", self.r_min)?;
-        check_float(o, r, "r_max", self.r_max)?;
+        check_fields!(o, r, self, float success_threshold, float r_min, float r_max);
         if self.r_min > self.r_max {
             return Err(invalid(o, "r_max", format!("a float >= r_min (r_min = {})", Num(self.r_min)), Num(self.r_max)));
         }
-        check_int(o, r, "n_rollouts", self.n_rollouts)?;
+        check_fields!(o, r, self, int n_rollouts);
         // A goal's success rate is k / n_rollouts: none in [r_min, r_max] and no goal is ever
         // good, so the GAN would never train.
         let n = self.n_rollouts as f64;
         if !(0..=self.n_rollouts).any(|k| (self.r_min..=self.r_max).contains(&(k as f64 / n))) {
             return Err(invalid(o, "r_max", format!("a float such that [r_min, r_max] holds a success rate k / n_rollouts (r_min = {}, n_rollouts = {})", Num(self.r_min), self.n_rollouts), Num(self.r_max)));
         }
-        check_int(o, r, "update_size", self.update_size)?;
-        check_int(o, r, "gan_iterations", self.gan_iterations)?;
-        check_float(o, r, "p_old", self.p_old)?;
-        check_int(o, r, "noise_dim", self.noise_dim)?;
-        check_int(o, r, "hidden", self.hidden)?;
-        check_float(o, r, "learning_rate", self.learning_rate)
+        check_fields!(o, r, self, int update_size, int gan_iterations, float p_old, int noise_dim, int hidden, float learning_rate);
+        Ok(())
     }
 
     fn scaled_to_competences(self, lo: f64, hi: f64) -> Self {

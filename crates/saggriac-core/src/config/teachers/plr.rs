@@ -3,7 +3,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::config::teachers::{Registered, TeacherParams};
-use crate::config::rules::{check_float, check_int, Rule, COUNT, PROBABILITY};
+use crate::config::rules::{check_fields, COUNT, PROBABILITY, Rule};
 use crate::error::Result;
 
 /// How PLR decides between a new level and a replay (P_D).
@@ -63,9 +63,7 @@ impl TeacherParams for PlrConfig {
 
     fn validate(&self) -> Result<()> {
         let (o, r) = (Self::CLASS, Self::RULES);
-        check_int(o, r, "n_tasks", self.n_tasks)?;
-        check_float(o, r, "temperature", self.temperature)?;
-        check_float(o, r, "staleness_coef", self.staleness_coef)?;
-        check_float(o, r, "replay_prob", self.replay_prob)
+        check_fields!(o, r, self, int n_tasks, float temperature, float staleness_coef, float replay_prob);
+        Ok(())
     }
 }

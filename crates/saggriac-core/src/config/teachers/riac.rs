@@ -2,7 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::config::rules::{check_float, check_int, open_closed, Rule, PROBABILITY};
+use crate::config::rules::{check_fields, open_closed, PROBABILITY, Rule};
 use crate::config::teachers::{Registered, TeacherParams};
 use crate::error::{invalid, Num, Result, MAX_COUNT};
 
@@ -41,12 +41,7 @@ impl TeacherParams for RiacConfig {
 
     fn validate(&self) -> Result<()> {
         let (o, r) = (Self::CLASS, Self::RULES);
-        check_int(o, r, "max_region_size", self.max_region_size)?;
-        check_int(o, r, "split_attempts", self.split_attempts)?;
-        check_float(o, r, "min_child_share", self.min_child_share)?;
-        check_float(o, r, "min_dims_range_ratio", self.min_dims_range_ratio)?;
-        check_float(o, r, "p_alp", self.p_alp)?;
-        check_float(o, r, "p_random", self.p_random)?;
+        check_fields!(o, r, self, int max_region_size, int split_attempts, float min_child_share, float min_dims_range_ratio, float p_alp, float p_random);
         if self.p_alp + self.p_random > 1.0 + 1e-12 {
             return Err(invalid(o, "p_alp", format!("a float with p_alp + p_random <= 1 (p_random = {})", Num(self.p_random)), Num(self.p_alp)));
         }

@@ -3,7 +3,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::config::teachers::{Registered, TeacherParams};
-use crate::config::rules::{check_float, check_int, Rule, COUNT, POSITIVE};
+use crate::config::rules::{check_fields, COUNT, POSITIVE, Rule};
 use crate::error::{invalid, Num, Result, MAX_COUNT};
 
 /// SPDL's parameters (Klink et al., NeurIPS 2020 / JMLR 2021), in the box scaled to [0, 1]:
@@ -51,14 +51,8 @@ impl TeacherParams for SpdlConfig {
 
     fn validate(&self) -> Result<()> {
         let (o, r) = (Self::CLASS, Self::RULES);
-        check_float(o, r, "init_mean", self.init_mean)?;
-        check_float(o, r, "init_std", self.init_std)?;
-        check_float(o, r, "target_mean", self.target_mean)?;
-        check_float(o, r, "target_std", self.target_std)?;
-        check_float(o, r, "epsilon", self.epsilon)?;
-        check_float(o, r, "delta", self.delta)?;
-        check_int(o, r, "update_every", self.update_every)?;
-        check_int(o, r, "warmup", self.warmup)
+        check_fields!(o, r, self, float init_mean, float init_std, float target_mean, float target_std, float epsilon, float delta, int update_every, int warmup);
+        Ok(())
     }
 
     fn scaled_to_competences(self, lo: f64, hi: f64) -> Self {

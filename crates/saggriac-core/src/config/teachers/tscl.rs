@@ -4,7 +4,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::config::teachers::{Registered, TeacherParams};
-use crate::config::rules::{check_float, check_int, Rule, COUNT, PROBABILITY};
+use crate::config::rules::{check_fields, COUNT, PROBABILITY, Rule};
 use crate::error::Result;
 
 /// How a task's learning progress is estimated (the paper's Algorithms 3 and 4).
@@ -68,9 +68,7 @@ impl TeacherParams for TsclConfig {
 
     fn validate(&self) -> Result<()> {
         let (o, r) = (Self::CLASS, Self::RULES);
-        check_int(o, r, "n_tasks", self.n_tasks)?;
-        check_int(o, r, "window", self.window)?;
-        check_float(o, r, "epsilon", self.epsilon)?;
-        check_float(o, r, "temperature", self.temperature)
+        check_fields!(o, r, self, int n_tasks, int window, float epsilon, float temperature);
+        Ok(())
     }
 }

@@ -30,7 +30,6 @@ use crate::config::high_level::check_bounds;
 pub use crate::config::teachers::AdrConfig;
 use crate::error::Result;
 use crate::config::teachers::TeacherParams;
-use crate::high_level::teachers::Build;
 use crate::high_level::goal_selection::{load_state, save_state, GoalChoice, GoalSelector, LeafRow, Mode};
 use crate::rng::{index, rng_from_seed, uniform, unit, CoreRng};
 
@@ -214,11 +213,7 @@ impl GoalSelector for Adr {
     }
 }
 
-impl Build for AdrConfig {
-    fn build(&self, low: &[f64], high: &[f64], seed: u64) -> Result<Box<dyn GoalSelector>> {
-        Ok(Box::new(Adr::new(low, high, *self, seed)?))
-    }
-}
+build_by_new!(AdrConfig => Adr, box);
 
 #[cfg(test)]
 mod tests {

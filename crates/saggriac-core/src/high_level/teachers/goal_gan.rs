@@ -19,7 +19,6 @@ use nalgebra::DMatrix;
 use crate::config::high_level::check_bounds;
 use crate::error::Result;
 use crate::config::teachers::TeacherParams;
-use crate::high_level::teachers::Build;
 use crate::high_level::goal_selection::{load_state, save_state, GoalChoice, GoalSelector, Mode};
 use crate::high_level::teachers::mlp::Mlp;
 use crate::rng::{child_seed, index, normal, rng_from_seed, unit, CoreRng};
@@ -217,11 +216,7 @@ impl GoalSelector for GoalGan {
     }
 }
 
-impl Build for GoalGanConfig {
-    fn build(&self, low: &[f64], high: &[f64], seed: u64) -> Result<Box<dyn GoalSelector>> {
-        Ok(Box::new(GoalGan::new(low, high, *self, seed)?))
-    }
-}
+build_by_new!(GoalGanConfig => GoalGan, box);
 
 #[cfg(test)]
 mod tests {

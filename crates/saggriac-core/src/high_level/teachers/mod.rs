@@ -6,8 +6,10 @@
 
 pub mod gmm;
 mod gmm_lanes;
+mod kmeans;
 pub(crate) mod mixture;
 pub mod mlp;
+pub(crate) mod task_index;
 
 use serde::{Deserialize, Serialize};
 
@@ -20,6 +22,25 @@ use crate::high_level::goal_selection::GoalSelector;
 /// teachers, whose goals are task indices) with a seed.
 pub trait Build {
     fn build(&self, low: &[f64], high: &[f64], seed: u64) -> Result<Box<dyn GoalSelector>>;
+}
+
+/// `Build` for the parameters `$params` of a teacher built by `$teacher::new(low, high, params,
+/// seed)` (`box`) or `$teacher::new(params, seed)` (`tasks`: its goals are task indices).
+macro_rules! build_by_new {
+    ($params:ty => $teacher:ty, box) => {
+        impl $crate::high_level::teachers::Build for $params {
+            fn build(&self, low: &[f64], high: &[f64], seed: u64) -> $crate::error::Result<Box<dyn $crate::high_level::goal_selection::GoalSelector>> {
+                Ok(Box::new(<$teacher>::new(low, high, *self, seed)?))
+            }
+        }
+    };
+    ($params:ty => $teacher:ty, tasks) => {
+        impl $crate::high_level::teachers::Build for $params {
+            fn build(&self, _low: &[f64], _high: &[f64], seed: u64) -> $crate::error::Result<Box<dyn $crate::high_level::goal_selection::GoalSelector>> {
+                Ok(Box::new(<$teacher>::new(*self, seed)?))
+            }
+        }
+    };
 }
 
 /// Each teacher's module, and `TeacherSpec::build` dispatching to its `Build`.

@@ -27,7 +27,7 @@ use serde::{Deserialize, Serialize};
 pub use crate::config::teachers::{PlrConfig, PlrScore, ReplaySchedule};
 use crate::error::Result;
 use crate::config::teachers::TeacherParams;
-use crate::high_level::teachers::Build;
+use crate::high_level::teachers::task_index::{check_task, task_of};
 use crate::high_level::goal_selection::{load_state, save_state, GoalChoice, GoalSelector, Mode};
 use crate::rng::{index, rng_from_seed, unit, CoreRng};
 
@@ -172,8 +172,7 @@ impl Plr {
     }
 
     fn task(&self, goal: &[f64]) -> Option<usize> {
-        let g = goal[0];
-        (g.fract() == 0.0 && g >= 0.0 && g < self.cfg.n_tasks as f64).then_some(g as usize)
+        task_of(goal, self.cfg.n_tasks)
     }
 
     fn mark_seen(&mut self, i: usize) {
@@ -203,9 +202,7 @@ impl GoalSelector for Plr {
         GoalChoice { goal: vec![task as f64], mode, region: Some(task) }
     }
     fn check_told(&self, goal: &[f64], _competence: f64) -> Result<()> {
-        if self.task(goal).is_none() {
-            return Err(crate::Error::InvalidInput(format!("goal must be a task index, a whole number in [0, {}); got {}.", self.cfg.n_tasks, crate::error::Num(goal[0]))));
-        }
+        check_task(goal, self.cfg.n_tasks)?;
         Ok(())
     }
     fn update(&mut self, point: &[f64], competence: f64) -> Option<usize> {
@@ -238,11 +235,7 @@ impl GoalSelector for Plr {
     }
 }
 
-impl Build for PlrConfig {
-    fn build(&self, _low: &[f64], _high: &[f64], seed: u64) -> Result<Box<dyn GoalSelector>> {
-        Ok(Box::new(Plr::new(*self, seed)?))
-    }
-}
+build_by_new!(PlrConfig => Plr, tasks);
 
 #[cfg(test)]
 mod tests {

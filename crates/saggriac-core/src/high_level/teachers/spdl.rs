@@ -18,7 +18,6 @@
 use crate::config::high_level::check_bounds;
 use crate::error::Result;
 use crate::config::teachers::TeacherParams;
-use crate::high_level::teachers::Build;
 use crate::high_level::goal_selection::{load_state, save_state, GoalChoice, GoalSelector, LeafRow, Mode};
 use crate::high_level::teachers::mixture::UnitBox;
 use crate::rng::{normal, rng_from_seed, CoreRng};
@@ -204,11 +203,7 @@ impl GoalSelector for Spdl {
     }
 }
 
-impl Build for SpdlConfig {
-    fn build(&self, low: &[f64], high: &[f64], seed: u64) -> Result<Box<dyn GoalSelector>> {
-        Ok(Box::new(Spdl::new(low, high, *self, seed)?))
-    }
-}
+build_by_new!(SpdlConfig => Spdl, box);
 
 #[cfg(test)]
 mod tests {
