@@ -38,10 +38,10 @@ from saggriac.teachers.progress_niches import KINDS, ProgressNiches
 TEACHERS = ("sagg_riac", "riac", "alp_gmm", "covar_gmm", "discrete_lp", "random")
 # Rows for comparison, outside the protocol's family of 15 pairs: saggriac 0.2's SAGG-RIAC, and
 # the teachers added after the protocol was written (issue 36).
-EXTRA = ("sagg_riac_w", "adr", "plr", "spdl", "goal_gan")
-ORDER = ("sagg_riac", "sagg_riac_w", "riac", "alp_gmm", "covar_gmm", "adr", "spdl", "goal_gan", "discrete_lp", "plr", "random")
-NAMES = {"sagg_riac": "SAGG-RIAC", "sagg_riac_w": "SAGG-RIAC (w divisor, <= 0.2)", "riac": "RIAC", "alp_gmm": "ALP-GMM", "covar_gmm": "Covar-GMM", "discrete_lp": "discrete LP", "random": "random", "adr": "ADR", "plr": "PLR", "spdl": "SPDL", "goal_gan": "Goal GAN"}
-TASK_LISTS = ("discrete_lp", "plr")  # given the 16 cells as a task list
+EXTRA = ("sagg_riac_w", "adr", "plr", "plr_average", "spdl", "goal_gan")
+ORDER = ("sagg_riac", "sagg_riac_w", "riac", "alp_gmm", "covar_gmm", "adr", "spdl", "goal_gan", "discrete_lp", "plr", "plr_average", "random")
+NAMES = {"sagg_riac": "SAGG-RIAC", "sagg_riac_w": "SAGG-RIAC (w divisor, <= 0.2)", "riac": "RIAC", "alp_gmm": "ALP-GMM", "covar_gmm": "Covar-GMM", "discrete_lp": "discrete LP", "random": "random", "adr": "ADR", "plr": "PLR", "plr_average": "PLR (ties at their mean rank)", "spdl": "SPDL", "goal_gan": "Goal GAN"}
+TASK_LISTS = ("discrete_lp", "plr", "plr_average")  # given the 16 cells as a task list
 METRICS = ("final", "auc", "share_noisy", "share_impossible")
 SHORT = {"sagg_riac_w": "SAGG-RIAC\n(w, <= 0.2)", "covar_gmm": "Covar-\nGMM", "discrete_lp": "discrete\nLP"}
 
@@ -57,6 +57,7 @@ def make_teacher(name: str, env: ProgressNiches, seed: int):
         "discrete_lp": lambda: sg.DiscreteLpSelector(env.n_cells, seed=seed),
         "adr": lambda: sg.AdrSelector(low, high, seed=seed),
         "plr": lambda: sg.PlrSelector(env.n_cells, seed=seed),
+        "plr_average": lambda: sg.PlrSelector(env.n_cells, seed=seed, ties="average"),
         "spdl": lambda: sg.SpdlSelector(low, high, seed=seed),
         "goal_gan": lambda: sg.GoalGanSelector(low, high, seed=seed),
         "random": lambda: sg.RandomSelector(low, high, seed=seed),

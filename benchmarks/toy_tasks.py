@@ -117,8 +117,9 @@ TEACHERS: dict[str, tuple[Callable[[HypercubeUnlock, int], object], bool]] = {
     "random": (lambda e, s: sg.RandomSelector(e.low, e.high, seed=s), False),
     "discrete_lp": (lambda e, s: sg.DiscreteLpSelector(e.n_cells, seed=s), True),
     "plr": (lambda e, s: sg.PlrSelector(e.n_cells, seed=s), True),
+    "plr_average": (lambda e, s: sg.PlrSelector(e.n_cells, seed=s, ties="average"), True),
 }
-NAMES = {"sagg_riac": "SAGG-RIAC", "riac": "RIAC", "alp_gmm": "ALP-GMM", "covar_gmm": "Covar-GMM", "adr": "ADR", "adr_corner": "ADR (from the origin)", "spdl": "SPDL", "spdl_corner": "SPDL (from the origin)", "goal_gan": "Goal GAN", "random": "random", "discrete_lp": "discrete LP (cells given)", "plr": "PLR (cells given)"}
+NAMES = {"sagg_riac": "SAGG-RIAC", "riac": "RIAC", "alp_gmm": "ALP-GMM", "covar_gmm": "Covar-GMM", "adr": "ADR", "adr_corner": "ADR (from the origin)", "spdl": "SPDL", "spdl_corner": "SPDL (from the origin)", "goal_gan": "Goal GAN", "random": "random", "discrete_lp": "discrete LP (cells given)", "plr": "PLR (cells given)", "plr_average": "PLR, ties at their mean rank (cells given)"}
 
 
 def one_run(job: tuple[str, str, int, int]) -> tuple[dict, list[dict], list[dict]]:

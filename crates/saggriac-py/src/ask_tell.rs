@@ -130,6 +130,12 @@ impl PyAskTell {
         crate::goal_selection::regions(py, self.inner.selector())
     }
 
+    /// A task-list teacher's probability of each task at its next draw, or None if it does not
+    /// say (every teacher but PLR).
+    fn task_probabilities<'py>(&self, py: Python<'py>) -> Option<Bound<'py, PyArray1<f64>>> {
+        self.inner.selector().task_probabilities().map(|p| p.into_pyarray(py))
+    }
+
     /// What was asked (goal, mode, region) and told (goal, competence, region), in order.
     fn history<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let d = PyDict::new(py);
