@@ -66,6 +66,11 @@ impl PyAskTell {
         self.inner.spec().kind()
     }
 
+    /// The teacher's parameters, by name (its kind's defaults for those not given).
+    fn params<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        crate::teachers::params(py, &self.inner.spec().teacher)
+    }
+
     #[getter]
     fn seed(&self) -> u64 {
         self.inner.spec().seed()

@@ -26,7 +26,8 @@ class PlrSelector(TaskListSelector):
     ranks. With ``score="progress"`` (the default), ``update`` is told a competence and a
     level's score is the change of its competence since its previous tell (0 on the first); with
     ``score="told"``, the value told is the score itself (the paper's: the learner's positive or
-    L1 value loss on the level's last episode).
+    L1 value loss on the level's last episode, which
+    :class:`saggriac.adapters.sb3.TeacherCallback` computes from SB3's rollouts).
     """
 
     _kind = "plr"
