@@ -38,20 +38,22 @@ from saggriac.teachers.progress_niches import KINDS, ProgressNiches
 TEACHERS = ("sagg_riac", "riac", "alp_gmm", "covar_gmm", "discrete_lp", "random")
 # Rows for comparison, outside the protocol's family of 15 pairs: saggriac 0.2's SAGG-RIAC, and
 # the teachers added after the protocol was written (issue 36).
-EXTRA = ("sagg_riac_w", *[k for k in sg.teachers.available() if k not in TEACHERS])
-ORDER = ("sagg_riac", "sagg_riac_w", *[k for k in sg.teachers.available() if k not in ("sagg_riac", "random")], "random")
-NAMES = {"sagg_riac": "SAGG-RIAC", "sagg_riac_w": "SAGG-RIAC (w divisor, <= 0.2)", "riac": "RIAC", "alp_gmm": "ALP-GMM", "covar_gmm": "Covar-GMM", "discrete_lp": "discrete LP", "random": "random", "adr": "ADR", "plr": "PLR", "spdl": "SPDL", "goal_gan": "Goal GAN"}
+EXTRA = ("sagg_riac_w", *[k for k in sg.teachers.available() if k not in TEACHERS], "plr_average")
+ORDER = ("sagg_riac", "sagg_riac_w", *[k for k in sg.teachers.available() if k not in ("sagg_riac", "random")], "plr_average", "random")
+NAMES = {"sagg_riac": "SAGG-RIAC", "sagg_riac_w": "SAGG-RIAC (w divisor, <= 0.2)", "riac": "RIAC", "alp_gmm": "ALP-GMM", "covar_gmm": "Covar-GMM", "discrete_lp": "discrete LP", "random": "random", "adr": "ADR", "plr": "PLR", "plr_average": "PLR (ties at their mean rank)", "spdl": "SPDL", "goal_gan": "Goal GAN"}
 NAMES.update({k: k for k in sg.teachers.available() if k not in NAMES})  # a teacher without a display name here
-TASK_LISTS = tuple(k for k, c in sg.teachers.available().items() if "tasks" in c.spaces)  # given the 16 cells as a task list
+TASK_LISTS = (*[k for k, c in sg.teachers.available().items() if "tasks" in c.spaces], "plr_average")  # given the 16 cells as a task list
 METRICS = ("final", "auc", "share_noisy", "share_impossible")
 SHORT = {"sagg_riac_w": "SAGG-RIAC\n(w, <= 0.2)", "covar_gmm": "Covar-\nGMM", "discrete_lp": "discrete\nLP"}
 
 
 def make_teacher(name: str, env: ProgressNiches, seed: int):
     """Any registered teacher with its papers' defaults (a task-list teacher over the 16 cells),
-    or saggriac 0.2's SAGG-RIAC (sagg_riac_w)."""
+    or a variant: saggriac 0.2's SAGG-RIAC (sagg_riac_w), PLR with ties at their mean rank."""
     if name == "sagg_riac_w":
         return sg.SaggRiacSelector(env.low.tolist(), env.high.tolist(), seed=seed, interest_divisor="window")
+    if name == "plr_average":
+        return sg.PlrSelector(env.n_cells, seed=seed, ties="average")
     cls = sg.teachers.available()[name]
     return cls(env.n_cells, seed=seed) if "tasks" in cls.spaces else cls(env.low.tolist(), env.high.tolist(), seed=seed)
 

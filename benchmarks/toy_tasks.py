@@ -114,7 +114,8 @@ def _registered(cls):
 TEACHERS: dict[str, tuple[Callable[[HypercubeUnlock, int], object], bool]] = {kind: _registered(cls) for kind, cls in sg.teachers.available().items()}
 TEACHERS["adr_corner"] = (lambda e, s: sg.AdrSelector(e.low, e.high, seed=s, initial=0.0), False)
 TEACHERS["spdl_corner"] = (lambda e, s: sg.SpdlSelector(e.low, e.high, seed=s, init_mean=0.05), False)
-NAMES = {"sagg_riac": "SAGG-RIAC", "riac": "RIAC", "alp_gmm": "ALP-GMM", "covar_gmm": "Covar-GMM", "adr": "ADR", "adr_corner": "ADR (from the origin)", "spdl": "SPDL", "spdl_corner": "SPDL (from the origin)", "goal_gan": "Goal GAN", "random": "random", "discrete_lp": "discrete LP (cells given)", "plr": "PLR (cells given)"}
+TEACHERS["plr_average"] = (lambda e, s: sg.PlrSelector(e.n_cells, seed=s, ties="average"), True)
+NAMES = {"sagg_riac": "SAGG-RIAC", "riac": "RIAC", "alp_gmm": "ALP-GMM", "covar_gmm": "Covar-GMM", "adr": "ADR", "adr_corner": "ADR (from the origin)", "spdl": "SPDL", "spdl_corner": "SPDL (from the origin)", "goal_gan": "Goal GAN", "random": "random", "discrete_lp": "discrete LP (cells given)", "plr": "PLR (cells given)", "plr_average": "PLR, ties at their mean rank (cells given)"}
 NAMES.update({k: k for k in TEACHERS if k not in NAMES})  # a teacher without a display name here
 
 

@@ -12,6 +12,14 @@ SB3 resets a sub-environment as soon as its episode ends, so the goal of episode
 out while episode k runs; the first episode of each sub-environment pursues the environment's own
 goal and is not told.
 
+PLR's published scores (Jiang, Grefenstette & Rocktäschel, ICML 2021) come from the learner's
+value function rather than from a competence: with ``competence="positive_value_loss"`` or
+``"value_l1"`` the callback reads, at the end of each rollout, the generalised advantage
+estimates (GAE) SB3's on-policy algorithms (PPO, A2C) keep in their rollout buffer, and tells the
+teacher each episode's mean GAE clipped at 0, or mean |GAE|, over the episode's steps in that
+rollout, as the authors' code does (an episode still running when the rollout ends is scored on
+its steps so far, and its remaining steps form the next rollout's first piece).
+
 The callback records what the teacher does through SB3's logger (``teacher/...``, beside SB3's
 own in stdout, CSV, TensorBoard and so W&B): the numbers its paper plots
 (:func:`saggriac.analysis.teacher_readings`) and, every ``figure_every`` rollouts, the picture of
@@ -33,9 +41,10 @@ from ..analysis.readings import kind_of, teacher_readings
 from ..errors import ConformanceError, ParameterError
 from ..files import check_flag
 from .gym.goals import check_fits, check_goal_shape, check_goal_taken
-from ..teachers import ownership
+from ..teachers import AskTellSelector, ownership
 
 try:
+    from stable_baselines3.common.buffers import RolloutBuffer
     from stable_baselines3.common.callbacks import BaseCallback, CheckpointCallback
     from stable_baselines3.common.logger import Figure
     from stable_baselines3.common.vec_env import VecEnvWrapper
@@ -43,6 +52,9 @@ except ImportError as e:  # pragma: no cover - exercised without the extra
     raise ImportError(f'saggriac.adapters.sb3 needs Stable-Baselines3, which is not installed ({e}). Install it with: pip install "saggriac[sb3]"') from e
 
 COMPETENCES = ("success", "distance")
+#: PLR's scores from an on-policy model's rollouts: an episode's mean GAE clipped at 0 (the
+#: positive value loss) or its mean |GAE| (the L1 value loss).
+VALUE_LOSSES = ("positive_value_loss", "value_l1")
 #: The range of what each competence tells: a teacher's thresholds are checked against it.
 TOLD = {"success": (0.0, 1.0), "distance": (-float("inf"), 0.0)}
 
@@ -79,13 +91,33 @@ def _raw_observations(venv: Any, new_obs: Any) -> tuple[Any, str]:
     return raw, how
 
 
+def _check_takes_scores(teacher: Any, competence: str) -> None:
+    """A value loss is a score, not a competence: saggriac's teachers take it only as PLR's
+    told score."""
+    if not isinstance(teacher, AskTellSelector):
+        return  # a user's teacher knows what it is told
+    score = teacher.get_params().get("score")
+    if score != "told":
+        given = f" with score={score!r}" if score is not None else ""
+        raise ParameterError(
+            f"The 'competence' parameter of TeacherCallback is {competence!r}, a level's value loss (PLR's score, Jiang et al. 2021), which only "
+            f"PlrSelector(score='told') takes as it is; {type(teacher).__name__}{given} would read it as a competence. Build the teacher with "
+            "PlrSelector(n_tasks, score='told'), or tell competences ('success', 'distance' or a function of the final info).",
+            "competence",
+            repr(competence),
+        )
+
+
 class TeacherCallback(BaseCallback):
     """Let ``teacher`` (anything with ``sample()`` and ``update(goal, competence)``) choose the
     goal of every episode of the model's vector environment.
 
     ``competence`` says what the teacher is told when an episode ends: ``"success"`` (1.0 if the
     final ``info["is_success"]`` is true, else 0.0), ``"distance"`` (minus the final
-    ``info["distance"]``) or a function of the final ``info``. ``goal_attr`` is the attribute the
+    ``info["distance"]``) or a function of the final ``info``; or, for
+    ``PlrSelector(score="told")`` behind an on-policy model (PPO, A2C), PLR's scores from the
+    model's rollouts, told at each rollout's end: ``"positive_value_loss"`` (an episode's mean GAE
+    clipped at 0) or ``"value_l1"`` (its mean |GAE|). ``goal_attr`` is the attribute the
     environments read their next goal from. ``history`` lists (goal, competence) as told.
 
     SB3's logger gets, at the end of every rollout, ``teacher/asked`` and ``teacher/told`` (the
@@ -117,8 +149,10 @@ class TeacherCallback(BaseCallback):
                 raise ParameterError(f"The 'save_with' parameter of TeacherCallback must be Stable-Baselines3's CheckpointCallback (the teacher is saved at its checkpoints). Got {save_with!r} instead.", "save_with", repr(save_with))
             if not callable(getattr(teacher, "save", None)):
                 raise ConformanceError(f"TeacherCallback(save_with=...) saves the teacher with its save(path) method, and {teacher!r} has none; give it one, or save the teacher yourself.")
-        if not callable(competence) and competence not in COMPETENCES:
-            raise ParameterError(f"The 'competence' parameter of TeacherCallback must be one of {', '.join(map(repr, COMPETENCES))} or a function of an episode's final info. Got {competence!r} instead.", "competence", repr(competence))
+        if not callable(competence) and competence not in COMPETENCES + VALUE_LOSSES:
+            raise ParameterError(f"The 'competence' parameter of TeacherCallback must be one of {', '.join(map(repr, COMPETENCES + VALUE_LOSSES))} or a function of an episode's final info. Got {competence!r} instead.", "competence", repr(competence))
+        if competence in VALUE_LOSSES:
+            _check_takes_scores(teacher, competence)
         if not isinstance(goal_attr, str) or not goal_attr:
             raise ParameterError(f"The 'goal_attr' parameter of TeacherCallback must be an attribute name. Got {goal_attr!r} instead.", "goal_attr", repr(goal_attr))
         self.teacher = teacher
@@ -141,6 +175,11 @@ class TeacherCallback(BaseCallback):
         self._queued: list[np.ndarray] = []
         self._by_method = False
         self._current: list[np.ndarray | None] = []
+        # With a value loss: each step of the rollout, the goal each sub-environment pursued and
+        # whether its episode ended there.
+        self._by_value_loss = isinstance(competence, str) and competence in VALUE_LOSSES
+        self._step_goals: list[list[np.ndarray | None]] = []
+        self._step_dones: list[np.ndarray] = []
         # save_with's own count at our previous step, and a save made ahead of it (step, its
         # count then, the file written, the file it becomes).
         self._ck_calls = 0
@@ -175,6 +214,11 @@ class TeacherCallback(BaseCallback):
         self._by_method = self.goal_attr == "next_goal" and env.has_attr("set_next_goal")
         if not (self._by_method or env.has_attr(self.goal_attr)):
             raise ConformanceError(f"The environments have no '{self.goal_attr}' attribute to take their next goal from; wrap each in saggriac.adapters.gym.GoalSlot (it reads it on reset and passes options={{'goal': ...}}).")
+        if self._by_value_loss and not isinstance(getattr(self.model, "rollout_buffer", None), RolloutBuffer):
+            raise ConformanceError(
+                f"TeacherCallback(competence={self.competence!r}) reads the advantages (GAE) an on-policy model (PPO, A2C) keeps in its rollout "
+                f"buffer, and {type(self.model).__name__} has none; tell competences instead ('success', 'distance' or a function of the final info)."
+            )
         if self.save_with is not None:
             self._ck_calls, self._ck_first, self._pending = self.save_with.n_calls, True, None
         if self._kind is not None:
@@ -197,9 +241,12 @@ class TeacherCallback(BaseCallback):
         infos = self.locals["infos"]
         new_obs = self.locals.get("new_obs")
         raw, how = (None, "") if new_obs is None or not np.any(dones) else _raw_observations(self.training_env, new_obs)
+        if self._by_value_loss:
+            self._step_goals.append(list(self._current))
+            self._step_dones.append(np.asarray(dones, dtype=bool).copy())
         for i in np.flatnonzero(dones):
             finished = self._current[i]
-            if finished is not None:
+            if finished is not None and not self._by_value_loss:
                 c = self._score(infos[i])
                 self.teacher.update(finished, c)
                 self.history.append((finished, c))
@@ -255,12 +302,41 @@ class TeacherCallback(BaseCallback):
         if self.save_with is not None:
             self._settle()
 
+    def _on_rollout_start(self) -> None:
+        self._step_goals, self._step_dones = [], []
+
+    def _tell_value_losses(self) -> None:
+        """Tell each episode's piece of this rollout its value loss, sub-environment by
+        sub-environment and in time (the authors' order); the first episode of each
+        sub-environment pursued the environment's own goal and is not told."""
+        advantages = np.asarray(self.model.rollout_buffer.advantages, dtype=np.float64)
+        steps = len(self._step_goals)
+        if advantages.shape[0] != steps:
+            raise ConformanceError(f"TeacherCallback(competence={self.competence!r}): the rollout buffer holds {advantages.shape[0]} steps and the callback saw {steps}; another callback stopped the rollout, or the buffer is not the model's.")
+        clip = self.competence == "positive_value_loss"
+        for env in range(len(self._current)):
+            start = 0
+            for t in range(steps):
+                if not (self._step_dones[t][env] or t == steps - 1):
+                    continue
+                goal = self._step_goals[start][env]
+                if goal is not None:
+                    piece = advantages[start : t + 1, env]
+                    score = float(np.mean(np.maximum(piece, 0.0) if clip else np.abs(piece)))
+                    self.teacher.update(goal, score)
+                    self.history.append((goal, score))
+                    self.logger.record_mean(f"teacher/{self.competence}", score)
+                start = t + 1
+        self._step_goals, self._step_dones = [], []
+
     def _counts(self) -> tuple[int, int]:
         """What the teacher has been asked and told in all (its history's lengths, for saggriac's
         teachers: it carries on across a resume), from this callback's counts."""
         return self._start[0] + self.asked, self._start[1] + len(self.history)
 
     def _on_rollout_end(self) -> None:
+        if self._by_value_loss:
+            self._tell_value_losses()
         self._rollouts += 1
         counts = self._counts()
         # SB3 clears what was recorded when it writes the log: the next readings then cover what

@@ -103,6 +103,11 @@ class AskTellSelector:
             raise ParameterError(f"The 'whence' parameter of {owner} must be a str (who tells the competences). Got {whence!r} instead.", "whence", repr(whence))
         self._inner.check_competences(float(lo), float(hi), whence)
 
+    def get_params(self) -> dict[str, Any]:
+        """The teacher's parameters by name, as it was built (defaults included; a task-list
+        teacher's ``n_tasks`` too)."""
+        return dict(self._inner.params())
+
     @property
     def seed(self) -> int:
         """The seed of the teacher's generator."""

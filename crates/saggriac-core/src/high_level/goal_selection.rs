@@ -74,6 +74,11 @@ pub trait GoalSelector: Send + Sync {
     fn leaf_table(&self) -> Vec<LeafRow> {
         Vec::new()
     }
+    /// A task-list teacher's probability of each task at its next draw, where it says (PLR);
+    /// None otherwise.
+    fn task_probabilities(&self) -> Option<Vec<f64>> {
+        None
+    }
     /// The selector's state for a checkpoint or a saved teacher, in the selector's own encoding
     /// of its own state type (None: this selector cannot be saved). `save_state` encodes one.
     fn save(&self) -> Option<Vec<u8>> {

@@ -26,6 +26,19 @@ pub enum PlrScore {
     Told,
 }
 
+/// How PLR's rank prioritisation ranks levels of equal score.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum PlrTies {
+    /// As the authors' code and Syllabus rank (a reversed argsort of every level's score, unseen
+    /// levels at 0): tied levels take distinct ranks, the later level in the list first, so one
+    /// level of a tied group takes nearly all its mass.
+    Order,
+    /// Tied levels share the mean of their ranks, taken among the seen levels only (saggriac's
+    /// rule before issue 46).
+    Average,
+}
+
 /// Parameters of Prioritized Level Replay (Jiang, Grefenstette & Rocktäschel, ICML 2021).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct PlrConfig {
@@ -38,13 +51,15 @@ pub struct PlrConfig {
     /// The replay probability of the `fixed` schedule (0.5, Syllabus's and Robust PLR's).
     pub replay_prob: f64,
     pub score: PlrScore,
+    /// How levels of equal score are ranked (`Order`, the authors').
+    pub ties: PlrTies,
 }
 
 impl Default for PlrConfig {
     /// The paper's beta, rho and schedule; `n_tasks` has no default worth the name (the Python
     /// class requires it), 1 is the least valid.
     fn default() -> Self {
-        PlrConfig { n_tasks: 1, temperature: 0.1, staleness_coef: 0.1, replay_schedule: ReplaySchedule::Proportionate, replay_prob: 0.5, score: PlrScore::Progress }
+        PlrConfig { n_tasks: 1, temperature: 0.1, staleness_coef: 0.1, replay_schedule: ReplaySchedule::Proportionate, replay_prob: 0.5, score: PlrScore::Progress, ties: PlrTies::Order }
     }
 }
 
@@ -59,6 +74,7 @@ impl TeacherParams for PlrConfig {
         ("replay_schedule", Rule::Choice),
         ("replay_prob", PROBABILITY),
         ("score", Rule::Choice),
+        ("ties", Rule::Choice),
     ];
 
     fn validate(&self) -> Result<()> {
