@@ -10,12 +10,13 @@ use crate::high_level::region_tree::RegionTreeConfig;
 use crate::config::teachers::{RandomConfig, SaggRiacConfig, Teacher};
 use crate::high_level::teachers::TeacherSpec;
 
-/// Bumped whenever the saved layout changes. Format 4: the teacher's parameters as the one
-/// `Teacher` enum beside the box and the seed. Formats 3 (saggriac 0.5, each teacher's state in
-/// its own encoding), 2 (saggriac 0.3-0.4, one enum of every teacher's state) and 1 (saggriac
-/// <= 0.2, before SAGG-RIAC's tree had an eq.-2 divisor, read as the `Window` reading it ran) are
-/// still read.
-const FORMAT: u32 = 4;
+/// Bumped whenever the saved layout changes. Format 5: PLR's parameters end with `ties`.
+/// Formats 4 (saggriac 0.6, the teacher's parameters as the one `Teacher` enum beside the box
+/// and the seed; a PLR teacher read with the `Average` ties it ran), 3 (saggriac 0.5, each
+/// teacher's state in its own encoding), 2 (saggriac 0.3-0.4, one enum of every teacher's
+/// state) and 1 (saggriac <= 0.2, before SAGG-RIAC's tree had an eq.-2 divisor, read as the
+/// `Window` reading it ran) are still read.
+const FORMAT: u32 = 5;
 /// Told competences are bounded so that every teacher's sums, squares and mixtures of them stay
 /// finite (a mixture teacher squares differences of competences).
 pub const MAX_COMPETENCE: f64 = 1e100;
@@ -59,121 +60,10 @@ fn decode<T: serde::de::DeserializeOwned>(bytes: &[u8]) -> std::result::Result<T
 }
 
 /// The layouts of formats 1 (saggriac <= 0.2: SAGG-RIAC's tree parameters without the divisor),
-/// 2 (saggriac 0.3-0.4, whose teachers' states were variants of one enum) and 3 (saggriac 0.5,
-/// the parameters as one enum of teachers with their boxes and seeds).
-mod legacy {
-    use super::*;
-    use crate::config::high_level::InterestDivisor;
-    use crate::config::teachers::{RandomConfig, SaggRiacConfig, Teacher};
-    use crate::high_level::teachers::alp_gmm::AlpGmmConfig;
-    use crate::high_level::teachers::covar_gmm::CovarGmmConfig;
-    use crate::high_level::teachers::discrete_lp::DiscreteLpConfig;
-    use crate::high_level::teachers::riac::RiacConfig;
-    use crate::rng::CoreRng;
-
-    /// `TeacherSpec` as formats 2 and 3 wrote it.
-    #[derive(Deserialize)]
-    pub enum SpecV3 {
-        SaggRiac { low: Vec<f64>, high: Vec<f64>, tree: RegionTreeConfig, modes: ModeProbabilities, seed: u64 },
-        Random { low: Vec<f64>, high: Vec<f64>, seed: u64 },
-        Riac { low: Vec<f64>, high: Vec<f64>, cfg: RiacConfig, seed: u64 },
-        DiscreteLp { cfg: DiscreteLpConfig, seed: u64 },
-        AlpGmm { low: Vec<f64>, high: Vec<f64>, cfg: AlpGmmConfig, seed: u64 },
-        CovarGmm { low: Vec<f64>, high: Vec<f64>, cfg: CovarGmmConfig, seed: u64 },
-    }
-
-    impl From<SpecV3> for TeacherSpec {
-        fn from(s: SpecV3) -> Self {
-            let (teacher, low, high, seed) = match s {
-                SpecV3::SaggRiac { low, high, tree, modes, seed } => (Teacher::SaggRiac(SaggRiacConfig { tree, modes }), low, high, seed),
-                SpecV3::Random { low, high, seed } => (Teacher::Random(RandomConfig {}), low, high, seed),
-                SpecV3::Riac { low, high, cfg, seed } => (Teacher::Riac(cfg), low, high, seed),
-                SpecV3::DiscreteLp { cfg, seed } => (Teacher::DiscreteLp(cfg), Vec::new(), Vec::new(), seed),
-                SpecV3::AlpGmm { low, high, cfg, seed } => (Teacher::AlpGmm(cfg), low, high, seed),
-                SpecV3::CovarGmm { low, high, cfg, seed } => (Teacher::CovarGmm(cfg), low, high, seed),
-            };
-            TeacherSpec { teacher, low, high, seed }
-        }
-    }
-
-    #[derive(Deserialize)]
-    pub struct TreeV1 {
-        g_max: usize,
-        zeta: usize,
-        min_child: usize,
-    }
-
-    /// `TeacherSpec` as format 1 wrote it (variants in the same order).
-    #[derive(Deserialize)]
-    pub enum SpecV1 {
-        SaggRiac { low: Vec<f64>, high: Vec<f64>, tree: TreeV1, modes: ModeProbabilities, seed: u64 },
-        Random { low: Vec<f64>, high: Vec<f64>, seed: u64 },
-        Riac { low: Vec<f64>, high: Vec<f64>, cfg: RiacConfig, seed: u64 },
-        DiscreteLp { cfg: DiscreteLpConfig, seed: u64 },
-        AlpGmm { low: Vec<f64>, high: Vec<f64>, cfg: AlpGmmConfig, seed: u64 },
-        CovarGmm { low: Vec<f64>, high: Vec<f64>, cfg: CovarGmmConfig, seed: u64 },
-    }
-
-    /// A mixture's weights, means and covariances, flattened.
-    type GmmV2 = (Vec<f64>, (Vec<f64>, Vec<f64>));
-
-    /// Every teacher's state as formats 1 and 2 wrote it: one enum, variants in this order.
-    #[derive(Deserialize)]
-    pub enum StateV2 {
-        SaggRiac { rng: CoreRng, points: Vec<f64>, values: Vec<f64> },
-        Random { rng: CoreRng },
-        Riac { rng: CoreRng, points: Vec<f64>, values: Vec<f64> },
-        DiscreteLp { rng: CoreRng, fast: Vec<f64>, slow: Vec<f64> },
-        Mixture { rng: CoreRng, fit_rng: CoreRng, points: Vec<f64>, values: Vec<f64>, window: Vec<f64>, gmm: Option<GmmV2> },
-    }
-
-    impl From<StateV2> for Vec<u8> {
-        /// The same state in its teacher's own encoding: a variant's fields in order, which is
-        /// how each teacher encodes its state struct.
-        fn from(s: StateV2) -> Vec<u8> {
-            let r = match s {
-                StateV2::SaggRiac { rng, points, values } | StateV2::Riac { rng, points, values } => postcard::to_stdvec(&(rng, points, values)),
-                StateV2::Random { rng } => postcard::to_stdvec(&(rng,)),
-                StateV2::DiscreteLp { rng, fast, slow } => postcard::to_stdvec(&(rng, fast, slow)),
-                StateV2::Mixture { rng, fit_rng, points, values, window, gmm } => postcard::to_stdvec(&(rng, fit_rng, points, values, window, gmm)),
-            };
-            r.unwrap_or_default()
-        }
-    }
-
-    pub type SavedV1 = SavedAs<SpecV1, StateV2>;
-    pub type SavedV2 = SavedAs<SpecV3, StateV2>;
-    pub type SavedV3 = SavedAs<SpecV3, Vec<u8>>;
-
-    impl From<SpecV1> for TeacherSpec {
-        fn from(s: SpecV1) -> Self {
-            SpecV3::from(s).into()
-        }
-    }
-
-    impl From<SpecV1> for SpecV3 {
-        fn from(s: SpecV1) -> Self {
-            match s {
-                // saggriac <= 0.2 divided a young region's eq. 2 by its own window.
-                SpecV1::SaggRiac { low, high, tree, modes, seed } => {
-                    let tree = RegionTreeConfig { g_max: tree.g_max, zeta: tree.zeta, min_child: tree.min_child, divisor: InterestDivisor::Window };
-                    SpecV3::SaggRiac { low, high, tree, modes, seed }
-                }
-                SpecV1::Random { low, high, seed } => SpecV3::Random { low, high, seed },
-                SpecV1::Riac { low, high, cfg, seed } => SpecV3::Riac { low, high, cfg, seed },
-                SpecV1::DiscreteLp { cfg, seed } => SpecV3::DiscreteLp { cfg, seed },
-                SpecV1::AlpGmm { low, high, cfg, seed } => SpecV3::AlpGmm { low, high, cfg, seed },
-                SpecV1::CovarGmm { low, high, cfg, seed } => SpecV3::CovarGmm { low, high, cfg, seed },
-            }
-        }
-    }
-
-    /// A saved teacher of an older format in this format's terms.
-    pub fn upgrade<Spec: Into<TeacherSpec>, State: Into<Vec<u8>>>(s: SavedAs<Spec, State>) -> Saved {
-        let SavedAs { version, spec, state, asked, asked_mode, asked_region, told, told_competence, told_region, .. } = s;
-        SavedAs { format: FORMAT, version, spec: spec.into(), state: state.into(), asked, asked_mode, asked_region, told, told_competence, told_region }
-    }
-}
+/// 2 (saggriac 0.3-0.4, whose teachers' states were variants of one enum), 3 (saggriac 0.5,
+/// the parameters as one enum of teachers with their boxes and seeds) and 4 (saggriac 0.6,
+/// PLR's parameters without `ties`).
+mod legacy;
 
 pub struct AskTell {
     spec: TeacherSpec,
@@ -237,6 +127,7 @@ impl AskTell {
             1 => decode::<legacy::SavedV1>(bytes).map(legacy::upgrade),
             2 => decode::<legacy::SavedV2>(bytes).map(legacy::upgrade),
             3 => decode::<legacy::SavedV3>(bytes).map(legacy::upgrade),
+            4 => decode::<legacy::SavedV4>(bytes).map(legacy::upgrade),
             _ => decode::<Saved>(bytes),
         };
         let s = match decoded {
@@ -422,6 +313,30 @@ mod tests {
                 again.update(&h, told(kind, &h)).unwrap();
             }
         }
+    }
+
+    /// A PLR teacher saved by saggriac 0.6 (format 4, at 164832d: `PlrSelector(5, seed=1)`, 10
+    /// levels drawn and told 0.3) restores with the ties rule it ran (`Average`), its history and
+    /// state, and goes on drawing levels; saved again, it is a format-5 teacher.
+    #[test]
+    fn a_plr_teacher_saved_by_saggriac_0_6_restores_with_its_ties() {
+        use crate::config::teachers::{PlrConfig, PlrScore, PlrTies, ReplaySchedule};
+        let mut a = AskTell::restore(include_bytes!("../../tests/data/teacher_v4_plr.bin")).unwrap();
+        let want = PlrConfig { n_tasks: 5, temperature: 0.1, staleness_coef: 0.1, replay_schedule: ReplaySchedule::Proportionate, replay_prob: 0.5, score: PlrScore::Progress, ties: PlrTies::Average };
+        assert_eq!(a.spec().teacher, Teacher::Plr(want));
+        assert_eq!((a.asked.len(), a.told_competence.len()), (10, 10));
+        assert!(a.told_competence.iter().all(|&c| c == 0.3));
+        // Every level has a chance at the next draw (a replay or, if unseen, a new level).
+        let p = a.selector().task_probabilities().unwrap();
+        assert!((p.iter().sum::<f64>() - 1.0).abs() < 1e-12 && p.iter().all(|&x| x > 0.0), "{p:?}");
+        for _ in 0..20 {
+            let g = a.sample().goal;
+            assert!(g[0].fract() == 0.0 && (0.0..5.0).contains(&g[0]));
+            a.update(&g, 0.3).unwrap();
+        }
+        let bytes = a.save().unwrap();
+        assert_eq!(postcard::take_from_bytes::<u32>(&bytes).unwrap().0, FORMAT);
+        assert_eq!(AskTell::restore(&bytes).unwrap().spec(), a.spec());
     }
 
     #[test]
