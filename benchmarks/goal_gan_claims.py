@@ -160,7 +160,12 @@ def main() -> None:
         for name in TEACHERS:
             t0 = time.perf_counter()
             results[name].append(run(name, a.goals, seed, a.windows))
-            print(f"  seed {seed} {name:8s} {time.perf_counter() - t0:5.1f} s, final coverage {results[name][-1]['coverage'][-1]:.3f}")
+            print(f"  seed {seed} {name:8s} {time.perf_counter() - t0:5.1f} s, final coverage {results[name][-1]['coverage'][-1]:.3f}", flush=True)
+    summarise(results)
+
+
+def summarise(results: dict[str, list[dict[str, np.ndarray]]]) -> None:
+    """Each teacher's share of goals of intermediate difficulty and coverage, over seeds."""
     for name, rs in results.items():
         goid = np.array([r["goid"] for r in rs])
         cov = np.array([r["coverage"] for r in rs])
