@@ -28,7 +28,6 @@ from __future__ import annotations
 import argparse
 import importlib.util
 import sys
-import time
 from collections import deque
 from pathlib import Path
 
@@ -173,13 +172,7 @@ def main() -> None:
     a = p.parse_args()
     torch.set_num_threads(1)
     names = tuple(ABLATIONS) if a.ablations else ("authors", "goal_gan", "uniform")
-    results: dict[str, list[dict[str, np.ndarray]]] = {n: [] for n in names}
-    for seed in range(a.seeds):
-        for name in names:
-            t0 = time.perf_counter()
-            results[name].append(run(name, a.goals, seed, a.windows))
-            print(f"  seed {seed} {name:8s} {time.perf_counter() - t0:5.1f} s, final coverage {results[name][-1]['coverage'][-1]:.3f}", flush=True)
-    claims.summarise(results)
+    claims.summarise(claims.run_all(names, run, a.seeds, a.goals, a.windows))
 
 
 if __name__ == "__main__":
