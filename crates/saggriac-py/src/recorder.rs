@@ -4,7 +4,7 @@
 use numpy::{IntoPyArray, PyArray2, PyArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use saggriac_core::recorder::{Column, Number, Record, Table};
+use saggriac_core::table::{Column, Number, Record, Table};
 use saggriac_core::task_space::Point;
 
 /// Task-space points as an (n, m) array: the first m coordinates of each.

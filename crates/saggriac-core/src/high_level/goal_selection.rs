@@ -6,7 +6,7 @@ use crate::config::high_level::check_bounds;
 pub use crate::config::high_level::ModeProbabilities;
 use crate::error::Result;
 use crate::high_level::region_tree::{RegionTree, RegionTreeConfig};
-use crate::recorder::{bools, floats, ints, slices, Table};
+use crate::table::{bools, floats, ints, slices, Table};
 use crate::rng::{index, pick_weighted, rng_from_seed, uniform, unit, CoreRng};
 
 /// How a goal was chosen.

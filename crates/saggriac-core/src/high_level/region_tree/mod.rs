@@ -6,7 +6,7 @@ use crate::config::high_level::check_bounds;
 pub use crate::config::high_level::RegionTreeConfig;
 use crate::error::Result;
 use crate::high_level::interest::interest;
-use crate::recorder::{bools, floats, index_or_none, ints, slices, Table};
+use crate::table::{bools, floats, index_or_none, ints, slices, Table};
 
 mod cut;
 use cut::Cuts;

@@ -7,10 +7,9 @@ use serde::{Deserialize, Serialize};
 use crate::high_level::goal_selection::Mode;
 use crate::task_space::Point;
 pub use crate::timers::Timers;
-
-mod table;
-pub(crate) use table::{bools, floats, index_or_none, ints, points, slices};
-pub use table::{Column, Number, Record, Table};
+use crate::table::{bools, floats, index_or_none, ints, points, Number, Record, Table};
+#[cfg(test)]
+use crate::table::Column;
 
 /// One evaluation point of the learning curve.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
