@@ -9,6 +9,7 @@ import pytest
 import saggriac as sg
 from saggriac.bench import TASKS, TeacherSpec, run_one
 from saggriac.bench.runner import Job, child_seeds
+from saggriac.bench.arm import ArmTask
 from saggriac.bench.challenges import Abilities, Forgetting, Rugged
 from saggriac.bench.tasks import Hypercube, Niches
 
@@ -95,11 +96,14 @@ def test_abilities_students_differ_by_seed_and_a_perfect_teacher_teaches_each():
         assert curve[-1][1] > 1 - (1 - task.learning_rate) ** 900
 
 
-def test_the_arm_with_random_goals_is_the_runs_own_sagg_random():
-    """arm-episodic with the built-in random teacher asks exactly the goals of saggriac.run's
-    condition sagg_random (the teacher is seeded as the run's high level): the same scores."""
-    row = run_one(Job("arm-episodic", "quick", TeacherSpec("random"), 4))
-    cfg = sg.Config.from_preset("explauto", n_steps=TASKS["arm-episodic"].budgets["quick"], n_evals=TASKS["arm-episodic"].evals, condition="sagg_random")
+@pytest.mark.parametrize("name", [n for n, c in TASKS.items() if issubclass(c, ArmTask)])
+def test_the_arm_with_random_goals_is_the_runs_own_sagg_random(name):
+    """Every arm task with the built-in random teacher asks exactly the goals of saggriac.run's
+    condition sagg_random on the task's preset (the teacher is seeded as the run's high level):
+    the same scores."""
+    task = TASKS[name]
+    row = run_one(Job(name, "quick", TeacherSpec("random"), 4))
+    cfg = sg.Config.from_preset(task.preset, n_steps=task.budgets["quick"], n_evals=task.evals, condition="sagg_random", **task.settings)
     m = sg.run(cfg, seed=4, threads=1).metrics
     assert [s for _, s in row["curve"]] == list(-m.reach_error.to_numpy()[1:])
     assert row["row"]["final"] == -m.reach_error.iloc[-1] < 0

@@ -92,3 +92,36 @@ class ArmExp1(ArmTask):
     learner = "15-joint arm, micro-actions (exp1)"
     budgets = {"quick": 20_000, "standard": 50_000, "full": 50_000}
     measures = "the paper's own setting: few goals (one per movement of many micro-actions), each costly; about a fifth of the box (its corners) is out of reach"
+
+
+@register
+class ArmExp2(ArmTask):
+    name, preset, unit = "arm-exp2", "exp2", "micro-actions"
+    learner = "15-joint arm, micro-actions, exp2 box (exp2)"
+    budgets = {"quick": 20_000, "standard": 50_000, "full": 200_000}
+    measures = "the paper's experiment 2: a goal box of which 91 % is out of reach (the arm reaches 9 % of [0, 150] x [-150, 150]), so a teacher must find the reachable part and leave the rest alone"
+
+
+@register
+class Arm3d(ArmTask):
+    name, preset, unit = "arm-3d", "arm3d", "micro-actions"
+    learner = "15-joint arm in 3-D space, micro-actions (arm3d)"
+    budgets = {"quick": 20_000, "standard": 50_000, "full": 100_000}
+    measures = "the same learner with a 3-D goal space: more room to spread goals over; the arm reaches about half (52 %) of the box"
+
+
+@register
+class Arm100(ArmTask):
+    name, preset, unit = "arm-100", "explauto", "movements"
+    settings = {"n_joints": 100}
+    learner = "100-joint arm, episodic (explauto)"
+    budgets = {"quick": 2_000, "standard": 5_000, "full": 20_000}
+    measures = "a very redundant body (100 joints for a 2-D goal): the inverse model is learnt in a 100-D motor space, where each movement teaches less about its neighbours; the arm reaches 78 % of the box"
+
+
+@register
+class ArmPusher(ArmTask):
+    name, preset, unit = "arm-pusher", "pusher", "micro-actions"
+    learner = "MuJoCo Pusher's 7-joint arm as a chain, 3-D goals (pusher)"
+    budgets = {"quick": 20_000, "standard": 50_000, "full": 100_000}
+    measures = "a robot arm modelled by others (Gymnasium's MuJoCo Pusher: its joint ranges and offsets, stepped as a chain without MuJoCo), in a 3-D goal box of which it reaches 19 %"
