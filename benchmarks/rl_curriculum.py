@@ -322,6 +322,24 @@ def fmt(x: float, digits: int = 3, sign: bool = False) -> str:
     return f"{x:+.{digits}f}" if sign else f"{x:.{digits}f}"
 
 
+#: Where a policy that drives every joint to its limit (+-pi) leaves the tip, whatever the goal:
+#: with links of a third of the arm, out along pi, back along 2 pi, out again along 3 pi.
+FOLD_TIP = (-TASK["arm_length"] / 3, 0.0)
+
+
+def folded(runs: pd.DataFrame) -> pd.Series:
+    """Whether each run's final policy is the fold: its mean final distance to the test goals is
+    that of the tip held at FOLD_TIP (to 1e-9), which no policy that moves with the goal gives."""
+    fold = float(np.mean(np.linalg.norm(test_goals(TASK["arm_length"]) - np.array(FOLD_TIP), axis=1)))
+    return (runs["final_distance"] - fold).abs() < 1e-9
+
+
+def fold_line(runs: pd.DataFrame, teachers: list[str]) -> str:
+    fold = folded(runs)
+    counts = ", ".join(f"{NAMES.get(t, t)} {int(fold[runs['teacher'] == t].sum())}/{int((runs['teacher'] == t).sum())}" for t in teachers)
+    return f"Runs whose final policy folds the arm onto its joint limits (the tip at ({FOLD_TIP[0]:.4g}, 0) for every goal): {counts}."
+
+
 def analyse(out: Path) -> str:
     """Every table of the page, recomputed from ``out/curves.csv``."""
     from saggriac.files import write_file
@@ -348,6 +366,7 @@ def analyse(out: Path) -> str:
             x = r[r["teacher"] == t]
             if len(x):
                 lines.append(f"| {NAMES.get(t, t)} | {fmt(x['final_distance'].mean())} ± {fmt(x['final_distance'].std(ddof=1))} | {fmt(x['final_success'].mean())} | {fmt(x['auc'].mean())} | {fmt(x['auc_distance'].mean())} | {fmt(x['half_distance'].mean())} | {fmt(x['reachable_share'].mean(), 2)} | {x['seconds'].mean():.0f} | {x['cpu_seconds'].mean():.0f} |")
+        lines += ["", fold_line(r, teachers)]
         flat = flattening(curves, reward, seeds)
         if flat:
             lines += ["", f"Random's final distance minus its distance at {flat['step']} steps (last fifth of the budget): {fmt(flat['mean_diff'], sign=True)} [{fmt(flat['ci_low'], sign=True)}, {fmt(flat['ci_high'], sign=True)}], p = {flat['p_value']:.3g}."]
