@@ -39,23 +39,20 @@ import numpy as np
 import pandas as pd
 from tqdm import tqdm
 
+from saggriac.bench.rl import ARM, N_ENVS, THRESHOLDS, arm_reach, evaluate, make_env, run_seeds, test_goals, train  # noqa: F401 (make_env: the study's environment, for its tests)
+
 REPO = Path(__file__).resolve().parents[1]
 OUT = REPO / "docs" / "figures" / "rl_curriculum"
 REWARDS = ("dense", "sparse")
-# The task, fixed in the protocol before any run.
-TASK = dict(n_joints=3, arm_length=1.0, joint_limit=math.pi, max_joint_step=0.2, goal_low=(-2.0, -2.0), goal_high=(2.0, 2.0))
-# A goal is reached within this distance, per variant.
-# The pilot's rule 2 moved sparse's from 0.2 to 0.3 (docs/rl_curriculum.md, "The pilot").
-THRESHOLDS = {"dense": 0.2, "sparse": 0.3}
+# The task, fixed in the protocol before any run, and the distance within which a goal is
+# reached per variant (the pilot's rule 2 moved sparse's from 0.2 to 0.3; docs/rl_curriculum.md,
+# "The pilot"): the bench's deep-RL task, saggriac.bench.rl, which runs this study's code.
+TASK = ARM
 # Environment steps per run (the pilot's rule 1 set it) and scorings per run.
 BUDGET = 120_000
 SCORINGS = 10
 REPORT_SEEDS = {"dense": list(range(500, 524)), "sparse": list(range(600, 612))}
 PILOT_SEEDS = [102, 103]
-EPISODE_STEPS = 50
-N_ENVS = 4
-N_TEST = 200
-TEST_SEED = 20261203  # one test set for every run
 NAMES = {"random": "random", "oracle": "oracle", "sagg_riac": "SAGG-RIAC", "riac": "RIAC", "alp_gmm": "ALP-GMM", "covar_gmm": "Covar-GMM", "adr": "ADR", "spdl": "SPDL", "goal_gan": "GoalGAN"}
 # The teachers expected by the protocol (for the status of the study): every box teacher of
 # saggriac plus the oracle; the field's three count once they are in saggriac.
@@ -121,43 +118,6 @@ def make_teacher(name: str, seed: int):
     return box_teachers()[name](list(TASK["goal_low"]), list(TASK["goal_high"]), seed=seed)
 
 
-def test_goals(reach: float) -> np.ndarray:
-    """N_TEST goals uniform in the disc of radius ``reach`` (the arm's reachable set), by rejection
-    from the goal box (the first study's set)."""
-    rng = np.random.default_rng(TEST_SEED)
-    low, high = np.asarray(TASK["goal_low"]), np.asarray(TASK["goal_high"])
-    out: list[np.ndarray] = []
-    while len(out) < N_TEST:
-        g = rng.uniform(low, high)
-        if np.linalg.norm(g) <= reach:
-            out.append(g)
-    return np.array(out)
-
-
-def make_env(reward: str, threshold: float):
-    from gymnasium.wrappers import TimeLimit
-
-    from saggriac.adapters.gym import GoalArmEnv
-
-    return TimeLimit(GoalArmEnv(**TASK, distance_threshold=threshold, reward_type=reward), EPISODE_STEPS)
-
-
-def evaluate(model, goals: np.ndarray, reward: str, threshold: float) -> tuple[float, float]:
-    """The deterministic policy from the rest pose towards every goal at once (one batched
-    forward pass per step): the share of goals within the threshold at the episode's end, and
-    the mean final distance."""
-    envs = [make_env(reward, threshold).unwrapped for _ in goals]
-    obs = [e.reset(options={"goal": g})[0] for e, g in zip(envs, goals)]
-    info: list[dict] = []
-    for _ in range(EPISODE_STEPS):
-        batch = {k: np.stack([o[k] for o in obs]) for k in obs[0]}
-        actions, _ = model.predict(batch, deterministic=True)
-        steps = [e.step(a) for e, a in zip(envs, actions)]
-        obs = [s[0] for s in steps]
-        info = [s[4] for s in steps]
-    return float(np.mean([i["is_success"] for i in info])), float(np.mean([i["distance"] for i in info]))
-
-
 def commit() -> str:
     """The code's commit, with "+dirty" if tracked files differ from it."""
     try:
@@ -171,43 +131,19 @@ def commit() -> str:
 def one_run(job: tuple[str, str, int, int, int, float, str]) -> list[dict]:
     """One run: its scorings as rows of curves.csv."""
     reward, name, seed, steps, every, threshold, code = job
-    import torch
-    from stable_baselines3 import PPO
-    from stable_baselines3.common.callbacks import BaseCallback, CallbackList
-    from stable_baselines3.common.logger import Logger
-    from stable_baselines3.common.vec_env import DummyVecEnv
-
-    from saggriac.adapters.sb3 import TeacherCallback
-
-    torch.set_num_threads(1)
-    model_seed, env_seed, teacher_seed = (int(s.generate_state(1)[0]) for s in np.random.SeedSequence(seed).spawn(3))
-    env = DummyVecEnv([lambda: make_env(reward, threshold)] * N_ENVS)
-    env.seed(env_seed)
-    model = PPO("MultiInputPolicy", env, seed=model_seed, device="cpu", verbose=0)
-    model.set_logger(Logger(folder=None, output_formats=[]))  # else SB3 leaves a folder in /tmp per run
-    reach = float(env.envs[0].unwrapped.reach)
+    reach = arm_reach()
     goals = test_goals(reach)
-    teacher = TeacherCallback(make_teacher(name, teacher_seed), competence=lambda info: max(0.0, 1.0 - info["distance"] / reach))
     rows: list[dict] = []
     start, cpu = time.perf_counter(), time.process_time()
 
-    def score(step: int) -> None:
+    def score(step: int, model, teacher) -> None:
         told = [g for g, _ in teacher.history]
         recent = np.array(told[-200:]) if told else np.zeros((0, 2))
         success, distance = evaluate(model, goals, reward, threshold)
         share = float(np.mean(np.linalg.norm(recent, axis=1) <= reach)) if len(recent) else float("nan")
         rows.append(dict(reward=reward, teacher=name, seed=seed, budget=steps, threshold=threshold, step=step, success=success, distance=distance, episodes=len(told), reachable_share=share, seconds=time.perf_counter() - start, cpu_seconds=time.process_time() - cpu, commit=code))
 
-    class Score(BaseCallback):
-        def _on_step(self) -> bool:
-            if self.num_timesteps % every == 0:
-                score(self.num_timesteps)
-            # Stop at the budget: PPO would otherwise finish its rollout and update once more,
-            # a cost no scoring sees.
-            return self.num_timesteps < steps
-
-    score(0)
-    model.learn(steps, callback=CallbackList([teacher, Score()]))
+    train(reward, threshold, make_teacher(name, run_seeds(seed)[2]), seed, steps, every, score)
     if rows[-1]["step"] != steps:
         raise RuntimeError(f"run {reward}/{name}/{seed}: the last scoring was at step {rows[-1]['step']}, not at the budget {steps}")
     return rows
@@ -330,7 +266,7 @@ FOLD_TIP = (-TASK["arm_length"] / 3, 0.0)
 def folded(runs: pd.DataFrame) -> pd.Series:
     """Whether each run's final policy is the fold: its mean final distance to the test goals is
     that of the tip held at FOLD_TIP (to 1e-9), which no policy that moves with the goal gives."""
-    fold = float(np.mean(np.linalg.norm(test_goals(TASK["arm_length"]) - np.array(FOLD_TIP), axis=1)))
+    fold = float(np.mean(np.linalg.norm(test_goals(arm_reach()) - np.array(FOLD_TIP), axis=1)))
     return (runs["final_distance"] - fold).abs() < 1e-9
 
 

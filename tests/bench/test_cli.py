@@ -10,7 +10,7 @@ def test_list_prints_every_task_with_its_budgets_and_every_teacher(capsys):
     out = capsys.readouterr().out
     for name, cls in TASKS.items():
         line = next(ln for ln in out.splitlines() if ln.split() and ln.split()[0] == name)
-        assert cls.space in line and f"{cls.budgets['quick']:,}" in line
+        assert cls.space in line and all(("-" if b is None else f"{b:,}") in line.split(cls.learner)[1] for b in cls.budgets.values())
     assert all(t in out for t in available()) and "quick tier, one box teacher, all tasks: about" in out
 
 

@@ -8,12 +8,12 @@ on a leaderboard among saggriac's own teachers (``saggriac bench``; docs/bench.m
 A task is a small class registered with one line (``register``); a teacher is a built-in one by
 name (``saggriac.teachers.available()``) or a class by import path with saggriac's teacher
 protocol. The parts: ``tasks`` (the task registry and the toy tasks), ``arm`` (the paper's
-learner), ``teachers`` (building and guarding a teacher), ``runner`` (one run, the pool,
+learner), ``rl`` (deep RL, the sb3 extra), ``teachers`` (building and guarding a teacher), ``runner`` (one run, the pool,
 resuming), ``report`` (the leaderboard and figures), ``shipped`` (the built-in teachers' results
 that ship with the package) and ``suite`` (``run_bench``).
 """
 
-from . import arm, challenges  # noqa: F401 (register the arm's tasks and the challenges)
+from . import arm, challenges, rl  # noqa: F401 (register the arm's tasks, the challenges and deep RL)
 from .runner import BenchError, Job, run_one
 from .suite import BenchResult, run_bench
 from .tasks import TASKS, TIERS, BenchTask, register

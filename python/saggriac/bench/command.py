@@ -15,7 +15,7 @@ from ..teachers import available
 from . import shipped
 from .runner import BenchError
 from .suite import BenchResult, run_bench
-from .tasks import TASKS, TIERS
+from .tasks import TASKS, TIERS, missing_extra
 from .teachers import CALL_TIMEOUT, parse_teacher
 
 
@@ -49,14 +49,17 @@ def listing() -> str:
     for name, cls in TASKS.items():
         row: dict[str, Any] = dict(task=name, space=cls.space, learner=cls.learner)
         for tier in TIERS:
-            row[f"{tier} ({TIERS[tier]} seeds)"] = f"{cls.budgets[tier]:,} {cls.unit}"
+            budget = cls.budgets[tier]
+            row[f"{tier} ({TIERS[tier]} seeds)"] = "-" if budget is None else f"{budget:,} {cls.unit}"
         s = times["quick"].get(name)
         row["s/run (quick, measured)"] = "" if s is None else f"{s:.2f}"
         rows.append(row)
     table = pd.DataFrame(rows).to_string(index=False)
     names = ", ".join(f"{n} ({'/'.join(c.spaces)})" for n, c in available().items())
     total = sum(times["quick"].get(n, 0.0) for n, c in TASKS.items()) * TIERS["quick"]
-    return f"{table}\n\nbuilt-in teachers: {names}\nquick tier, one box teacher, all tasks: about {total:.0f} s of CPU (the shipped runs' mean seconds per run x {TIERS['quick']} seeds)"
+    needs = [f"{n} needs {missing_extra(n)}" for n in TASKS if missing_extra(n) is not None]
+    missing = f"\nnot installed: {'; '.join(needs)} (left out of the bench until it is)" if needs else ""
+    return f"{table}\n\n'-': not in that tier (deep RL is not in the quick tier)\nbuilt-in teachers: {names}\nquick tier, one box teacher, all tasks: about {total:.0f} s of CPU (the shipped runs' mean seconds per run x {TIERS['quick']} seeds){missing}"
 
 
 def _teacher_params(pairs: list[str], parse_value: Any) -> dict[str, Any]:

@@ -20,7 +20,7 @@ from ..study.backends import default_workers
 from ..teachers import available
 from . import report, shipped
 from .runner import BenchError, execute, failure_message, plan, read_done, timed
-from .tasks import TASKS, TIERS
+from .tasks import TASKS, TIERS, in_tier, missing_extra
 from .teachers import CALL_TIMEOUT, REFERENCE, TeacherSpec, parse_teacher
 
 
@@ -72,10 +72,21 @@ def run_bench(
     n_workers = default_workers() if workers is None else _check_int("workers", workers, 1)
     if isinstance(timeout, bool) or not isinstance(timeout, (int, float)) or not 0 < timeout < 1e6:
         raise ParameterError(f"The 'timeout' parameter of run_bench must be seconds in (0, 1e6). Got {timeout!r} instead.", "timeout", repr(timeout))
-    names = list(TASKS) if tasks is None else list(tasks)
+    notes: list[str] = []
+    if tasks is None:
+        names = [t for t in TASKS if in_tier(t, tier) and missing_extra(t) is None]
+        left_out = [f"{t} (needs {missing_extra(t)})" for t in TASKS if in_tier(t, tier) and missing_extra(t) is not None]
+        if left_out:
+            notes.append(f"Tasks left out, their extra not installed: {', '.join(left_out)}.")
+    else:
+        names = list(tasks)
     for t in names:
         if t not in TASKS:
             raise ParameterError(f"The 'tasks' parameter of run_bench must name tasks of the bench ({', '.join(TASKS)}). Got {t!r} instead.", "tasks", repr(t))
+        if not in_tier(t, tier):
+            raise ParameterError(f"The bench task {t!r} is not in the tier {tier!r} (it is in {', '.join(x for x in TIERS if in_tier(t, x))}). Give another tier, or leave the task out.", "tasks", repr(t))
+        if missing_extra(t) is not None:
+            raise ParameterError(f"The bench task {t!r} needs {missing_extra(t)}.", "tasks", repr(t))
     specs = [t if isinstance(t, TeacherSpec) else parse_teacher(t) for t in teachers]
     builtins = [TeacherSpec(n) for n in available()]
     everyone = builtins + [s for s in specs if s not in builtins]
@@ -87,7 +98,6 @@ def run_bench(
 
     jobs = plan(everyone, names, tier, range(n_seeds), float(timeout))
     ship = shipped.load(tier)
-    notes: list[str] = []
     records: list[dict[str, Any]] = []
     from_ship = 0
     todo = []

@@ -32,10 +32,26 @@ def register(cls: type["BenchTask"]) -> type["BenchTask"]:
     name = getattr(cls, "name", "")
     if not isinstance(name, str) or not name or name in TASKS:
         raise ParameterError(f"The 'name' of a bench task must be a new, non-empty str. Got {name!r} instead (taken: {', '.join(TASKS)}).", "name", repr(name))
-    if cls.space not in ("box", "tasks") or set(cls.budgets) != set(TIERS):
-        raise ParameterError(f"The bench task {name!r} must have space 'box' or 'tasks' and a budget for each tier {tuple(TIERS)}. Got space {cls.space!r}, budgets {cls.budgets!r}.", "budgets", repr(cls.budgets))
+    budgets_ok = set(cls.budgets) == set(TIERS) and all(b is None or (isinstance(b, int) and b > 0) for b in cls.budgets.values()) and any(b is not None for b in cls.budgets.values())
+    if cls.space not in ("box", "tasks") or not budgets_ok:
+        raise ParameterError(f"The bench task {name!r} must have space 'box' or 'tasks' and, for each tier {tuple(TIERS)}, a budget (an int > 0, or None where the task is not in the tier; at least one int). Got space {cls.space!r}, budgets {cls.budgets!r}.", "budgets", repr(cls.budgets))
     TASKS[name] = cls
     return cls
+
+
+def in_tier(name: str, tier: str) -> bool:
+    """Whether the task ``name`` is run in ``tier`` (it has a budget there)."""
+    return TASKS[name].budgets[tier] is not None
+
+
+def missing_extra(name: str) -> str | None:
+    """What the task ``name`` needs that is not installed (its ``requires``), or None."""
+    import importlib.util
+
+    requires = TASKS[name].requires
+    if requires and importlib.util.find_spec(requires[0]) is None:
+        return requires[1]
+    return None
 
 
 class BenchTask:
@@ -47,8 +63,11 @@ class BenchTask:
     learner: ClassVar[str] = ""
     #: What a teacher must do well to score high here (docs/bench.md).
     measures: ClassVar[str] = ""
-    #: Goals per run, by tier.
-    budgets: ClassVar[dict[str, int]] = {}
+    #: Goals per run, by tier; None where the task is not in the tier.
+    budgets: ClassVar[dict[str, int | None]] = {}
+    #: (module, what to install) where the task needs an optional extra; the bench leaves the
+    #: task out, and says so, when the module is missing.
+    requires: ClassVar[tuple[str, str] | tuple[()]] = ()
     #: Points on the score curve (the score after every budget // points goals).
     points: ClassVar[int] = 20
     #: What the curve's x axis counts.
