@@ -6,7 +6,7 @@
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyString};
 use pythonize::{depythonize, pythonize};
-use saggriac_core::config::teachers::Teacher;
+use saggriac_core::config::teachers::{PerDimension, Shape, Teacher};
 use saggriac_core::error::invalid;
 use saggriac_core::Error;
 
@@ -89,6 +89,50 @@ pub fn teacher(py: Python<'_>, default: Teacher, given: Option<&Bound<'_, PyDict
     let outer = PyDict::new(py);
     outer.set_item(kind, nested)?;
     depythonize::<Teacher>(&outer).map_err(|e| to_py(py, Error::InvalidInput(format!("{e}"))))
+}
+
+/// Every teacher's parameters taken per dimension, by name: "vector" or "matrix"
+/// (`_core.teacher_per_dimension()`).
+pub fn per_dimension_names(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
+    let out = PyDict::new(py);
+    for t in Teacher::all() {
+        let names = PyDict::new(py);
+        for (name, shape) in t.per_dimension() {
+            names.set_item(name, if *shape == Shape::Vector { "vector" } else { "matrix" })?;
+        }
+        out.set_item(t.kind(), names)?;
+    }
+    Ok(out)
+}
+
+/// The parameters of `given` that `default`'s teacher takes per dimension and that are given so
+/// (a list, or a matrix as a list of `d` rows of `d` floats), apart: the others stay in the dict
+/// returned, for `teacher`. Their lengths and rules are the core's (`PerDimension::check`).
+pub fn split_per_dimension<'py>(py: Python<'py>, default: &Teacher, given: Option<&Bound<'py, PyDict>>, d: usize) -> PyResult<(Option<Bound<'py, PyDict>>, PerDimension)> {
+    let Some(given) = given else { return Ok((None, PerDimension::default())) };
+    let (rest, mut dims) = (PyDict::new(py), PerDimension::default());
+    let owner = default.class();
+    for (k, v) in given.iter() {
+        let shape = k.extract::<String>().ok().and_then(|key| default.per_dimension().iter().find(|(n, _)| *n == key).map(|(n, s)| (*n, *s)));
+        let Some((name, shape)) = shape.filter(|_| !v.is_instance_of::<PyFloat>() && !v.is_instance_of::<PyInt>()) else {
+            rest.set_item(k, v)?;
+            continue;
+        };
+        let shown = || v.repr().map(|r| r.to_string()).unwrap_or_else(|_| "?".into());
+        let values = match shape {
+            Shape::Vector => v.extract::<Vec<f64>>().map_err(|_| to_py(py, invalid(owner, name, format!("a float, or a list of {d} floats (one per dimension of the box)"), shown())))?,
+            Shape::Matrix => {
+                let rule = || format!("a {d} x {d} matrix of floats: {d} rows of {d} (one row and one column per dimension of the box)");
+                let rows = v.extract::<Vec<Vec<f64>>>().map_err(|_| to_py(py, invalid(owner, name, rule(), shown())))?;
+                if rows.len() != d || rows.iter().any(|r| r.len() != d) {
+                    return Err(to_py(py, invalid(owner, name, rule(), shown())));
+                }
+                rows.concat()
+            }
+        };
+        dims.0.push((name.to_string(), values));
+    }
+    Ok((Some(rest), dims))
 }
 
 /// Every teacher's default parameters, by name (`_core.teacher_defaults()`).

@@ -25,6 +25,11 @@ from . import copies, ownership
 # takes exactly those of its kind, with those defaults (tests/core/test_stub.py checks it).
 DEFAULTS: dict[str, dict[str, Any]] = _core.teacher_defaults()
 
+# The parameters each teacher also takes per dimension of its box (the core's declaration):
+# "vector" (a list, one value per dimension, in place of the number) or "matrix" (d x d, beside
+# the numbers, None when not given).
+PER_DIMENSION: dict[str, dict[str, str]] = _core.teacher_per_dimension()
+
 #: The first bytes of a teacher saved by ``save(path)``.
 MAGIC = b"saggriac-teacher\n"
 
@@ -105,6 +110,23 @@ def _typed(kind: str, owner: str, name: str, value: Any, default: Any) -> Any:
     return value
 
 
+def _per_dimension(owner: str, name: str, value: Any, shape: str, dim: int) -> Any:
+    """A value given per dimension as (nested) lists of floats for the core, which checks its
+    length and each value's rule; not a list of numbers (or rows of them) is refused here."""
+    want = f"a float, or a list of {dim} floats (one per dimension of the box)" if shape == "vector" else f"a {dim} x {dim} matrix of floats (one row and one column per dimension of the box)"
+    try:
+        arr = None if isinstance(value, (str, bytes, bool, dict)) else np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        arr = None
+    if arr is None or arr.ndim != (1 if shape == "vector" else 2):
+        raise ParameterError(f"The '{name}' parameter of {owner} must be {want}. Got {value!r} instead.", name, repr(value))
+    return arr.tolist()
+
+
+def _is_number(value: Any) -> bool:
+    return isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool)
+
+
 class AskTellSelector:
     """The base of every ask/tell teacher: a subclass names its kind (``_kind``, a teacher of the
     core's) and its parameters; everything else is here."""
@@ -120,7 +142,16 @@ class AskTellSelector:
         owner = type(self).__name__
         lo, hi = _vector("low", low), _vector("high", high)
         seed = _int_param(owner, "seed", seed, 0, 2**64)
-        self._inner = _core.AskTell(self._kind, lo.tolist(), hi.tolist(), seed, {k: _typed(self._kind, owner, k, v, DEFAULTS[self._kind][k]) for k, v in params.items()})
+        per = PER_DIMENSION.get(self._kind, {})
+        given = {}
+        for k, v in params.items():
+            if k in per and per[k] == "matrix" and v is None:
+                continue  # a covariance not given: the standard deviations stand
+            if k in per and (per[k] == "matrix" or not _is_number(v)):
+                given[k] = _per_dimension(owner, k, v, per[k], lo.size)
+            else:
+                given[k] = _typed(self._kind, owner, k, v, DEFAULTS[self._kind][k])
+        self._inner = _core.AskTell(self._kind, lo.tolist(), hi.tolist(), seed, given)
         self.last_mode: str | None = None
         self.last_region: int | None = None
 

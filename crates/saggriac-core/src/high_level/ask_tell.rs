@@ -10,12 +10,13 @@ use crate::high_level::region_tree::RegionTreeConfig;
 use crate::config::teachers::{RandomConfig, SaggRiacConfig, Teacher};
 use crate::high_level::teachers::TeacherSpec;
 
-/// Bumped whenever the saved layout changes. Format 4: the teacher's parameters as the one
-/// `Teacher` enum beside the box and the seed. Formats 3 (saggriac 0.5, each teacher's state in
-/// its own encoding), 2 (saggriac 0.3-0.4, one enum of every teacher's state) and 1 (saggriac
-/// <= 0.2, before SAGG-RIAC's tree had an eq.-2 divisor, read as the `Window` reading it ran) are
-/// still read.
-const FORMAT: u32 = 4;
+/// Bumped whenever the saved layout changes. Format 5: the parameters given per dimension after
+/// the seed, SPDL's form, covariance and alpha parameters, Goal GAN's first goals' box. Formats 4
+/// (saggriac 0.6 before #46, the teacher's parameters as the one `Teacher` enum beside the box
+/// and the seed), 3 (saggriac 0.5, each teacher's state in its own encoding), 2 (saggriac
+/// 0.3-0.4, one enum of every teacher's state) and 1 (saggriac <= 0.2, before SAGG-RIAC's tree had
+/// an eq.-2 divisor, read as the `Window` reading it ran) are still read.
+const FORMAT: u32 = 5;
 /// Told competences are bounded so that every teacher's sums, squares and mixtures of them stay
 /// finite (a mixture teacher squares differences of competences).
 pub const MAX_COMPETENCE: f64 = 1e100;
@@ -59,121 +60,10 @@ fn decode<T: serde::de::DeserializeOwned>(bytes: &[u8]) -> std::result::Result<T
 }
 
 /// The layouts of formats 1 (saggriac <= 0.2: SAGG-RIAC's tree parameters without the divisor),
-/// 2 (saggriac 0.3-0.4, whose teachers' states were variants of one enum) and 3 (saggriac 0.5,
-/// the parameters as one enum of teachers with their boxes and seeds).
-mod legacy {
-    use super::*;
-    use crate::config::high_level::InterestDivisor;
-    use crate::config::teachers::{RandomConfig, SaggRiacConfig, Teacher};
-    use crate::high_level::teachers::alp_gmm::AlpGmmConfig;
-    use crate::high_level::teachers::covar_gmm::CovarGmmConfig;
-    use crate::high_level::teachers::discrete_lp::DiscreteLpConfig;
-    use crate::high_level::teachers::riac::RiacConfig;
-    use crate::rng::CoreRng;
-
-    /// `TeacherSpec` as formats 2 and 3 wrote it.
-    #[derive(Deserialize)]
-    pub enum SpecV3 {
-        SaggRiac { low: Vec<f64>, high: Vec<f64>, tree: RegionTreeConfig, modes: ModeProbabilities, seed: u64 },
-        Random { low: Vec<f64>, high: Vec<f64>, seed: u64 },
-        Riac { low: Vec<f64>, high: Vec<f64>, cfg: RiacConfig, seed: u64 },
-        DiscreteLp { cfg: DiscreteLpConfig, seed: u64 },
-        AlpGmm { low: Vec<f64>, high: Vec<f64>, cfg: AlpGmmConfig, seed: u64 },
-        CovarGmm { low: Vec<f64>, high: Vec<f64>, cfg: CovarGmmConfig, seed: u64 },
-    }
-
-    impl From<SpecV3> for TeacherSpec {
-        fn from(s: SpecV3) -> Self {
-            let (teacher, low, high, seed) = match s {
-                SpecV3::SaggRiac { low, high, tree, modes, seed } => (Teacher::SaggRiac(SaggRiacConfig { tree, modes }), low, high, seed),
-                SpecV3::Random { low, high, seed } => (Teacher::Random(RandomConfig {}), low, high, seed),
-                SpecV3::Riac { low, high, cfg, seed } => (Teacher::Riac(cfg), low, high, seed),
-                SpecV3::DiscreteLp { cfg, seed } => (Teacher::DiscreteLp(cfg), Vec::new(), Vec::new(), seed),
-                SpecV3::AlpGmm { low, high, cfg, seed } => (Teacher::AlpGmm(cfg), low, high, seed),
-                SpecV3::CovarGmm { low, high, cfg, seed } => (Teacher::CovarGmm(cfg), low, high, seed),
-            };
-            TeacherSpec { teacher, low, high, seed }
-        }
-    }
-
-    #[derive(Deserialize)]
-    pub struct TreeV1 {
-        g_max: usize,
-        zeta: usize,
-        min_child: usize,
-    }
-
-    /// `TeacherSpec` as format 1 wrote it (variants in the same order).
-    #[derive(Deserialize)]
-    pub enum SpecV1 {
-        SaggRiac { low: Vec<f64>, high: Vec<f64>, tree: TreeV1, modes: ModeProbabilities, seed: u64 },
-        Random { low: Vec<f64>, high: Vec<f64>, seed: u64 },
-        Riac { low: Vec<f64>, high: Vec<f64>, cfg: RiacConfig, seed: u64 },
-        DiscreteLp { cfg: DiscreteLpConfig, seed: u64 },
-        AlpGmm { low: Vec<f64>, high: Vec<f64>, cfg: AlpGmmConfig, seed: u64 },
-        CovarGmm { low: Vec<f64>, high: Vec<f64>, cfg: CovarGmmConfig, seed: u64 },
-    }
-
-    /// A mixture's weights, means and covariances, flattened.
-    type GmmV2 = (Vec<f64>, (Vec<f64>, Vec<f64>));
-
-    /// Every teacher's state as formats 1 and 2 wrote it: one enum, variants in this order.
-    #[derive(Deserialize)]
-    pub enum StateV2 {
-        SaggRiac { rng: CoreRng, points: Vec<f64>, values: Vec<f64> },
-        Random { rng: CoreRng },
-        Riac { rng: CoreRng, points: Vec<f64>, values: Vec<f64> },
-        DiscreteLp { rng: CoreRng, fast: Vec<f64>, slow: Vec<f64> },
-        Mixture { rng: CoreRng, fit_rng: CoreRng, points: Vec<f64>, values: Vec<f64>, window: Vec<f64>, gmm: Option<GmmV2> },
-    }
-
-    impl From<StateV2> for Vec<u8> {
-        /// The same state in its teacher's own encoding: a variant's fields in order, which is
-        /// how each teacher encodes its state struct.
-        fn from(s: StateV2) -> Vec<u8> {
-            let r = match s {
-                StateV2::SaggRiac { rng, points, values } | StateV2::Riac { rng, points, values } => postcard::to_stdvec(&(rng, points, values)),
-                StateV2::Random { rng } => postcard::to_stdvec(&(rng,)),
-                StateV2::DiscreteLp { rng, fast, slow } => postcard::to_stdvec(&(rng, fast, slow)),
-                StateV2::Mixture { rng, fit_rng, points, values, window, gmm } => postcard::to_stdvec(&(rng, fit_rng, points, values, window, gmm)),
-            };
-            r.unwrap_or_default()
-        }
-    }
-
-    pub type SavedV1 = SavedAs<SpecV1, StateV2>;
-    pub type SavedV2 = SavedAs<SpecV3, StateV2>;
-    pub type SavedV3 = SavedAs<SpecV3, Vec<u8>>;
-
-    impl From<SpecV1> for TeacherSpec {
-        fn from(s: SpecV1) -> Self {
-            SpecV3::from(s).into()
-        }
-    }
-
-    impl From<SpecV1> for SpecV3 {
-        fn from(s: SpecV1) -> Self {
-            match s {
-                // saggriac <= 0.2 divided a young region's eq. 2 by its own window.
-                SpecV1::SaggRiac { low, high, tree, modes, seed } => {
-                    let tree = RegionTreeConfig { g_max: tree.g_max, zeta: tree.zeta, min_child: tree.min_child, divisor: InterestDivisor::Window };
-                    SpecV3::SaggRiac { low, high, tree, modes, seed }
-                }
-                SpecV1::Random { low, high, seed } => SpecV3::Random { low, high, seed },
-                SpecV1::Riac { low, high, cfg, seed } => SpecV3::Riac { low, high, cfg, seed },
-                SpecV1::DiscreteLp { cfg, seed } => SpecV3::DiscreteLp { cfg, seed },
-                SpecV1::AlpGmm { low, high, cfg, seed } => SpecV3::AlpGmm { low, high, cfg, seed },
-                SpecV1::CovarGmm { low, high, cfg, seed } => SpecV3::CovarGmm { low, high, cfg, seed },
-            }
-        }
-    }
-
-    /// A saved teacher of an older format in this format's terms.
-    pub fn upgrade<Spec: Into<TeacherSpec>, State: Into<Vec<u8>>>(s: SavedAs<Spec, State>) -> Saved {
-        let SavedAs { version, spec, state, asked, asked_mode, asked_region, told, told_competence, told_region, .. } = s;
-        SavedAs { format: FORMAT, version, spec: spec.into(), state: state.into(), asked, asked_mode, asked_region, told, told_competence, told_region }
-    }
-}
+/// 2 (saggriac 0.3-0.4, whose teachers' states were variants of one enum), 3 (saggriac 0.5,
+/// the parameters as one enum of teachers with their boxes and seeds) and 4 (saggriac 0.6 before
+/// #46: no parameters per dimension, SPDL's and Goal GAN's parameters as they were).
+mod legacy;
 
 pub struct AskTell {
     spec: TeacherSpec,
@@ -197,12 +87,12 @@ impl AskTell {
 
     /// SAGG-RIAC over the box [low, high] of any dimension.
     pub fn sagg_riac(low: &[f64], high: &[f64], tree: RegionTreeConfig, modes: ModeProbabilities, seed: u64) -> Result<Self> {
-        Self::new(TeacherSpec { teacher: Teacher::SaggRiac(SaggRiacConfig { tree, modes }), low: low.to_vec(), high: high.to_vec(), seed })
+        Self::new(TeacherSpec { teacher: Teacher::SaggRiac(SaggRiacConfig { tree, modes }), low: low.to_vec(), high: high.to_vec(), seed, dims: Default::default() })
     }
 
     /// Goals uniform in [low, high] (SAGG-Random's high level).
     pub fn random(low: &[f64], high: &[f64], seed: u64) -> Result<Self> {
-        Self::new(TeacherSpec { teacher: Teacher::Random(RandomConfig {}), low: low.to_vec(), high: high.to_vec(), seed })
+        Self::new(TeacherSpec { teacher: Teacher::Random(RandomConfig {}), low: low.to_vec(), high: high.to_vec(), seed, dims: Default::default() })
     }
 
     pub fn spec(&self) -> &TeacherSpec {
@@ -237,6 +127,7 @@ impl AskTell {
             1 => decode::<legacy::SavedV1>(bytes).map(legacy::upgrade),
             2 => decode::<legacy::SavedV2>(bytes).map(legacy::upgrade),
             3 => decode::<legacy::SavedV3>(bytes).map(legacy::upgrade),
+            4 => decode::<legacy::SavedV4>(bytes).map(legacy::upgrade),
             _ => decode::<Saved>(bytes),
         };
         let s = match decoded {
@@ -349,7 +240,7 @@ mod tests {
     /// the rule and both versions.
     #[test]
     fn a_saved_teacher_this_version_cannot_rebuild_names_its_writer() {
-        let spec = TeacherSpec { teacher: Teacher::Spdl(crate::config::teachers::SpdlConfig::default()), low: vec![0.0; 40], high: vec![1.0; 40], seed: 0 };
+        let spec = TeacherSpec { teacher: Teacher::Spdl(crate::config::teachers::SpdlConfig::default()), low: vec![0.0; 40], high: vec![1.0; 40], seed: 0, dims: Default::default() };
         let saved = Saved { format: FORMAT, version: "0.5.9".into(), spec, state: vec![], asked: vec![], asked_mode: vec![], asked_region: vec![], told: vec![], told_competence: vec![], told_region: vec![] };
         let bytes = postcard::to_stdvec_crc32(&saved, CHECKSUM.digest()).unwrap();
         let e = AskTell::restore(&bytes).err().unwrap().to_string();
@@ -383,6 +274,40 @@ mod tests {
         // Saved again, it is a teacher of this format that restores as itself.
         let again = AskTell::restore(&a.save().unwrap()).unwrap();
         assert_eq!(again.spec(), a.spec());
+    }
+
+    /// Teachers saved in format 4 (saggriac 0.6.0 before #46, 164832d, by
+    /// tests/data/teachers_v4.py) continue exactly: ADR and Goal GAN with their parameters of
+    /// then, SPDL over its 20 goals before its next update (its update rule changed, its draws
+    /// did not), the task-list teachers as ever.
+    #[test]
+    fn teachers_saved_before_per_dimension_parameters_continue_exactly() {
+        let files: [(&str, &[u8], &str); 5] = [
+            ("adr", include_bytes!("../../tests/data/teacher_v4_adr.bin"), include_str!("../../tests/data/teacher_v4_adr.next")),
+            ("spdl", include_bytes!("../../tests/data/teacher_v4_spdl.bin"), include_str!("../../tests/data/teacher_v4_spdl.next")),
+            ("goal_gan", include_bytes!("../../tests/data/teacher_v4_goal_gan.bin"), include_str!("../../tests/data/teacher_v4_goal_gan.next")),
+            ("tscl", include_bytes!("../../tests/data/teacher_v4_tscl.bin"), include_str!("../../tests/data/teacher_v4_tscl.next")),
+            ("plr", include_bytes!("../../tests/data/teacher_v4_plr.bin"), include_str!("../../tests/data/teacher_v4_plr.next")),
+        ];
+        let told = |kind: &str, g: &[f64]| match kind {
+            "tscl" | "plr" => (g[0] + 1.0) / 6.0,
+            _ => f64::from(u8::from(g[0] + 0.5 * (g[1] + 1.0) + 0.25 * g[2] < 0.9)),
+        };
+        for (kind, bytes, next) in files {
+            let mut a = AskTell::restore(bytes).unwrap();
+            assert_eq!(a.spec().kind(), kind);
+            assert!(a.spec().dims.is_empty());
+            let mut again = AskTell::restore(&a.save().unwrap()).unwrap();
+            for line in next.lines() {
+                let bits: Vec<u64> = line.split(' ').map(|b| b.parse().unwrap()).collect();
+                let g = a.sample().goal;
+                assert_eq!(g.iter().map(|v| v.to_bits()).collect::<Vec<_>>(), bits, "{kind}");
+                a.update(&g, told(kind, &g)).unwrap();
+                let h = again.sample().goal;
+                assert_eq!(h, g, "{kind}");
+                again.update(&h, told(kind, &h)).unwrap();
+            }
+        }
     }
 
     /// A teacher of every kind saved by saggriac 0.4 (format 2, one enum of all states; written at

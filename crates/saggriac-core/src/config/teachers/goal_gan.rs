@@ -2,7 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::config::teachers::{Registered, TeacherParams};
+use crate::config::teachers::{Registered, Shape, TeacherParams};
 use crate::error::{invalid, Check, Num, Result};
 
 /// Goal GAN's parameters (Florensa et al., ICML 2018).
@@ -27,11 +27,17 @@ pub struct GoalGanConfig {
     pub hidden: usize,
     /// Adam's step size for both networks (0.001).
     pub learning_rate: f64,
+    /// Where the box of the first goals (those before the first training) sits in each
+    /// dimension, as a share of its width from low: 0.5, the box's centre.
+    pub initial: f64,
+    /// That box's width, as a share of each dimension's width: 1, the whole box (the first goals
+    /// uniform in it, as before the parameter existed).
+    pub initial_width: f64,
 }
 
 impl Default for GoalGanConfig {
     fn default() -> Self {
-        GoalGanConfig { success_threshold: 0.5, r_min: 0.1, r_max: 0.9, n_rollouts: 2, update_size: 100, gan_iterations: 250, p_old: 1.0 / 3.0, noise_dim: 4, hidden: 32, learning_rate: 0.001 }
+        GoalGanConfig { success_threshold: 0.5, r_min: 0.1, r_max: 0.9, n_rollouts: 2, update_size: 100, gan_iterations: 250, p_old: 1.0 / 3.0, noise_dim: 4, hidden: 32, learning_rate: 0.001, initial: 0.5, initial_width: 1.0 }
     }
 }
 
@@ -59,8 +65,12 @@ impl TeacherParams for GoalGanConfig {
         c.within("noise_dim", self.noise_dim, 1, 1024)?;
         c.within("hidden", self.hidden, 1, 1024)?;
         c.in_open_closed("learning_rate", self.learning_rate, 0.0, 1.0)?;
+        c.probability("initial", self.initial)?;
+        c.probability("initial_width", self.initial_width)?;
         Ok(())
     }
+
+    const PER_DIMENSION: &'static [(&'static str, Shape)] = &[("initial", Shape::Vector), ("initial_width", Shape::Vector)];
 
     fn scaled_to_competences(self, lo: f64, hi: f64) -> Self {
         GoalGanConfig { success_threshold: lo + self.success_threshold * (hi - lo), ..self }

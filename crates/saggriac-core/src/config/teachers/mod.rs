@@ -13,6 +13,9 @@ use crate::error::{invalid, Result};
 
 pub use crate::config::rules::param_rule;
 
+mod per_dimension;
+pub use per_dimension::{PerDimension, Shape};
+
 /// The registry: every teacher as `file: Variant(Parameters)`, in the order they are listed to
 /// users. `file` is the teacher's name (the Python classes, the CLI, `Config(teacher=...)` and
 /// saved teachers use it) and the name of its files under `config/teachers/` and
@@ -52,6 +55,10 @@ pub trait TeacherParams: Registered + Copy + Default + Serialize + DeserializeOw
 
     /// The parameters' rules (the box is checked by the teacher).
     fn validate(&self) -> Result<()>;
+
+    /// The parameters also taken per dimension (`PerDimension`), by their serde names: a
+    /// `Shape::Vector` in place of the single number, a `Shape::Matrix` beside the numbers.
+    const PER_DIMENSION: &'static [(&'static str, Shape)] = &[];
 
     /// The paper's defaults of the parameters compared with a told competence (written for a
     /// success rate in [0, 1]) moved to competences in [lo, hi] by the linear map 0 -> lo,
@@ -115,6 +122,13 @@ macro_rules! declare_teachers {
             pub fn has_box(&self) -> bool {
                 match self {
                     $(Teacher::$variant(_) => <$params as TeacherParams>::HAS_BOX,)*
+                }
+            }
+
+            /// `TeacherParams::PER_DIMENSION` of the variant.
+            pub fn per_dimension(&self) -> &'static [(&'static str, Shape)] {
+                match self {
+                    $(Teacher::$variant(_) => <$params as TeacherParams>::PER_DIMENSION,)*
                 }
             }
 

@@ -4,6 +4,7 @@
 //! where it stopped. Each teacher of the registry (`crate::config::teachers::registry`) has its
 //! file here, named as the teacher, holding its algorithm and its `Build`.
 
+pub mod gaussian;
 pub mod gmm;
 mod gmm_lanes;
 pub(crate) mod mixture;
@@ -12,14 +13,32 @@ pub mod mlp;
 use serde::{Deserialize, Serialize};
 
 use crate::config::teachers::registry;
-pub use crate::config::teachers::Teacher;
+pub use crate::config::teachers::{PerDimension, Teacher};
+use crate::config::teachers::TeacherParams;
 use crate::error::Result;
 use crate::high_level::goal_selection::GoalSelector;
 
 /// A teacher's parameters build the teacher over a box [low, high] (ignored by the task-list
 /// teachers, whose goals are task indices) with a seed.
-pub trait Build {
+pub trait Build: TeacherParams {
     fn build(&self, low: &[f64], high: &[f64], seed: u64) -> Result<Box<dyn GoalSelector>>;
+
+    /// The teacher with some of its parameters given per dimension (none: `build`). The values
+    /// are checked here (`PerDimension::check`); a teacher whose `PER_DIMENSION` names some
+    /// writes `build_per_dimension`.
+    fn build_with(&self, low: &[f64], high: &[f64], dims: &PerDimension, seed: u64) -> Result<Box<dyn GoalSelector>> {
+        dims.check(self, low.len())?;
+        if dims.is_empty() {
+            self.build(low, high, seed)
+        } else {
+            self.build_per_dimension(low, high, dims, seed)
+        }
+    }
+
+    /// `build` with the values given per dimension (only names of `PER_DIMENSION` reach it).
+    fn build_per_dimension(&self, low: &[f64], high: &[f64], _dims: &PerDimension, seed: u64) -> Result<Box<dyn GoalSelector>> {
+        self.build(low, high, seed)
+    }
 }
 
 /// Each teacher's module, and `TeacherSpec::build` dispatching to its `Build`.
@@ -31,7 +50,7 @@ macro_rules! declare_builds {
             /// A new teacher with these parameters (checked).
             pub fn build(&self) -> Result<Box<dyn GoalSelector>> {
                 match self.teacher {
-                    $(Teacher::$variant(c) => c.build(&self.low, &self.high, self.seed),)*
+                    $(Teacher::$variant(c) => c.build_with(&self.low, &self.high, &self.dims, self.seed),)*
                 }
             }
         }
@@ -41,13 +60,14 @@ registry!(declare_builds);
 
 /// A teacher built over a goal space: which teacher with which parameters (`Teacher`, the one
 /// declaration), its box [low, high] (empty for the task-list teacher, whose goals are task
-/// indices) and its seed.
+/// indices), its seed, and the parameters given per dimension (empty: none).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct TeacherSpec {
     pub teacher: Teacher,
     pub low: Vec<f64>,
     pub high: Vec<f64>,
     pub seed: u64,
+    pub dims: PerDimension,
 }
 
 impl TeacherSpec {

@@ -1,0 +1,215 @@
+//! The layouts of formats 1 (saggriac <= 0.2: SAGG-RIAC's tree parameters without the divisor),
+//! 2 (saggriac 0.3-0.4, whose teachers' states were variants of one enum), 3 (saggriac 0.5,
+//! the parameters as one enum of teachers with their boxes and seeds) and 4 (saggriac 0.6 before
+//! #46: no parameters per dimension, SPDL's and Goal GAN's parameters as they were).
+
+use super::*;
+use crate::config::high_level::InterestDivisor;
+use crate::config::teachers::{AdrConfig, GoalGanConfig, PlrConfig, RandomConfig, SaggRiacConfig, SpdlConfig, SpdlCovariance, SpdlForm, Teacher, TsclConfig};
+use crate::high_level::teachers::alp_gmm::AlpGmmConfig;
+use crate::high_level::teachers::covar_gmm::CovarGmmConfig;
+use crate::high_level::teachers::discrete_lp::DiscreteLpConfig;
+use crate::high_level::teachers::riac::RiacConfig;
+use crate::rng::CoreRng;
+
+/// `TeacherSpec` as formats 2 and 3 wrote it.
+#[derive(Deserialize)]
+pub enum SpecV3 {
+    SaggRiac { low: Vec<f64>, high: Vec<f64>, tree: RegionTreeConfig, modes: ModeProbabilities, seed: u64 },
+    Random { low: Vec<f64>, high: Vec<f64>, seed: u64 },
+    Riac { low: Vec<f64>, high: Vec<f64>, cfg: RiacConfig, seed: u64 },
+    DiscreteLp { cfg: DiscreteLpConfig, seed: u64 },
+    AlpGmm { low: Vec<f64>, high: Vec<f64>, cfg: AlpGmmConfig, seed: u64 },
+    CovarGmm { low: Vec<f64>, high: Vec<f64>, cfg: CovarGmmConfig, seed: u64 },
+}
+
+impl From<SpecV3> for TeacherSpec {
+    fn from(s: SpecV3) -> Self {
+        let (teacher, low, high, seed) = match s {
+            SpecV3::SaggRiac { low, high, tree, modes, seed } => (Teacher::SaggRiac(SaggRiacConfig { tree, modes }), low, high, seed),
+            SpecV3::Random { low, high, seed } => (Teacher::Random(RandomConfig {}), low, high, seed),
+            SpecV3::Riac { low, high, cfg, seed } => (Teacher::Riac(cfg), low, high, seed),
+            SpecV3::DiscreteLp { cfg, seed } => (Teacher::DiscreteLp(cfg), Vec::new(), Vec::new(), seed),
+            SpecV3::AlpGmm { low, high, cfg, seed } => (Teacher::AlpGmm(cfg), low, high, seed),
+            SpecV3::CovarGmm { low, high, cfg, seed } => (Teacher::CovarGmm(cfg), low, high, seed),
+        };
+        TeacherSpec { teacher, low, high, seed, dims: Default::default() }
+    }
+}
+
+/// SPDL's parameters as format 4 wrote them: the delta form with diagonal Gaussians.
+#[derive(Deserialize)]
+pub struct SpdlConfigV4 {
+    init_mean: f64,
+    init_std: f64,
+    target_mean: f64,
+    target_std: f64,
+    epsilon: f64,
+    delta: f64,
+    update_every: usize,
+    warmup: usize,
+}
+
+/// Goal GAN's parameters as format 4 wrote them: first goals uniform in the whole box.
+#[derive(Deserialize)]
+pub struct GoalGanConfigV4 {
+    success_threshold: f64,
+    r_min: f64,
+    r_max: f64,
+    n_rollouts: usize,
+    update_size: usize,
+    gan_iterations: usize,
+    p_old: f64,
+    noise_dim: usize,
+    hidden: usize,
+    learning_rate: f64,
+}
+
+/// `Teacher` as format 4 wrote it (variants in the registry's order then).
+#[derive(Deserialize)]
+pub enum TeacherV4 {
+    SaggRiac(SaggRiacConfig),
+    Random(RandomConfig),
+    Riac(RiacConfig),
+    DiscreteLp(DiscreteLpConfig),
+    AlpGmm(AlpGmmConfig),
+    CovarGmm(CovarGmmConfig),
+    Adr(AdrConfig),
+    Plr(PlrConfig),
+    Spdl(SpdlConfigV4),
+    GoalGan(GoalGanConfigV4),
+    Tscl(TsclConfig),
+}
+
+/// `TeacherSpec` as format 4 wrote it.
+#[derive(Deserialize)]
+pub struct SpecV4 {
+    teacher: TeacherV4,
+    low: Vec<f64>,
+    high: Vec<f64>,
+    seed: u64,
+}
+
+impl From<SpecV4> for TeacherSpec {
+    /// The parameters added since at the values format 4's teachers ran with.
+    fn from(s: SpecV4) -> Self {
+        let teacher = match s.teacher {
+            TeacherV4::SaggRiac(c) => Teacher::SaggRiac(c),
+            TeacherV4::Random(c) => Teacher::Random(c),
+            TeacherV4::Riac(c) => Teacher::Riac(c),
+            TeacherV4::DiscreteLp(c) => Teacher::DiscreteLp(c),
+            TeacherV4::AlpGmm(c) => Teacher::AlpGmm(c),
+            TeacherV4::CovarGmm(c) => Teacher::CovarGmm(c),
+            TeacherV4::Adr(c) => Teacher::Adr(c),
+            TeacherV4::Plr(c) => Teacher::Plr(c),
+            TeacherV4::Spdl(c) => Teacher::Spdl(SpdlConfig {
+                init_mean: c.init_mean,
+                init_std: c.init_std,
+                target_mean: c.target_mean,
+                target_std: c.target_std,
+                epsilon: c.epsilon,
+                delta: c.delta,
+                update_every: c.update_every,
+                warmup: c.warmup,
+                form: SpdlForm::Delta,
+                covariance: SpdlCovariance::Diagonal,
+                ..SpdlConfig::default()
+            }),
+            TeacherV4::GoalGan(c) => Teacher::GoalGan(GoalGanConfig {
+                success_threshold: c.success_threshold,
+                r_min: c.r_min,
+                r_max: c.r_max,
+                n_rollouts: c.n_rollouts,
+                update_size: c.update_size,
+                gan_iterations: c.gan_iterations,
+                p_old: c.p_old,
+                noise_dim: c.noise_dim,
+                hidden: c.hidden,
+                learning_rate: c.learning_rate,
+                initial: 0.5,
+                initial_width: 1.0,
+            }),
+            TeacherV4::Tscl(c) => Teacher::Tscl(c),
+        };
+        TeacherSpec { teacher, low: s.low, high: s.high, seed: s.seed, dims: Default::default() }
+    }
+}
+
+#[derive(Deserialize)]
+pub struct TreeV1 {
+    g_max: usize,
+    zeta: usize,
+    min_child: usize,
+}
+
+/// `TeacherSpec` as format 1 wrote it (variants in the same order).
+#[derive(Deserialize)]
+pub enum SpecV1 {
+    SaggRiac { low: Vec<f64>, high: Vec<f64>, tree: TreeV1, modes: ModeProbabilities, seed: u64 },
+    Random { low: Vec<f64>, high: Vec<f64>, seed: u64 },
+    Riac { low: Vec<f64>, high: Vec<f64>, cfg: RiacConfig, seed: u64 },
+    DiscreteLp { cfg: DiscreteLpConfig, seed: u64 },
+    AlpGmm { low: Vec<f64>, high: Vec<f64>, cfg: AlpGmmConfig, seed: u64 },
+    CovarGmm { low: Vec<f64>, high: Vec<f64>, cfg: CovarGmmConfig, seed: u64 },
+}
+
+/// A mixture's weights, means and covariances, flattened.
+type GmmV2 = (Vec<f64>, (Vec<f64>, Vec<f64>));
+
+/// Every teacher's state as formats 1 and 2 wrote it: one enum, variants in this order.
+#[derive(Deserialize)]
+pub enum StateV2 {
+    SaggRiac { rng: CoreRng, points: Vec<f64>, values: Vec<f64> },
+    Random { rng: CoreRng },
+    Riac { rng: CoreRng, points: Vec<f64>, values: Vec<f64> },
+    DiscreteLp { rng: CoreRng, fast: Vec<f64>, slow: Vec<f64> },
+    Mixture { rng: CoreRng, fit_rng: CoreRng, points: Vec<f64>, values: Vec<f64>, window: Vec<f64>, gmm: Option<GmmV2> },
+}
+
+impl From<StateV2> for Vec<u8> {
+    /// The same state in its teacher's own encoding: a variant's fields in order, which is
+    /// how each teacher encodes its state struct.
+    fn from(s: StateV2) -> Vec<u8> {
+        let r = match s {
+            StateV2::SaggRiac { rng, points, values } | StateV2::Riac { rng, points, values } => postcard::to_stdvec(&(rng, points, values)),
+            StateV2::Random { rng } => postcard::to_stdvec(&(rng,)),
+            StateV2::DiscreteLp { rng, fast, slow } => postcard::to_stdvec(&(rng, fast, slow)),
+            StateV2::Mixture { rng, fit_rng, points, values, window, gmm } => postcard::to_stdvec(&(rng, fit_rng, points, values, window, gmm)),
+        };
+        r.unwrap_or_default()
+    }
+}
+
+pub type SavedV1 = SavedAs<SpecV1, StateV2>;
+pub type SavedV2 = SavedAs<SpecV3, StateV2>;
+pub type SavedV3 = SavedAs<SpecV3, Vec<u8>>;
+pub type SavedV4 = SavedAs<SpecV4, Vec<u8>>;
+
+impl From<SpecV1> for TeacherSpec {
+    fn from(s: SpecV1) -> Self {
+        SpecV3::from(s).into()
+    }
+}
+
+impl From<SpecV1> for SpecV3 {
+    fn from(s: SpecV1) -> Self {
+        match s {
+            // saggriac <= 0.2 divided a young region's eq. 2 by its own window.
+            SpecV1::SaggRiac { low, high, tree, modes, seed } => {
+                let tree = RegionTreeConfig { g_max: tree.g_max, zeta: tree.zeta, min_child: tree.min_child, divisor: InterestDivisor::Window };
+                SpecV3::SaggRiac { low, high, tree, modes, seed }
+            }
+            SpecV1::Random { low, high, seed } => SpecV3::Random { low, high, seed },
+            SpecV1::Riac { low, high, cfg, seed } => SpecV3::Riac { low, high, cfg, seed },
+            SpecV1::DiscreteLp { cfg, seed } => SpecV3::DiscreteLp { cfg, seed },
+            SpecV1::AlpGmm { low, high, cfg, seed } => SpecV3::AlpGmm { low, high, cfg, seed },
+            SpecV1::CovarGmm { low, high, cfg, seed } => SpecV3::CovarGmm { low, high, cfg, seed },
+        }
+    }
+}
+
+/// A saved teacher of an older format in this format's terms.
+pub fn upgrade<Spec: Into<TeacherSpec>, State: Into<Vec<u8>>>(s: SavedAs<Spec, State>) -> Saved {
+    let SavedAs { version, spec, state, asked, asked_mode, asked_region, told, told_competence, told_region, .. } = s;
+    SavedAs { format: FORMAT, version, spec: spec.into(), state: state.into(), asked, asked_mode, asked_region, told, told_competence, told_region }
+}
