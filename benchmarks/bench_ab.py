@@ -77,7 +77,7 @@ def main() -> None:
         ratios = [o / n for o, n in zip(tot["old"], tot["new"])]
         print(f"{spec}: CPU s old {' '.join(f'{t:.3f}' for t in tot['old'])} | new {' '.join(f'{t:.3f}' for t in tot['new'])}")
         ctor = {b: statistics.median(r["ctor"] for r in got[b]) for b in got}
-        print(f"  constructor median old {ctor['old']:.3f} new {ctor['new']:.3f}; speed old/new {' '.join(f'{r:.2f}' for r in ratios)} (median {statistics.median(ratios):.2f})")
+        print(f"  constructor median old {ctor['old']:.3f} new {ctor['new']:.3f} ({ctor['old'] / ctor['new']:.2f}x); speed old/new {' '.join(f'{r:.2f}' for r in ratios)} (median {statistics.median(ratios):.2f})")
         print(f"  final reaching error old {got['old'][0]['final']!r} new {got['new'][0]['final']!r}", flush=True)
     for p in builds.values():
         assert p.stdin is not None

@@ -23,26 +23,22 @@ import numpy as np
 import saggriac as sg
 
 
+# The competences below lie in [-1, 0]: the thresholds of these teachers on that scale, so
+# that they move; saggriac 0.2's reading of eq. 2 as an extra row.
+SETTINGS = {"spdl": {"delta": -0.5}, "goal_gan": {"success_threshold": -0.5}}
+VARIANTS = {"sagg_riac_w": ("sagg_riac", {"interest_divisor": "window"})}
+
+
 def make(name: str, d: int, seed: int):
-    low, high = [0.0] * d, [1.0] * d
-    return {
-        "sagg_riac": lambda: sg.SaggRiacSelector(low, high, seed=seed),
-        # saggriac 0.2's reading of eq. 2 (young regions divided by their own count), for comparison
-        "sagg_riac_w": lambda: sg.SaggRiacSelector(low, high, seed=seed, interest_divisor="window"),
-        "random": lambda: sg.RandomSelector(low, high, seed=seed),
-        "riac": lambda: sg.RiacSelector(low, high, seed=seed),
-        "alp_gmm": lambda: sg.AlpGmmSelector(low, high, seed=seed),
-        "covar_gmm": lambda: sg.CovarGmmSelector(low, high, seed=seed),
-        "discrete_lp": lambda: sg.DiscreteLpSelector(8, seed=seed),
-        "adr": lambda: sg.AdrSelector(low, high, seed=seed),
-        "plr": lambda: sg.PlrSelector(8, seed=seed),
-        # The competences below lie in [-1, 0]: thresholds on that scale, so that both move.
-        "spdl": lambda: sg.SpdlSelector(low, high, seed=seed, delta=-0.5),
-        "goal_gan": lambda: sg.GoalGanSelector(low, high, seed=seed, success_threshold=-0.5),
-    }[name]()
+    """Any registered teacher by name (over [0, 1]^d, or 8 tasks for a task-list teacher), or a
+    variant of one."""
+    kind, params = VARIANTS.get(name, (name, SETTINGS.get(name, {})))
+    return sg.testing.example_teacher(kind, seed=seed, dim=d, n_tasks=8, **params)
 
 
-TASK_LISTS = ("discrete_lp", "plr")  # goals are task indices (8 tasks)
+def is_task_list(name: str) -> bool:
+    kind = VARIANTS.get(name, (name,))[0]
+    return "tasks" in sg.teachers.available()[kind].spaces
 
 
 def competence(goals: np.ndarray, discrete: bool) -> np.ndarray:
@@ -53,7 +49,7 @@ def competence(goals: np.ndarray, discrete: bool) -> np.ndarray:
 
 def timed(name: str, d: int, n: int, batch: int) -> float:
     t = make(name, d, 0)
-    discrete = name in TASK_LISTS
+    discrete = is_task_list(name)
     # Goal GAN labels a goal by its success rate over repeated tries: a competence that is a
     # function of the goal gives rates 0 or 1 only, and its GAN would never train (nor be timed).
     noise = np.random.default_rng(0) if name == "goal_gan" else None
@@ -90,11 +86,11 @@ def main() -> None:
     p.add_argument("--single-cap", type=int, default=100_000)
     p.add_argument("--batch", type=int, default=4096)
     p.add_argument("--dims", type=int, nargs="+", default=[2, 10])
-    p.add_argument("--teachers", nargs="+", default=["sagg_riac", "random", "riac", "alp_gmm", "covar_gmm", "discrete_lp", "adr", "plr", "spdl", "goal_gan"])
+    p.add_argument("--teachers", nargs="+", default=list(sg.teachers.available()))
     a = p.parse_args()
     print(f"{'teacher':12} {'dim':>4} {'mode':>8} {'updates':>9} {'us/update':>10} {'updates/s':>11}")
     for name in a.teachers:
-        for d in a.dims if name not in TASK_LISTS else [1]:
+        for d in a.dims if not is_task_list(name) else [1]:
             for batch, n in ((1, min(a.updates, a.single_cap)), (a.batch, a.updates)):
                 per = timed(name, d, n, batch)
                 mode = "single" if batch == 1 else f"x{batch}"

@@ -61,6 +61,9 @@ NAMES = {"random": "random", "oracle": "oracle", "sagg_riac": "SAGG-RIAC", "riac
 # saggriac plus the oracle; the field's three count once they are in saggriac.
 EXPECTED_TEACHERS = 9
 KEY = ["reward", "teacher", "seed"]
+#: Columns of curves.csv and runs.csv read as text: pandas would read a commit hash such as
+#: 540e725 as a number (inf), and a resumed study would write that back.
+TEXT = {"commit": str}
 
 
 def box_teachers() -> dict[str, type]:
@@ -323,7 +326,7 @@ def analyse(out: Path) -> str:
     """Every table of the page, recomputed from ``out/curves.csv``."""
     from saggriac.files import write_file
 
-    curves = pd.read_csv(out / "curves.csv")
+    curves = read_table(out / "curves.csv")
     runs = runs_table(curves)
     write_file(out / "runs.csv", lambda tmp: runs.to_csv(tmp, index=False), what="the runs table", overwrite=True)
     lines = ["# RL curriculum: results recomputed from curves.csv", "", "Status of the protocol's report runs:", "", *status(curves), ""]
@@ -446,9 +449,14 @@ def seeds_arg(text: str) -> list[int]:
     return out
 
 
+def read_table(path: Path) -> pd.DataFrame:
+    """curves.csv or runs.csv as written: the commit stays text."""
+    return pd.read_csv(path, dtype=TEXT)
+
+
 def load_curves(out: Path) -> pd.DataFrame:
     path = out / "curves.csv"
-    return pd.read_csv(path) if path.exists() else pd.DataFrame(columns=[*KEY, "budget", "threshold", "step"])
+    return read_table(path) if path.exists() else pd.DataFrame(columns=[*KEY, "budget", "threshold", "step"])
 
 
 def main(argv: list[str] | None = None) -> None:
@@ -468,7 +476,7 @@ def main(argv: list[str] | None = None) -> None:
         print(power_table())
         return
     if a.pilot:
-        print(pilot_rules(pd.read_csv(a.out / "curves.csv")))
+        print(pilot_rules(read_table(a.out / "curves.csv")))
         return
     if a.analyse:
         if not (a.out / "curves.csv").exists():

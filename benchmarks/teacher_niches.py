@@ -38,29 +38,24 @@ from saggriac.teachers.progress_niches import KINDS, ProgressNiches
 TEACHERS = ("sagg_riac", "riac", "alp_gmm", "covar_gmm", "discrete_lp", "random")
 # Rows for comparison, outside the protocol's family of 15 pairs: saggriac 0.2's SAGG-RIAC, and
 # the teachers added after the protocol was written (issue 36).
-EXTRA = ("sagg_riac_w", "adr", "plr", "spdl", "goal_gan")
-ORDER = ("sagg_riac", "sagg_riac_w", "riac", "alp_gmm", "covar_gmm", "adr", "spdl", "goal_gan", "discrete_lp", "plr", "random")
-NAMES = {"sagg_riac": "SAGG-RIAC", "sagg_riac_w": "SAGG-RIAC (w divisor, <= 0.2)", "riac": "RIAC", "alp_gmm": "ALP-GMM", "covar_gmm": "Covar-GMM", "discrete_lp": "discrete LP", "random": "random", "adr": "ADR", "plr": "PLR", "spdl": "SPDL", "goal_gan": "Goal GAN"}
-TASK_LISTS = ("discrete_lp", "plr")  # given the 16 cells as a task list
+EXTRA = ("sagg_riac_w", *[k for k in sg.teachers.available() if k not in TEACHERS], "plr_average")
+ORDER = ("sagg_riac", "sagg_riac_w", *[k for k in sg.teachers.available() if k not in ("sagg_riac", "random")], "plr_average", "random")
+NAMES = {"sagg_riac": "SAGG-RIAC", "sagg_riac_w": "SAGG-RIAC (w divisor, <= 0.2)", "riac": "RIAC", "alp_gmm": "ALP-GMM", "covar_gmm": "Covar-GMM", "discrete_lp": "discrete LP", "random": "random", "adr": "ADR", "plr": "PLR", "plr_average": "PLR (ties at their mean rank)", "spdl": "SPDL", "goal_gan": "Goal GAN"}
+NAMES.update({k: k for k in sg.teachers.available() if k not in NAMES})  # a teacher without a display name here
+TASK_LISTS = (*[k for k, c in sg.teachers.available().items() if "tasks" in c.spaces], "plr_average")  # given the 16 cells as a task list
 METRICS = ("final", "auc", "share_noisy", "share_impossible")
 SHORT = {"sagg_riac_w": "SAGG-RIAC\n(w, <= 0.2)", "covar_gmm": "Covar-\nGMM", "discrete_lp": "discrete\nLP"}
 
 
 def make_teacher(name: str, env: ProgressNiches, seed: int):
-    low, high = env.low.tolist(), env.high.tolist()
-    return {
-        "sagg_riac": lambda: sg.SaggRiacSelector(low, high, seed=seed),
-        "sagg_riac_w": lambda: sg.SaggRiacSelector(low, high, seed=seed, interest_divisor="window"),
-        "riac": lambda: sg.RiacSelector(low, high, seed=seed),
-        "alp_gmm": lambda: sg.AlpGmmSelector(low, high, seed=seed),
-        "covar_gmm": lambda: sg.CovarGmmSelector(low, high, seed=seed),
-        "discrete_lp": lambda: sg.DiscreteLpSelector(env.n_cells, seed=seed),
-        "adr": lambda: sg.AdrSelector(low, high, seed=seed),
-        "plr": lambda: sg.PlrSelector(env.n_cells, seed=seed),
-        "spdl": lambda: sg.SpdlSelector(low, high, seed=seed),
-        "goal_gan": lambda: sg.GoalGanSelector(low, high, seed=seed),
-        "random": lambda: sg.RandomSelector(low, high, seed=seed),
-    }[name]()
+    """Any registered teacher with its papers' defaults (a task-list teacher over the 16 cells),
+    or a variant: saggriac 0.2's SAGG-RIAC (sagg_riac_w), PLR with ties at their mean rank."""
+    if name == "sagg_riac_w":
+        return sg.SaggRiacSelector(env.low.tolist(), env.high.tolist(), seed=seed, interest_divisor="window")
+    if name == "plr_average":
+        return sg.PlrSelector(env.n_cells, seed=seed, ties="average")
+    cls = sg.teachers.available()[name]
+    return cls(env.n_cells, seed=seed) if "tasks" in cls.spaces else cls(env.low.tolist(), env.high.tolist(), seed=seed)
 
 
 def one_run(job: tuple[str, int, int, int, int]) -> tuple[dict, list[dict]]:

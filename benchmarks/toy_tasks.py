@@ -103,22 +103,20 @@ SPACES = {"2d": dict(relevant=2, bins=10, irrelevant=0), "5d": dict(relevant=5, 
 BUDGET = {"2d": 10_000, "5d": 15_000, "2d+3": 10_000, "2d-reach": 10_000}
 PLACES = ("impossible", "locked", "frontier", "mastered")
 
-# name -> (factory(task, seed), whether its goals are cell indices)
-TEACHERS: dict[str, tuple[Callable[[HypercubeUnlock, int], object], bool]] = {
-    "sagg_riac": (lambda e, s: sg.SaggRiacSelector(e.low, e.high, seed=s), False),
-    "riac": (lambda e, s: sg.RiacSelector(e.low, e.high, seed=s), False),
-    "alp_gmm": (lambda e, s: sg.AlpGmmSelector(e.low, e.high, seed=s), False),
-    "covar_gmm": (lambda e, s: sg.CovarGmmSelector(e.low, e.high, seed=s), False),
-    "adr": (lambda e, s: sg.AdrSelector(e.low, e.high, seed=s), False),
-    "adr_corner": (lambda e, s: sg.AdrSelector(e.low, e.high, seed=s, initial=0.0), False),
-    "spdl": (lambda e, s: sg.SpdlSelector(e.low, e.high, seed=s), False),
-    "spdl_corner": (lambda e, s: sg.SpdlSelector(e.low, e.high, seed=s, init_mean=0.05), False),
-    "goal_gan": (lambda e, s: sg.GoalGanSelector(e.low, e.high, seed=s), False),
-    "random": (lambda e, s: sg.RandomSelector(e.low, e.high, seed=s), False),
-    "discrete_lp": (lambda e, s: sg.DiscreteLpSelector(e.n_cells, seed=s), True),
-    "plr": (lambda e, s: sg.PlrSelector(e.n_cells, seed=s), True),
-}
-NAMES = {"sagg_riac": "SAGG-RIAC", "riac": "RIAC", "alp_gmm": "ALP-GMM", "covar_gmm": "Covar-GMM", "adr": "ADR", "adr_corner": "ADR (from the origin)", "spdl": "SPDL", "spdl_corner": "SPDL (from the origin)", "goal_gan": "Goal GAN", "random": "random", "discrete_lp": "discrete LP (cells given)", "plr": "PLR (cells given)"}
+# name -> (factory(task, seed), whether its goals are cell indices): every registered teacher with
+# its papers' defaults (a task-list teacher is given every cell as a task), and ADR and SPDL
+# started from the origin cell's corner, the expert knowledge they rely on.
+def _registered(cls):
+    cells = "tasks" in cls.spaces
+    return (lambda e, s: cls(e.n_cells, seed=s)) if cells else (lambda e, s: cls(e.low, e.high, seed=s)), cells
+
+
+TEACHERS: dict[str, tuple[Callable[[HypercubeUnlock, int], object], bool]] = {kind: _registered(cls) for kind, cls in sg.teachers.available().items()}
+TEACHERS["adr_corner"] = (lambda e, s: sg.AdrSelector(e.low, e.high, seed=s, initial=0.0), False)
+TEACHERS["spdl_corner"] = (lambda e, s: sg.SpdlSelector(e.low, e.high, seed=s, init_mean=0.05), False)
+TEACHERS["plr_average"] = (lambda e, s: sg.PlrSelector(e.n_cells, seed=s, ties="average"), True)
+NAMES = {"sagg_riac": "SAGG-RIAC", "riac": "RIAC", "alp_gmm": "ALP-GMM", "covar_gmm": "Covar-GMM", "adr": "ADR", "adr_corner": "ADR (from the origin)", "spdl": "SPDL", "spdl_corner": "SPDL (from the origin)", "goal_gan": "Goal GAN", "random": "random", "discrete_lp": "discrete LP (cells given)", "plr": "PLR (cells given)", "plr_average": "PLR, ties at their mean rank (cells given)"}
+NAMES.update({k: k for k in TEACHERS if k not in NAMES})  # a teacher without a display name here
 
 
 def one_run(job: tuple[str, str, int, int]) -> tuple[dict, list[dict], list[dict]]:

@@ -211,7 +211,7 @@ def test_a_teacher_parameter_is_told_one_rule_whatever_the_value(name, value):
         sg.Config(teacher="alp_gmm", teacher_params={name: value})
     except ParameterError as e:
         count(f"teacher_params.{name} refused")
-        assert f"'teacher_params.{name}' parameter of Config must be {_core.teacher_param_rule(name)}" in str(e) or "<= fit_rate" in str(e), str(e)
+        assert f"'teacher_params.{name}' parameter of Config must be {_core.teacher_param_rule('alp_gmm', name)}" in str(e) or "<= fit_rate" in str(e), str(e)
         assert len(str(e)) < 600
         return
     count(f"teacher_params.{name} taken")

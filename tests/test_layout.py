@@ -192,3 +192,22 @@ def test_nothing_cites_a_spec_the_repository_does_not_hold():
     files = [*(root / "python").rglob("*.py"), *(root / "crates").rglob("*.rs"), *(root / "docs").glob("*.md"), *(root / "tests").rglob("*.py"), root / "README.md"]
     found = [str(f.relative_to(root)) for f in files if f.name != "test_layout.py" and re.search(r"\bSPEC\b", f.read_text(errors="replace"))]
     assert files and found == []
+
+
+def test_the_files_of_a_teacher_are_those_docs_architecture_lists():
+    """docs/architecture.md lists the files a teacher is (with the name foo): every registered
+    teacher has each of them, and its line in the registry."""
+    import re
+
+    from saggriac.teachers import available
+
+    root = Path(__file__).resolve().parents[1]
+    text = (root / "docs" / "architecture.md").read_text()
+    listed = text.split("<!-- teacher-files -->")[1].split("<!-- /teacher-files -->")[0]
+    paths = re.findall(r"^- `([^`]+)`", listed, flags=re.MULTILINE)
+    assert len(paths) == 4, paths
+    registry = (root / "crates/saggriac-core/src/config/teachers/mod.rs").read_text().split("macro_rules! registry")[1].split("pub(crate) use registry")[0]
+    for kind in available():
+        for path in paths:
+            assert (root / path.replace("foo", kind)).is_file(), (kind, path)
+        assert re.search(rf"^\s+{kind}: \w+\(\w+Config\),$", registry, flags=re.MULTILINE), kind

@@ -32,13 +32,22 @@ def _parse_value(text: str) -> Any:
 
 def parse_overrides(pairs: list[str]) -> dict[str, Any]:
     """``--set`` arguments (``["g_max=40", "condition=sagg_random"]``) as Config keyword
-    arguments, each value read as TOML reads it (bare words stay strings)."""
+    arguments, each value read as TOML reads it (bare words stay strings); ``teacher_params.NAME``
+    keys gather into the ``teacher_params`` dict."""
     out: dict[str, Any] = {}
     for p in pairs:
         if "=" not in p:
             raise SaggriacError(f"--set takes KEY=VALUE, got {p!r}.")
         k, v = p.split("=", 1)
         k = k.strip()
+        head, dot, sub = k.partition(".")
+        if dot and head == "teacher_params":
+            # One teacher parameter at a time, as run folders name them: teacher_params.fit_rate=100.
+            params = out.setdefault("teacher_params", {})
+            if not isinstance(params, dict) or sub in params:
+                raise SaggriacError(f"--set {k}=... is given twice (or beside --set teacher_params=...); give it once.")
+            params[sub] = _parse_value(v.strip())
+            continue
         if k in out:
             raise SaggriacError(f"--set {k}=... is given twice; give it once.")
         out[k] = _parse_value(v.strip())

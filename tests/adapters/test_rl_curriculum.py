@@ -69,6 +69,31 @@ def test_a_tiny_sparse_study_runs_resumes_and_reanalyses(tmp_path):
     assert (out / "results.md").read_text() == text
 
 
+def test_a_resumed_study_writes_what_a_straight_one_does_with_the_commit_as_text(tmp_path, monkeypatch):
+    """A commit hash such as 540e725 reads as a number (inf) unless read as text; a resume
+    rewrites the earlier rows, so it must read them back as they were written. The runs are
+    replaced by made-up curves (the bookkeeping is under test, not PPO)."""
+    b = bench()
+
+    def made_up(job):
+        reward, name, seed, steps, every, threshold, code = job
+        rng = np.random.default_rng([seed, len(name)])
+        return [dict(reward=reward, teacher=name, seed=seed, budget=steps, threshold=threshold, step=step, success=rng.uniform(), distance=rng.uniform(0.1, 1), episodes=step // 10, reachable_share=rng.uniform(), seconds=rng.uniform(), cpu_seconds=rng.uniform(), commit=code) for step in range(0, steps + 1, every)]
+
+    monkeypatch.setattr(b, "one_run", made_up)
+    monkeypatch.setattr(b, "commit", lambda: "540e725")
+    monkeypatch.setenv("TQDM_DISABLE", "1")
+    study = ["--reward", "sparse", "--steps", "8192", "--every", "4096", "--teachers", "random", "oracle"]
+    b.main(["--out", str(tmp_path / "straight"), *study, "--seeds", "7,8"])
+    b.main(["--out", str(tmp_path / "resumed"), *study, "--seeds", "7"])
+    b.main(["--out", str(tmp_path / "resumed"), *study, "--seeds", "7,8"])
+    for name in ("curves.csv", "runs.csv", "comparisons.csv", "results.md"):
+        assert (tmp_path / "resumed" / name).read_bytes() == (tmp_path / "straight" / name).read_bytes(), name
+    for name in ("curves.csv", "runs.csv"):
+        assert set(b.read_table(tmp_path / "resumed" / name)["commit"]) == {"540e725"}
+        assert set(pd.read_csv(tmp_path / "resumed" / name, dtype=str)["commit"]) == {"540e725"}
+
+
 def test_teachers_are_found_by_name_and_bad_names_refused(tmp_path):
     names = bench().teacher_names()
     assert {"random", "oracle", "sagg_riac", "riac", "alp_gmm", "covar_gmm"} <= set(names) and "discrete_lp" not in names

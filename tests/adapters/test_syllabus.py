@@ -15,7 +15,7 @@ if os.environ.get("SAGGRIAC_REQUIRE_EXTRAS") != "1":
 
 import gymnasium
 from syllabus.core import GymnasiumSyncWrapper, TaskEnv, make_multiprocessing_curriculum
-from syllabus.task_space import BoxTaskSpace, DiscreteTaskSpace, MultiDiscreteTaskSpace
+from syllabus.task_space import BoxTaskSpace, DiscreteTaskSpace, MultiDiscreteTaskSpace, TupleTaskSpace
 
 import saggriac as sg
 from saggriac.errors import ConformanceError, ParameterError
@@ -127,6 +127,77 @@ def test_plr_over_a_discrete_task_space_asks_the_teachers_levels():
         SelectorCurriculum(box_space(), sg.PlrSelector(4))
 
 
+def check_the_map(space, flat):
+    """Every index of the flat list is a task of the space: its encoding decodes to the space's
+    task at that place (C order), and encoding the task gives back the index."""
+    assert len(flat) == space.num_tasks
+    for i in range(len(flat)):
+        enc = flat.encoding(i)
+        assert flat.task(i) == space.decode(enc) == space.tasks[i]
+        assert flat.index(enc) == i and flat.index(space.encode(space.tasks[i])) == i
+
+
+@pytest.mark.parametrize("flatten", [False, True])
+def test_a_multidiscrete_task_space_is_one_list_with_a_map_back(flatten):
+    space = MultiDiscreteTaskSpace(gymnasium.spaces.MultiDiscrete([3, 4]), flatten=flatten)
+    cur = SelectorCurriculum(space, sg.PlrSelector(12, seed=2))
+    check_the_map(space, cur.flat_tasks)
+    bare = sg.PlrSelector(12, seed=2)
+    for _ in range(200):
+        (enc,) = cur.sample()
+        i = bare.sample_task()
+        assert enc == cur.flat_tasks.encoding(i) and isinstance(enc, int if flatten else tuple)
+        a, b = space.decode(enc)
+        assert (a, b) == divmod(i, 4)
+        cur.update_on_episode(0.0, 1, enc, (a + b) / 5)
+        bare.update(i, (a + b) / 5)
+    np.testing.assert_array_equal(cur.selector.history()["told_goal"], bare.history()["told_goal"])
+    np.testing.assert_array_equal(cur.selector.history()["asked_goal"], bare.history()["asked_goal"])
+
+
+@pytest.mark.parametrize("flatten", [False, True])
+def test_a_tuple_task_space_of_discrete_parts_is_one_list_with_a_map_back(flatten):
+    space = TupleTaskSpace((DiscreteTaskSpace(2, ["easy", "hard"]), MultiDiscreteTaskSpace([2, 3]), DiscreteTaskSpace(3)), flatten=flatten)
+    cur = SelectorCurriculum(space, sg.DiscreteLpSelector(36, seed=1))
+    check_the_map(space, cur.flat_tasks)
+    assert cur.flat_tasks.task(35) == ("hard", (1, 2), 2) and cur.flat_tasks.task(7) == ("easy", (0, 2), 1)  # 7 = 0 * 18 + 2 * 3 + 1
+    for _ in range(50):
+        (enc,) = cur.sample()
+        cur.update_on_episode(0.0, 1, enc, 0.5)
+    told = cur.selector.history()["told_goal"][:, 0].astype(int)
+    np.testing.assert_array_equal(told, cur.selector.history()["asked_goal"][:, 0])
+
+
+def test_gymnasium_spaces_are_taken_as_syllabus_task_spaces():
+    from gymnasium.spaces import Box, Dict, Discrete, MultiDiscrete, Tuple
+
+    cur = SelectorCurriculum(MultiDiscrete([2, 3]), sg.PlrSelector(6, seed=0))
+    assert isinstance(cur.task_space, MultiDiscreteTaskSpace) and cur.task_space.gym_space.contains(np.array(cur.sample()[0]))
+    cur = SelectorCurriculum(Tuple((Discrete(2), MultiDiscrete([3, 2]))), sg.TsclSelector(12, seed=0))
+    assert isinstance(cur.task_space, TupleTaskSpace) and cur.flat_tasks.task(11) == (1, (2, 1))
+    check_the_map(cur.task_space, cur.flat_tasks)
+    assert isinstance(SelectorCurriculum(Discrete(4), sg.DiscreteLpSelector(4)).task_space, DiscreteTaskSpace)
+    box = SelectorCurriculum(Box(np.array(LOW, np.float32), np.array(HIGH, np.float32)), sg.RandomSelector(LOW, HIGH))
+    assert isinstance(box.task_space, BoxTaskSpace) and box.flat_tasks is None
+    with pytest.raises(ConformanceError, match="no task space for a gymnasium Dict"):
+        SelectorCurriculum(Dict({"a": Discrete(2), "b": Discrete(3)}), sg.PlrSelector(6))
+    with pytest.raises(ConformanceError, match="part 1 is a BoxTaskSpace"):
+        SelectorCurriculum(Tuple((Discrete(2), Box(0, 1, (1,)))), sg.PlrSelector(2))
+    with pytest.raises(ParameterError, match="count its values from 0") as e:
+        SelectorCurriculum(Discrete(3, start=1), sg.PlrSelector(3))
+    assert e.value.param == "task_space"
+    with pytest.raises(ParameterError, match="6 tasks \\(2 x 3\\)"):
+        SelectorCurriculum(Tuple((Discrete(2), Discrete(3))), sg.PlrSelector(5))
+    with pytest.raises(ConformanceError, match="DiscreteLpSelector, saggriac.PlrSelector"):
+        SelectorCurriculum(MultiDiscrete([2, 3]), sg.RandomSelector([0], [5]))
+    # A task that is no encoding of the space is refused, and nothing is told.
+    cur = SelectorCurriculum(MultiDiscrete([2, 3]), sg.PlrSelector(6, seed=0))
+    for bad in [(2, 0), (0, 3), (1,), 4, (0.5, 1), "a"]:
+        with pytest.raises(sg.InputError, match="not an encoding of a task of MultiDiscreteTaskSpace \\[2, 3\\]"):
+            cur.update_on_episode(0.0, 1, bad, 0.5)
+    assert cur.told == 0 and len(cur.selector.history()["told_goal"]) == 0
+
+
 def test_bad_pairings_and_parameters_are_refused_with_the_rule():
     space = box_space()
     with pytest.raises(ParameterError, match="bounds"):
@@ -139,8 +210,8 @@ def test_bad_pairings_and_parameters_are_refused_with_the_rule():
         SelectorCurriculum(DiscreteTaskSpace(4), sg.RandomSelector([0], [3]))
     with pytest.raises(ParameterError, match="4 tasks"):
         SelectorCurriculum(DiscreteTaskSpace(4), sg.DiscreteLpSelector(5))
-    with pytest.raises(ConformanceError, match="BoxTaskSpace or DiscreteTaskSpace"):
-        SelectorCurriculum(MultiDiscreteTaskSpace([2, 3]), sg.DiscreteLpSelector(6))
+    with pytest.raises(ParameterError, match="6 tasks \\(2 x 3\\); it has 5"):
+        SelectorCurriculum(MultiDiscreteTaskSpace([2, 3]), sg.DiscreteLpSelector(5))
     with pytest.raises(ParameterError, match="random_start_tasks"):
         SelectorCurriculum(space, sg.SaggRiacSelector(LOW, HIGH), random_start_tasks=10)
     with pytest.raises(ParameterError, match="'competence'"):
@@ -275,6 +346,51 @@ def test_plr_through_syllabus_sync_wrappers():
     np.testing.assert_array_equal(h["told_goal"][:, 0], inner.received)
     np.testing.assert_array_equal(h["asked_goal"][:40, 0], inner.received)
     np.testing.assert_allclose(h["told_competence"], np.array(inner.received) / 10)
+
+
+class PairEnv(TaskEnv, Still):
+    """A Syllabus task environment over a MultiDiscrete task space: a task is a pair (a, b)."""
+
+    def __init__(self):
+        super().__init__()
+        self.task_space = MultiDiscreteTaskSpace([3, 4])
+        self.received = []
+
+    def change_task(self, new_task):
+        self.received.append(tuple(int(x) for x in new_task))
+
+    def observation(self, observation):
+        return observation
+
+    def step(self, action):
+        self.steps += 1
+        a, b = self.task
+        return np.zeros(3), -1.0, False, self.steps == 3, {"task_completion": (a + b) / 5}
+
+
+def test_plr_over_a_multidiscrete_space_through_syllabus_sync_wrappers():
+    """The environments decode what the curriculum hands out and report tasks in Syllabus's
+    encoding; the teacher is asked and told indices of the flat list."""
+    inner = PairEnv()
+    space = inner.task_space
+    cur = make_multiprocessing_curriculum(SelectorCurriculum(space, sg.PlrSelector(12, seed=4)))
+    try:
+        env = GymnasiumSyncWrapper(inner, space, cur.components, buffer_size=1)
+        for _ in range(30):
+            env.reset()
+            for _ in range(3):
+                env.step(env.action_space.sample())
+        deadline = time.time() + 30
+        while cur.curriculum.told < 30 and time.time() < deadline:
+            time.sleep(0.01)
+    finally:
+        cur.stop()
+    h = cur.curriculum.selector.history()
+    assert cur.curriculum.told == 30 and all(isinstance(t, tuple) for t in inner.received)
+    indices = [a * 4 + b for a, b in inner.received]
+    np.testing.assert_array_equal(h["told_goal"][:, 0], indices)
+    np.testing.assert_array_equal(h["asked_goal"][:30, 0], indices)
+    np.testing.assert_allclose(h["told_competence"], [(a + b) / 5 for a, b in inner.received])
 
 
 def test_saggriacs_goal_environments_as_syllabus_task_environments():

@@ -42,7 +42,8 @@ def test_every_wrong_value_of_an_int_parameter_is_told_one_rule(cls, name):
         try:
             _build(cls, name, value)
         except sg.ParameterError as e:
-            assert e.param == name and e.value == repr(value), (e.param, e.value)
+            # numpy scalars are shown as the numbers they stand for.
+            assert e.param == name and e.value == repr(value.item() if isinstance(value, np.generic) else value), (e.param, e.value)
             rules[repr(value)] = _rule(e, cls, name)
     # The float, the bool and the huge values are never taken; 0 is for some parameters.
     assert {"0.5", "2.0", "True", repr(2**62), repr(10**30), "-1"} <= set(rules), rules
@@ -93,3 +94,70 @@ def test_check_competences_still_tells_the_thresholds():
     sg.AdrSelector([0, 0], [1, 1], t_low=-0.9, t_high=-0.3).check_competences(-math.inf, 0.0, "distances")  # TeacherCallback's distances
     with pytest.raises(sg.ParameterError, match=r"'whence' parameter of AdrSelector.check_competences must be a str"):
         sg.AdrSelector([0, 0], [1, 1]).check_competences(0.0, 1.0, 3)
+
+
+def _bad_values(rule: str) -> list:
+    """Values the rule ``rule`` (as a message states it) refuses: out of range and of other types."""
+    other = ["x", None, [1]]
+    if found := re.fullmatch(r"an int in \[(\d+), (\d+)\]", rule):
+        lo, hi = int(found.group(1)), int(found.group(2))
+        return [*([lo - 1] if lo > 0 else [-1]), hi + 1, 0.5, float(lo + 1), True, *other]
+    if found := re.fullmatch(r"a float in ([\[(])([-\d.e]+), ([-\d.e]+)([\])])(?: \(.*\))?", rule):
+        lo, hi = float(found.group(2)), float(found.group(3))
+        return [lo - 1e-3 if found.group(1) == "[" else lo, hi + 1e-3 if found.group(4) == "]" else hi, math.nan, math.inf, True, *other]
+    if found := re.fullmatch(r"a finite float (>=|>) ([-\d.e]+)", rule):
+        lo = float(found.group(2))
+        return [lo - 1 if found.group(1) == ">=" else lo, math.nan, math.inf, True, *other]
+    if rule == "a finite float with |value| <= 1e100":
+        return [1e101, -math.inf, math.nan, True, *other]
+    if rule == "a bool":
+        return [1, 0.0, "true", *other[1:]]
+    if rule.startswith("one of "):
+        return ["no such choice", 1, True, *other[1:]]
+    raise AssertionError(f"a rule the test does not know: {rule!r}")
+
+
+def _told(make, name):
+    with pytest.raises(sg.ParameterError) as e:
+        make()
+    found = re.fullmatch(rf"The '(?:teacher_params\.)?{name}' parameter of (\w+) must be (.*)\. Got .* instead\.", str(e.value), re.DOTALL)
+    assert found, str(e.value)
+    return found.group(2)
+
+
+def _every_parameter():
+    for kind, cls in sg.teachers.available().items():
+        for name in DEFAULTS[kind]:
+            if name != "n_tasks":
+                yield pytest.param(kind, cls, name, id=f"{kind}.{name}")
+
+
+@pytest.mark.parametrize("kind, cls, name", list(_every_parameter()))
+def test_one_bad_value_is_told_its_rule_by_every_route(kind, cls, name, tmp_path):
+    """The core states each parameter's rule once (config/teachers/<name>.rs); every value it
+    refuses, of any type, is told that text by the selector, and for a teacher a run can take,
+    by Config, a TOML file and --set (issue 45, item 2)."""
+    from saggriac.cli import parse_overrides
+
+    rule = sg._core.teacher_param_rule(kind, name)
+    assert rule, (kind, name)
+    # A parameter the class also takes per dimension (issue 46, item 3) is told, for a list, the
+    # same rule as a list states it: each value in a list of the box's length meets it.
+    per_dimension = sg._core.teacher_per_dimension()[kind].get(name) == "vector"
+    bad = _bad_values(rule)
+    if per_dimension:
+        bad += [[DEFAULTS[kind][name], v] for v in bad if isinstance(v, float)]
+    for value in bad:
+        told = rule + ", or a list of such floats, one per dimension of the box" if per_dimension and isinstance(value, list) else rule
+        assert _told(lambda: sg.testing.example_teacher(cls, **{name: value}), name) == told, (name, value)
+        if "box" not in cls.spaces or kind == "sagg_riac":
+            continue  # a run takes teachers of a box; SAGG-RIAC's own parameters are Config's
+        assert _told(lambda: sg.Config(teacher=kind, teacher_params={name: value}), name) == rule, (name, value)
+        if value is None or isinstance(value, list):
+            continue  # TOML has no null; a list is a list
+        toml = tmp_path / "c.toml"
+        shown = "nan" if isinstance(value, float) and math.isnan(value) else ("inf" if value == math.inf else ("-inf" if value == -math.inf else repr(value).lower() if isinstance(value, bool) else (f'"{value}"' if isinstance(value, str) else repr(value))))
+        toml.write_text(f'teacher = "{kind}"\n[teacher_params]\n{name} = {shown}\n')
+        assert _told(lambda: sg.Config.from_toml(toml), name) == rule, (name, value)
+        overrides = parse_overrides([f"teacher={kind}", f"teacher_params.{name}={shown}"])
+        assert _told(lambda: sg.Config.from_preset("exp1", **overrides), name) == rule, (name, value)

@@ -16,15 +16,15 @@ BOX3 = ([0.0, 0.0, 0.0], [1.0, 2.0, 4.0])
 @pytest.mark.parametrize(
     "make, message",
     [
-        (lambda: sg.SpdlSelector(*BOX3, init_mean=[0.1, 0.5]), r"^The 'init_mean' parameter of SpdlSelector must be a float, or a list of 3 floats \(one per dimension of the box\)\. Got \[0\.1, 0\.5\] \(2 values\) instead\.$"),
-        (lambda: sg.SpdlSelector(*BOX3, target_mean=[0.1, 1.5, 0.2]), r"^The 'target_mean' parameter of SpdlSelector must be a float in \[0, 1\] \(a position in the box scaled to \[0, 1\]\), or a list of such floats, one per dimension\. Got \[0\.1, 1\.5, 0\.2\] \(1\.5 in dimension 1\) instead\.$"),
-        (lambda: sg.SpdlSelector(*BOX3, init_std=[0.1, 0.0, 0.2]), r"^The 'init_std' parameter of SpdlSelector must be a float in \[1e-4, 10\] \(box widths\), or a list of such floats, one per dimension\. Got \[0\.1, 0, 0\.2\] \(0 in dimension 1\) instead\.$"),
-        (lambda: sg.SpdlSelector(*BOX3, init_std=[0.1, float("nan"), 0.2]), r"^The 'init_std' parameter of SpdlSelector must be a float, or a list of 3 finite floats \(one per dimension of the box\)\. Got \[0\.1, NaN, 0\.2\] \(NaN at dimension 1\) instead\.$"),
-        (lambda: sg.SpdlSelector(*BOX3, init_mean="0.1"), r"^The 'init_mean' parameter of SpdlSelector must be a float, or a list of 3 floats \(one per dimension of the box\)\. Got '0\.1' instead\.$"),
-        (lambda: sg.SpdlSelector(*BOX3, init_mean=[[0.1, 0.2, 0.3]]), r"^The 'init_mean' parameter of SpdlSelector must be a float, or a list of 3 floats"),
-        (lambda: sg.SpdlSelector(*BOX3, epsilon=[0.1, 0.1, 0.1]), r"^The 'epsilon' parameter of SpdlSelector must be a float\. Got \[0\.1, 0\.1, 0\.1\] instead\.$"),
-        (lambda: sg.SpdlSelector([0, 0], [1, 1], init_cov=[[0.01, 0.0, 0.0], [0.0, 0.01, 0.0]]), r"^The 'init_cov' parameter of SpdlSelector must be a 2 x 2 matrix of floats: 2 rows of 2 \(one row and one column per dimension of the box\)\. Got \[\[0\.01, 0\.0, 0\.0\], \[0\.0, 0\.01, 0\.0\]\] instead\.$"),
-        (lambda: sg.SpdlSelector([0, 0], [1, 1], init_cov=[0.01, 0.01]), r"^The 'init_cov' parameter of SpdlSelector must be a 2 x 2 matrix of floats \(one row and one column per dimension of the box\)\. Got \[0\.01, 0\.01\] instead\.$"),
+        (lambda: sg.SpdlSelector(*BOX3, init_mean=[0.1, 0.5]), r"^The 'init_mean' parameter of SpdlSelector must be a float in \[0, 1\] \(a position in the box scaled to \[0, 1\]\), or a list of such floats, one per dimension of the box\. Got \[0\.1, 0\.5\] \(2 values for a box of 3 dimensions\) instead\.$"),
+        (lambda: sg.SpdlSelector(*BOX3, target_mean=[0.1, 1.5, 0.2]), r"^The 'target_mean' parameter of SpdlSelector must be a float in \[0, 1\] \(a position in the box scaled to \[0, 1\]\), or a list of such floats, one per dimension of the box\. Got \[0\.1, 1\.5, 0\.2\] \(1\.5 in dimension 1\) instead\.$"),
+        (lambda: sg.SpdlSelector(*BOX3, init_std=[0.1, 0.0, 0.2]), r"^The 'init_std' parameter of SpdlSelector must be a float in \[0\.0001, 10\] \(box widths\), or a list of such floats, one per dimension of the box\. Got \[0\.1, 0, 0\.2\] \(0 in dimension 1\) instead\.$"),
+        (lambda: sg.SpdlSelector(*BOX3, init_std=[0.1, float("nan"), 0.2]), r"^The 'init_std' parameter of SpdlSelector must be a float in \[0\.0001, 10\] \(box widths\), or a list of such floats, one per dimension of the box\. Got \[0\.1, NaN, 0\.2\] \(NaN in dimension 1\) instead\.$"),
+        (lambda: sg.SpdlSelector(*BOX3, init_mean="0.1"), r"^The 'init_mean' parameter of SpdlSelector must be a float in \[0, 1\] \(a position in the box scaled to \[0, 1\]\)\. Got '0\.1' instead\.$"),
+        (lambda: sg.SpdlSelector(*BOX3, init_mean=[[0.1, 0.2, 0.3]]), r"^The 'init_mean' parameter of SpdlSelector must be a float in \[0, 1\] \(a position in the box scaled to \[0, 1\]\), or a list of such floats, one per dimension of the box\. Got \[\[0\.1, 0\.2, 0\.3\]\] instead\.$"),
+        (lambda: sg.SpdlSelector(*BOX3, epsilon=[0.1, 0.1, 0.1]), r"^The 'epsilon' parameter of SpdlSelector must be a finite float > 0\. Got \[0\.1, 0\.1, 0\.1\] instead\.$"),
+        (lambda: sg.SpdlSelector([0, 0], [1, 1], init_cov=[[0.01, 0.0, 0.0], [0.0, 0.01, 0.0]]), r"^The 'init_cov' parameter of SpdlSelector must be a 2 x 2 matrix of finite floats: 2 rows of 2 \(one row and one column per dimension of the box\)\. Got \[\[0\.01, 0\.0, 0\.0\], \[0\.0, 0\.01, 0\.0\]\] instead\.$"),
+        (lambda: sg.SpdlSelector([0, 0], [1, 1], init_cov=[0.01, 0.01]), r"^The 'init_cov' parameter of SpdlSelector must be a 2 x 2 matrix of finite floats: 2 rows of 2 \(one row and one column per dimension of the box\)\. Got \[0\.01, 0\.01\] instead\.$"),
         (lambda: sg.SpdlSelector([0, 0], [1, 1], covariance="full", target_cov=[[0.01, 0.02], [0.02, 0.01]]), r"^The 'target_cov' parameter of SpdlSelector must be a positive-definite 2 x 2 matrix \(a covariance: its Cholesky factor must exist\)\. Got \[\[0\.01, 0\.02\], \[0\.02, 0\.01\]\] instead\.$"),
         (lambda: sg.SpdlSelector([0, 0], [1, 1], covariance="full", target_cov=[[0.01, 0.002], [0.003, 0.01]]), r"^The 'target_cov' parameter of SpdlSelector must be a symmetric 2 x 2 matrix \(a covariance, in box widths squared; entry \(0, 1\) differs from \(1, 0\)\)\. Got"),
         (lambda: sg.SpdlSelector([0, 0], [1, 1], target_cov=[[0.01, 0.005], [0.005, 0.01]]), r"^The 'target_cov' parameter of SpdlSelector must be a diagonal matrix with covariance='diagonal' \(p's covariance is then diagonal: set covariance='full' to take correlations\)\. Got \[\[0\.01, 0\.005\], \[0\.005, 0\.01\]\] instead\.$"),
@@ -32,10 +32,10 @@ BOX3 = ([0.0, 0.0, 0.0], [1.0, 2.0, 4.0])
         (lambda: sg.SpdlSelector([0, 0], [1, 1], init_cov=np.eye(2) * 0.01, init_std=[0.1, 0.1]), r"^The 'init_std' parameter of SpdlSelector must be left out with init_cov \(the covariance gives the standard deviations\)\. Got \[0\.1, 0\.1\] instead\.$"),
         (lambda: sg.SpdlSelector([0, 0], [1, 1], init_cov=np.eye(2) * 0.01, init_std=0.2), r"^The 'init_std' parameter of SpdlSelector must be left at its default with init_cov \(the covariance gives the standard deviations\)\. Got 0\.2 instead\.$"),
         (lambda: sg.SpdlSelector(np.zeros(11), np.ones(11), covariance="full"), r"^The 'covariance' parameter of SpdlSelector must be 'diagonal' for bounds of more than 10 dimensions"),
-        (lambda: sg.AdrSelector(*BOX3, step=[0.1, 0.0, 0.1]), r"^The 'step' parameter of AdrSelector must be a float in \(0, 1\], or a list of such floats, one per dimension\. Got \[0\.1, 0, 0\.1\] \(0 in dimension 1\) instead\.$"),
-        (lambda: sg.AdrSelector(*BOX3, initial=[0.1, 0.2, 0.3, 0.4]), r"^The 'initial' parameter of AdrSelector must be a float, or a list of 3 floats \(one per dimension of the box\)\. Got \[0\.1, 0\.2, 0\.3, 0\.4\] \(4 values\) instead\.$"),
-        (lambda: sg.AdrSelector(*BOX3, t_low=[0.1, 0.1, 0.1]), r"^The 't_low' parameter of AdrSelector must be a float\."),
-        (lambda: sg.GoalGanSelector(*BOX3, initial_width=[0.5, 1.5, 1.0]), r"^The 'initial_width' parameter of GoalGanSelector must be a float in \[0, 1\], or a list of such floats, one per dimension\. Got \[0\.5, 1\.5, 1\] \(1\.5 in dimension 1\) instead\.$"),
+        (lambda: sg.AdrSelector(*BOX3, step=[0.1, 0.0, 0.1]), r"^The 'step' parameter of AdrSelector must be a float in \(0, 1\], or a list of such floats, one per dimension of the box\. Got \[0\.1, 0, 0\.1\] \(0 in dimension 1\) instead\.$"),
+        (lambda: sg.AdrSelector(*BOX3, initial=[0.1, 0.2, 0.3, 0.4]), r"^The 'initial' parameter of AdrSelector must be a float in \[0, 1\], or a list of such floats, one per dimension of the box\. Got \[0\.1, 0\.2, 0\.3, 0\.4\] \(4 values for a box of 3 dimensions\) instead\.$"),
+        (lambda: sg.AdrSelector(*BOX3, t_low=[0.1, 0.1, 0.1]), r"^The 't_low' parameter of AdrSelector must be a finite float with \|value\| <= 1e100\. Got \[0\.1, 0\.1, 0\.1\] instead\.$"),
+        (lambda: sg.GoalGanSelector(*BOX3, initial_width=[0.5, 1.5, 1.0]), r"^The 'initial_width' parameter of GoalGanSelector must be a float in \[0, 1\], or a list of such floats, one per dimension of the box\. Got \[0\.5, 1\.5, 1\] \(1\.5 in dimension 1\) instead\.$"),
         (lambda: sg.GoalGanSelector(*BOX3, initial=-0.1), r"^The 'initial' parameter of GoalGanSelector must be a float in \[0, 1\]\. Got -0\.1 instead\.$"),
     ],
 )
@@ -104,8 +104,18 @@ def test_a_teacher_saved_with_values_per_dimension_continues_exactly(how, tmp_pa
 
 
 def test_a_run_takes_single_numbers_and_says_where_lists_go():
-    with pytest.raises(sg.ParameterError, match=r"a value per dimension is taken by the teacher's class, such as SpdlSelector\(init_mean=\[0\.1, 0\.5\]\), not by a run\)\. Got 'init_mean': \[0\.1, 0\.5\] instead\.$"):
+    # The single number's rule (a run's), and where a list goes.
+    with pytest.raises(sg.ParameterError, match=r"^The 'teacher_params\.init_mean' parameter of Config must be a float in \[0, 1\] \(a position in the box scaled to \[0, 1\]\)\. Got \[0\.1, 0\.5\] \(a value per dimension is taken by the teacher's class, such as saggriac\.SpdlSelector\(init_mean=\[\.\.\.\]\), not by a run\) instead\.$"):
         sg.Config(teacher="spdl", teacher_params={"init_mean": [0.1, 0.5]})
     # The alpha form weighs KL by the mean competence clipped at 0: a run's are <= 0.
     with pytest.raises(sg.ParameterError, match=r"^The 'teacher_params\.form' parameter of Config must be 'delta' \(the competences a run tells \(min_c to 0\) lie in \[-1, 0\]; the alpha form weighs KL\(p \|\| mu\) by zeta times the mean competence clipped at 0, so with competences <= 0 it never moves p toward the target\)\. Got 'alpha' instead\.$"):
         sg.Config(teacher="spdl", teacher_params={"form": "alpha"}).validate()
+
+
+def test_get_params_gives_the_values_per_dimension_and_builds_the_same_teacher():
+    t = sg.SpdlSelector([0, 0], [1, 2], seed=2, covariance="full", init_mean=np.array([0.1, 0.3]), init_cov=[[0.01, 0.002], [0.002, 0.02]])
+    p = t.get_params()
+    assert p["init_mean"] == [0.1, 0.3] and p["init_cov"] == [[0.01, 0.002], [0.002, 0.02]] and p["target_mean"] == 0.5
+    u = sg.SpdlSelector([0, 0], [1, 2], seed=2, **p)
+    assert np.array_equal(t.sample_batch(50), u.sample_batch(50))
+    assert "init_cov" not in sg.SpdlSelector([0, 0], [1, 2]).get_params()

@@ -61,7 +61,7 @@ def test_seeded_and_checked_by_the_conformance_helper(name):
         (lambda: sg.SpdlSelector([0.0], [1.0], update_every=1.0), r"^The 'update_every' parameter of SpdlSelector must be an int"),
         (lambda: sg.GoalGanSelector([0.0], [1.0], r_min=0.9, r_max=0.1), r"^The 'r_max' parameter of GoalGanSelector must be a float >= r_min \(r_min = 0.9\). Got 0.1 instead.$"),
         (lambda: sg.GoalGanSelector([0.0], [1.0], hidden=0), r"^The 'hidden' parameter of GoalGanSelector must be an int in \[1, 1024\]. Got 0 instead.$"),
-        (lambda: sg.GoalGanSelector([0.0], [1.0], p_old=True), r"^The 'p_old' parameter of GoalGanSelector must be a float. Got True instead.$"),
+        (lambda: sg.GoalGanSelector([0.0], [1.0], p_old=True), r"^The 'p_old' parameter of GoalGanSelector must be a float in \[0, 1\]. Got True instead.$"),
     ],
 )
 def test_bad_parameters_are_refused_by_name(make, message):

@@ -80,21 +80,6 @@ impl Check {
             Err(invalid(self.owner, name, format!("a float in ({}, {}]", Num(lo), Num(hi)), Num(v)))
         }
     }
-    pub fn probability(&self, name: &str, v: f64) -> Result<()> {
-        if v.is_finite() && (0.0..=1.0).contains(&v) {
-            Ok(())
-        } else {
-            Err(invalid(self.owner, name, "a float in [0, 1]", Num(v)))
-        }
-    }
-    /// An int in [min, max].
-    pub fn within(&self, name: &str, v: usize, min: usize, max: usize) -> Result<()> {
-        if (min..=max).contains(&v) {
-            Ok(())
-        } else {
-            Err(invalid(self.owner, name, format!("an int in [{min}, {max}]"), v))
-        }
-    }
 
     pub fn at_least(&self, name: &str, v: usize, min: usize) -> Result<()> {
         if v >= min {

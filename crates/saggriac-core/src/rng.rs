@@ -49,3 +49,48 @@ pub fn normal(rng: &mut CoreRng) -> f64 {
 pub fn index(rng: &mut CoreRng, n: usize) -> usize {
     rng.random_range(0..n)
 }
+
+/// The index a draw `u` in [0, sum of `w`) falls on when the weights `w` lie end to end: the
+/// first i with u below its weight after the weights before it are taken off, or the last
+/// positive weight when rounding carries u past the end.
+pub fn pick_weighted(w: &[f64], mut u: f64) -> usize {
+    for (i, &x) in w.iter().enumerate() {
+        if u < x {
+            return i;
+        }
+        u -= x;
+    }
+    w.iter().rposition(|&x| x > 0.0).unwrap_or(0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The loop the teachers wrote out before (goal_selection, discrete LP, TSCL, the
+    /// mixtures): a fallback to the last positive weight, replaced by the first weight u falls under.
+    fn pick_by_scan(w: &[f64], mut u: f64) -> usize {
+        let mut chosen = w.iter().rposition(|&x| x > 0.0).unwrap_or(0);
+        for (i, &x) in w.iter().enumerate() {
+            if u < x {
+                chosen = i;
+                break;
+            }
+            u -= x;
+        }
+        chosen
+    }
+
+    #[test]
+    fn pick_weighted_is_the_scan_it_replaced() {
+        let mut rng = rng_from_seed(7);
+        for case in 0..20_000 {
+            let n = 1 + index(&mut rng, 9);
+            // Zeros, ties and tiny weights, and draws past the end that rounding can give.
+            let w: Vec<f64> = (0..n).map(|_| [0.0, 1.0, 0.5, 1e-300, unit(&mut rng)][index(&mut rng, 5)]).collect();
+            let total: f64 = w.iter().sum();
+            let u = if case % 10 == 0 { total * (1.0 + 1e-12) } else { unit(&mut rng) * total };
+            assert_eq!(pick_weighted(&w, u), pick_by_scan(&w, u), "{w:?} {u}");
+        }
+    }
+}

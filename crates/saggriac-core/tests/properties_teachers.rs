@@ -6,7 +6,7 @@ mod common;
 use proptest::prelude::*;
 
 use common::{cases, TestResult};
-use saggriac_core::config::teachers::{AdrConfig, GoalGanConfig, PerDimension, PlrConfig, PlrScore, RandomConfig, ReplaySchedule, SaggRiacConfig, SpdlConfig, SpdlCovariance, SpdlForm, Teacher, TsclConfig, TsclPolicy, TsclVariant};
+use saggriac_core::config::teachers::{AdrConfig, GoalGanConfig, PerDimension, PlrConfig, PlrScore, PlrTies, RandomConfig, ReplaySchedule, SaggRiacConfig, SpdlConfig, SpdlCovariance, SpdlForm, Teacher, TsclConfig, TsclPolicy, TsclVariant};
 use saggriac_core::high_level::ask_tell::AskTell;
 use saggriac_core::high_level::goal_selection::ModeProbabilities;
 use saggriac_core::high_level::interest::InterestDivisor;
@@ -56,13 +56,15 @@ fn spec() -> impl Strategy<Value = TeacherSpec> {
     });
     let schedule = prop_oneof![Just(ReplaySchedule::Proportionate), Just(ReplaySchedule::Fixed)];
     let score = prop_oneof![Just(PlrScore::Progress), Just(PlrScore::Told)];
-    let plr = (1usize..=12, 0.01..2.0f64, 0.0..=1.0f64, schedule, 0.0..=1.0f64, score).prop_map(|(n_tasks, temperature, staleness_coef, replay_schedule, replay_prob, score)| PlrConfig {
+    let ties = prop_oneof![Just(PlrTies::Order), Just(PlrTies::Average)];
+    let plr = (1usize..=12, 0.01..2.0f64, 0.0..=1.0f64, schedule, 0.0..=1.0f64, score, ties).prop_map(|(n_tasks, temperature, staleness_coef, replay_schedule, replay_prob, score, ties)| PlrConfig {
         n_tasks,
         temperature,
         staleness_coef,
         replay_schedule,
         replay_prob,
         score,
+        ties,
     });
     // Updates often, so that the distribution moves (delta inside [-1, 0]) within a case.
     let form = prop_oneof![Just(SpdlForm::Delta), Just(SpdlForm::Alpha)];

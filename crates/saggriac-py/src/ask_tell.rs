@@ -68,6 +68,12 @@ impl PyAskTell {
         self.inner.spec().kind()
     }
 
+    /// The teacher's parameters, by name (its kind's defaults for those not given; a value given
+    /// per dimension as its list, a matrix as its rows).
+    fn params<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        crate::teachers::spec_params(py, self.inner.spec())
+    }
+
     #[getter]
     fn seed(&self) -> u64 {
         self.inner.spec().seed()
@@ -130,6 +136,12 @@ impl PyAskTell {
         }
         // A tree's regions: the table a run's regions.parquet holds.
         crate::goal_selection::regions(py, self.inner.selector())
+    }
+
+    /// A task-list teacher's probability of each task at its next draw, or None if it does not
+    /// say (every teacher but PLR).
+    fn task_probabilities<'py>(&self, py: Python<'py>) -> Option<Bound<'py, PyArray1<f64>>> {
+        self.inner.selector().task_probabilities().map(|p| p.into_pyarray(py))
     }
 
     /// What was asked (goal, mode, region) and told (goal, competence, region), in order.

@@ -36,26 +36,21 @@ pub fn defaults(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
     Ok(d)
 }
 
-/// The core names a rule's parameter by the struct that owns it (`tolerance` of `Evaluation`);
-/// a Python user knows one flat `Config`, so every message names the Config key instead.
+/// The core's messages name a parameter by its serde name, the `Config` key; their owner is
+/// the part checking it (`Evaluation`), which a Python user knows as one `Config`.
 pub fn in_config_terms(e: Error) -> Error {
     match e {
         Error::InvalidParameter { owner, param, rule, value } => {
-            if param == "goal_selector" {
+            let (owner, param) = if param == "goal_selector" {
                 // An argument of saggriac.run, not a Config key.
-                return Error::InvalidParameter { owner: "run", param, rule, value };
-            }
-            if owner.ends_with("Selector") {
+                ("run", param)
+            } else if owner.ends_with("Selector") {
                 // A rule of the teacher chosen by `teacher`, set through `teacher_params`.
-                return Error::InvalidParameter { owner: "Config", param: format!("teacher_params.{param}"), rule, value };
-            }
-            let key = match (owner, param.as_str()) {
-                ("Evaluation", "tolerance" | "patience" | "timeout_factor" | "timeout_min" | "schedule") => format!("eval_{param}"),
-                ("Exploration", "step") => "explore_step".to_string(),
-                ("Run", "bounds") => "goal_low/goal_high".to_string(),
-                _ => param,
+                ("Config", format!("teacher_params.{param}"))
+            } else {
+                ("Config", param)
             };
-            Error::InvalidParameter { owner: "Config", param: key, rule, value }
+            Error::InvalidParameter { owner, param, rule, value }
         }
         other => other,
     }
@@ -109,6 +104,16 @@ fn typed<T: Serialize + DeserializeOwned + Default>(d: &Bound<'_, PyDict>, check
             }
             Some(rule) if !default.is_none() && !is_list(&default) => return Err(to_py(py, invalid("Config", &key, rule, shown))),
             _ => merged.set_item(&key, &v)?,
+        }
+        // Serde would take 1.5 for a time step and True for a length: each element of a list
+        // must be a number of its kind (the one type check of a run's parameters).
+        if is_list(&v) {
+            let ints = key.contains("schedule");
+            let element_ok = |x: Bound<'_, PyAny>| !x.is_instance_of::<PyBool>() && if ints { x.extract::<u64>().is_ok() && x.is_instance_of::<PyInt>() } else { x.is_instance_of::<PyFloat>() || x.is_instance_of::<PyInt>() };
+            if !v.try_iter()?.all(|x| x.map(element_ok).unwrap_or(false)) {
+                let rule = if ints { "a list of ints >= 0" } else { "a list of floats" };
+                return Err(to_py(py, invalid("Config", &key, rule, shown)));
+            }
         }
         // What serde refuses of a value (a str naming no choice, a list of another type) is named here.
         if let Err(e) = depythonize::<T>(&merged) {

@@ -39,10 +39,12 @@ fn config_defaults(py: Python<'_>) -> PyResult<Bound<'_, pyo3::types::PyDict>> {
     config::defaults(py)
 }
 
-/// teacher_param_rule(name) -> str | None: the rule of a teacher's parameter, as its check states it.
+/// teacher_param_rule(kind, name) -> str | None: the rule of the parameter `name` of the teacher
+/// `kind`, as its check states it (None for a name it has not).
 #[pyfunction]
-fn teacher_param_rule(name: &str) -> Option<String> {
-    saggriac_core::config::teachers::param_rule(name)
+fn teacher_param_rule(py: Python<'_>, kind: &str, name: &str) -> PyResult<Option<String>> {
+    let teacher = errors::wrap(py, saggriac_core::config::teachers::Teacher::parse("teacher_param_rule", "kind", kind))?;
+    teachers::rule_text(py, &teacher, name)
 }
 
 /// teacher_defaults() -> dict: the default parameters of each teacher a run can take.

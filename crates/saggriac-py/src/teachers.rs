@@ -4,10 +4,11 @@
 //! core's defaults, and the rules are the core's.
 
 use pyo3::prelude::*;
-use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyString};
+use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 use pythonize::{depythonize, pythonize};
-use saggriac_core::config::teachers::{PerDimension, Shape, Teacher};
+use saggriac_core::config::teachers::{PerDimension, Rule, Shape, Teacher};
 use saggriac_core::error::invalid;
+use saggriac_core::high_level::teachers::TeacherSpec;
 use saggriac_core::Error;
 
 use crate::errors::{to_py, wrap};
@@ -31,18 +32,64 @@ fn nested<'py>(py: Python<'py>, t: &Teacher) -> PyResult<Bound<'py, PyDict>> {
     Ok(outer.cast_into::<PyDict>()?.get_item(t.kind())?.ok_or_else(|| pyo3::exceptions::PyRuntimeError::new_err("a teacher without parameters"))?.cast_into::<PyDict>()?)
 }
 
-/// The rule a value must follow to stand where `default` stands, if it does not.
-pub fn wrong_type(value: &Bound<'_, PyAny>, default: &Bound<'_, PyAny>) -> Option<&'static str> {
+/// Whether `value` has the type of `default` (an int for an int, a number for a float, a bool
+/// for a bool, a str for a choice): the one type check of a teacher's parameters.
+pub fn right_type(value: &Bound<'_, PyAny>, default: &Bound<'_, PyAny>) -> bool {
     let is_bool = value.is_instance_of::<PyBool>();
     if default.is_instance_of::<PyBool>() {
-        (!is_bool).then_some("a bool")
+        is_bool
     } else if default.is_instance_of::<PyInt>() {
-        (is_bool || !value.is_instance_of::<PyInt>() || value.extract::<u64>().is_err()).then_some("an int >= 0")
+        !is_bool && value.is_instance_of::<PyInt>() && value.extract::<u64>().is_ok()
     } else if default.is_instance_of::<PyFloat>() {
-        (is_bool || !(value.is_instance_of::<PyFloat>() || value.is_instance_of::<PyInt>())).then_some("a float")
+        !is_bool && (value.is_instance_of::<PyFloat>() || value.is_instance_of::<PyInt>())
     } else {
-        (!value.is_instance_of::<PyString>()).then_some("a str")
+        value.is_instance_of::<PyString>()
     }
+}
+
+/// The type `default`'s value stands for, as a rule states it, if `value` is not of it (a run's
+/// parameters, whose range the core's `validate` then tells).
+pub fn wrong_type(value: &Bound<'_, PyAny>, default: &Bound<'_, PyAny>) -> Option<&'static str> {
+    (!right_type(value, default)).then(|| {
+        if default.is_instance_of::<PyBool>() {
+            "a bool"
+        } else if default.is_instance_of::<PyInt>() {
+            "an int >= 0"
+        } else if default.is_instance_of::<PyFloat>() {
+            "a float"
+        } else {
+            "a str"
+        }
+    })
+}
+
+/// The rule of the parameter `key` of `teacher` as a message states it (a choice's from serde,
+/// which names the choices), None for a name the teacher has not.
+pub fn rule_text(py: Python<'_>, teacher: &Teacher, key: &str) -> PyResult<Option<String>> {
+    Ok(match teacher.rule(key) {
+        None => None,
+        Some(Rule::Choice) => {
+            // A name no choice has: serde's refusal lists the choices.
+            let nested = nested(py, teacher)?;
+            place(&nested, key, &PyString::new(py, "\u{1}").into_any())?;
+            let one = PyDict::new(py);
+            one.set_item(teacher.kind(), &nested)?;
+            Some(depythonize::<Teacher>(&one).err().map(|e| serde_rule(&e.to_string())).unwrap_or_else(|| Rule::Choice.text()))
+        }
+        Some(rule) => Some(rule.text()),
+    })
+}
+
+/// Put `value` under `key` where serde expects it: at the top, or in the nested struct holding it.
+fn place(nested: &Bound<'_, PyDict>, key: &str, value: &Bound<'_, PyAny>) -> PyResult<()> {
+    for (_, inner) in nested.iter() {
+        if let Ok(inner) = inner.cast::<PyDict>() {
+            if inner.contains(key)? {
+                return inner.set_item(key, value);
+            }
+        }
+    }
+    nested.set_item(key, value)
 }
 
 /// The teacher `kind` with the parameters `given` names, the others at their defaults. Messages
@@ -61,24 +108,17 @@ pub fn teacher(py: Python<'_>, default: Teacher, given: Option<&Bound<'_, PyDict
             return Err(to_py(py, invalid(owner, what, rule, format!("a dict with key '{key}'"))));
         };
         let shown = || v.repr().map(|r| r.to_string()).unwrap_or_else(|_| "?".into());
-        if let Some(rule) = wrong_type(&v, &d) {
-            // The parameter's own rule where the core states one: the text a value out of range is told.
-            let rule = saggriac_core::config::teachers::param_rule(&key).unwrap_or_else(|| rule.to_string());
-            return Err(to_py(py, invalid(owner, &format!("{prefix}{key}"), rule, shown())));
-        }
-        // Where serde expects it: at the top, or in the nested struct holding it.
-        let mut placed = false;
-        for (_, inner) in nested.iter() {
-            if let Ok(inner) = inner.cast::<PyDict>() {
-                if inner.contains(&key)? {
-                    inner.set_item(&key, &v)?;
-                    placed = true;
-                }
+        if !right_type(&v, &d) {
+            // The parameter's rule, the text a value out of range is told. A list reaches here
+            // only by a route that takes single numbers (a run's): the class takes it.
+            let rule = rule_text(py, &default, &key)?.unwrap_or_default();
+            let mut got = shown();
+            if is_list(&v) && default.per_dimension().iter().any(|(n, _)| *n == key) {
+                got = format!("{got} (a value per dimension is taken by the teacher's class, such as saggriac.{}({key}=[...]), not by a run)", default.class());
             }
+            return Err(to_py(py, invalid(owner, &format!("{prefix}{key}"), rule, got)));
         }
-        if !placed {
-            nested.set_item(&key, &v)?;
-        }
+        place(&nested, &key, &v)?;
         // A value of the right type serde still refuses (a str naming no choice) is named here.
         let one = PyDict::new(py);
         one.set_item(kind, &nested)?;
@@ -105,34 +145,66 @@ pub fn per_dimension_names(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
     Ok(out)
 }
 
-/// The parameters of `given` that `default`'s teacher takes per dimension and that are given so
-/// (a list, or a matrix as a list of `d` rows of `d` floats), apart: the others stay in the dict
-/// returned, for `teacher`. Their lengths and rules are the core's (`PerDimension::check`).
+/// A list or a tuple (a value per dimension, or a matrix's rows), not a str.
+fn is_list(v: &Bound<'_, PyAny>) -> bool {
+    v.is_instance_of::<PyList>() || v.is_instance_of::<PyTuple>()
+}
+
+/// The numbers of the list `v`, each of a float's type (`right_type`, the one type check), None
+/// if `v` is no list of them.
+fn floats(v: &Bound<'_, PyAny>) -> Option<Vec<f64>> {
+    let float = PyFloat::new(v.py(), 0.0).into_any();
+    if !is_list(v) {
+        return None;
+    }
+    v.try_iter().ok()?.map(|x| x.ok().filter(|x| right_type(x, &float)).and_then(|x| x.extract::<f64>().ok())).collect()
+}
+
+/// The parameters of `given` that `default`'s teacher takes per dimension and that are given so,
+/// apart: a list of numbers for a vector (a number stays in the dict returned, for `teacher`),
+/// `d` rows of `d` numbers for a matrix (None: not given). Each value's type is a single
+/// number's (`right_type`); a list of anything else is told the parameter's rule as a list
+/// states it. The lengths and each value's rule are the core's (`PerDimension::check`).
 pub fn split_per_dimension<'py>(py: Python<'py>, default: &Teacher, given: Option<&Bound<'py, PyDict>>, d: usize) -> PyResult<(Option<Bound<'py, PyDict>>, PerDimension)> {
     let Some(given) = given else { return Ok((None, PerDimension::default())) };
     let (rest, mut dims) = (PyDict::new(py), PerDimension::default());
     let owner = default.class();
     for (k, v) in given.iter() {
-        let shape = k.extract::<String>().ok().and_then(|key| default.per_dimension().iter().find(|(n, _)| *n == key).map(|(n, s)| (*n, *s)));
-        let Some((name, shape)) = shape.filter(|_| !v.is_instance_of::<PyFloat>() && !v.is_instance_of::<PyInt>()) else {
-            rest.set_item(k, v)?;
-            continue;
-        };
+        let shape = k.extract::<String>().ok().and_then(|key| default.per_dimension().iter().find(|(n, _)| *n == key).copied());
         let shown = || v.repr().map(|r| r.to_string()).unwrap_or_else(|_| "?".into());
         let values = match shape {
-            Shape::Vector => v.extract::<Vec<f64>>().map_err(|_| to_py(py, invalid(owner, name, format!("a float, or a list of {d} floats (one per dimension of the box)"), shown())))?,
-            Shape::Matrix => {
-                let rule = || format!("a {d} x {d} matrix of floats: {d} rows of {d} (one row and one column per dimension of the box)");
-                let rows = v.extract::<Vec<Vec<f64>>>().map_err(|_| to_py(py, invalid(owner, name, rule(), shown())))?;
-                if rows.len() != d || rows.iter().any(|r| r.len() != d) {
-                    return Err(to_py(py, invalid(owner, name, rule(), shown())));
-                }
-                rows.concat()
+            Some((name, Shape::Vector)) if is_list(&v) => {
+                let rule = default.rule(name).unwrap_or(Rule::Finite).per_dimension_text();
+                (name, floats(&v).ok_or_else(|| to_py(py, invalid(owner, name, rule, shown())))?)
+            }
+            Some((name, Shape::Matrix)) if !v.is_none() => {
+                let rows: Option<Vec<Vec<f64>>> = if is_list(&v) { v.try_iter()?.map(|r| r.ok().and_then(|r| floats(&r)).filter(|r| r.len() == d)).collect() } else { None };
+                let rows = rows.filter(|r| r.len() == d).ok_or_else(|| to_py(py, invalid(owner, name, PerDimension::matrix_rule(d), shown())))?;
+                (name, rows.concat())
+            }
+            Some((_, Shape::Matrix)) => continue,
+            _ => {
+                rest.set_item(k, v)?;
+                continue;
             }
         };
-        dims.0.push((name.to_string(), values));
+        dims.0.push((values.0.to_string(), values.1));
     }
     Ok((Some(rest), dims))
+}
+
+/// A teacher's parameters as it was built: `params`, a value given per dimension in place of
+/// its number (a list; a matrix as its rows).
+pub fn spec_params<'py>(py: Python<'py>, spec: &TeacherSpec) -> PyResult<Bound<'py, PyDict>> {
+    let out = params(py, &spec.teacher)?;
+    let d = spec.low.len().max(1);
+    for (name, values) in &spec.dims.0 {
+        match spec.teacher.per_dimension().iter().find(|(n, _)| n == name) {
+            Some((_, Shape::Matrix)) => out.set_item(name, values.chunks(d).map(<[f64]>::to_vec).collect::<Vec<_>>())?,
+            _ => out.set_item(name, values.clone())?,
+        }
+    }
+    Ok(out)
 }
 
 /// Every teacher's default parameters, by name (`_core.teacher_defaults()`).

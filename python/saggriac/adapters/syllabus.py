@@ -9,8 +9,20 @@ chosen by a saggriac selector:
 * over a ``BoxTaskSpace`` (a 1-D ``gymnasium.spaces.Box``), by any box teacher whose bounds are
   the box's: :class:`saggriac.SaggRiacSelector`, ``RiacSelector``, ``AlpGmmSelector``,
   ``CovarGmmSelector``, ``AdrSelector``, ``SpdlSelector``, ``GoalGanSelector``, ``RandomSelector``;
-* over a ``DiscreteTaskSpace`` of n tasks, by a task-list teacher with n tasks
-  (:class:`saggriac.DiscreteLpSelector`, :class:`saggriac.PlrSelector`).
+* over a finite task space of n tasks, by a task-list teacher with n tasks
+  (:class:`saggriac.DiscreteLpSelector`, :class:`saggriac.PlrSelector`,
+  :class:`saggriac.TsclSelector`): a ``DiscreteTaskSpace``, a ``MultiDiscreteTaskSpace``, or a
+  ``TupleTaskSpace`` of such spaces. A multi-part space is flattened into one list of
+  n = the product of its parts' sizes (:class:`FlatTasks`, ``curriculum.flat_tasks``): the
+  teacher chooses an index, and the curriculum hands out the task space's encoding of that task
+  (a tuple, or one int where the space was built with ``flatten=True``) and maps each reported
+  task back to its index.
+
+A Gymnasium space is taken in place of Syllabus's task space: ``Box`` (1-D) as a
+``BoxTaskSpace``, ``Discrete`` as a ``DiscreteTaskSpace``, ``MultiDiscrete`` as a
+``MultiDiscreteTaskSpace`` and a ``Tuple`` of these as a ``TupleTaskSpace``. Syllabus 0.7 has no
+``Dict`` task space: a ``Dict`` is refused (a ``TupleTaskSpace`` with ``space_names`` is
+Syllabus's way to name the parts).
 
 At each episode's end the teacher is told a competence: the episode's task progress
 (``competence="progress"``, Syllabus's ``info["task_completion"]``, the default), its return
@@ -33,7 +45,7 @@ from typing import Any, Callable
 try:
     import gymnasium
     from syllabus.core import Curriculum, TaskWrapper
-    from syllabus.task_space import BoxTaskSpace, DiscreteTaskSpace
+    from syllabus.task_space import BoxTaskSpace, DiscreteTaskSpace, MultiDiscreteTaskSpace, TaskSpace, TupleTaskSpace
 except ImportError:  # pragma: no cover - depends on the installation
     raise ImportError('saggriac.adapters.syllabus needs Syllabus: pip install "saggriac[syllabus]"') from None
 
@@ -67,12 +79,113 @@ def _check_box(task_space: BoxTaskSpace, selector: Any) -> None:
         )
 
 
-def _check_discrete(task_space: DiscreteTaskSpace, selector: Any) -> None:
+def _zero_start(space: gymnasium.spaces.Space) -> None:
+    start = np.asarray(getattr(space, "start", 0))
+    if np.any(start != 0):
+        raise ParameterError(f"The 'task_space' parameter of SelectorCurriculum must count its values from 0, as Syllabus's task spaces do; got {space} (start {start.tolist()}).", "task_space", repr(space))
+
+
+def as_task_space(space: Any) -> TaskSpace:
+    """Syllabus's task space for a Gymnasium space (a Syllabus task space as it is): ``Box``
+    (1-D) -> ``BoxTaskSpace``, ``Discrete`` -> ``DiscreteTaskSpace``, ``MultiDiscrete`` ->
+    ``MultiDiscreteTaskSpace``, ``Tuple`` of these -> ``TupleTaskSpace``."""
+    if isinstance(space, TaskSpace):
+        return space
+    if isinstance(space, gymnasium.spaces.Box):
+        return BoxTaskSpace(space)
+    if isinstance(space, gymnasium.spaces.Discrete):
+        _zero_start(space)
+        return DiscreteTaskSpace(space)
+    if isinstance(space, gymnasium.spaces.MultiDiscrete):
+        _zero_start(space)
+        if space.nvec.ndim != 1:
+            raise ParameterError(f"The 'task_space' parameter of SelectorCurriculum must be a MultiDiscrete of one row of sizes, as Syllabus's MultiDiscreteTaskSpace; got nvec of shape {space.nvec.shape}.", "task_space", repr(space))
+        return MultiDiscreteTaskSpace(space)
+    if isinstance(space, gymnasium.spaces.Tuple):
+        return TupleTaskSpace(tuple(as_task_space(s) for s in space.spaces))
+    if isinstance(space, gymnasium.spaces.Dict):
+        raise ConformanceError(f"SelectorCurriculum: Syllabus has no task space for a gymnasium Dict ({space}); give a TupleTaskSpace of its parts (space_names=... names them) or a Tuple space.")
+    raise ConformanceError(f"SelectorCurriculum takes a Syllabus task space or a gymnasium Box, Discrete, MultiDiscrete or Tuple of these; got {space!r}.")
+
+
+class FlatTasks:
+    """A finite Syllabus task space as one list of tasks 0..n-1, the indices a task-list teacher
+    chooses, with the map between an index and the space's encoding of its task (what the
+    environments decode). A ``MultiDiscreteTaskSpace`` and a ``TupleTaskSpace`` list their tasks
+    in C order, last part fastest, as ``numpy.ravel_multi_index`` (and Syllabus's ``flatten=True``
+    encoding) does."""
+
+    def __init__(self, task_space: TaskSpace) -> None:
+        self.task_space = task_space
+        if isinstance(task_space, DiscreteTaskSpace):
+            self.sizes: tuple[int, ...] = (int(task_space.num_tasks),)
+            self.parts: tuple[FlatTasks, ...] | None = None
+        elif isinstance(task_space, MultiDiscreteTaskSpace):
+            self.sizes, self.parts = tuple(int(n) for n in task_space.gym_space.nvec), None
+        elif isinstance(task_space, TupleTaskSpace):
+            for i, part in enumerate(task_space.task_spaces):
+                if not isinstance(part, (DiscreteTaskSpace, MultiDiscreteTaskSpace, TupleTaskSpace)):
+                    raise ConformanceError(f"SelectorCurriculum over a TupleTaskSpace needs parts that are lists of tasks (Discrete, MultiDiscrete or Tuple task spaces); part {i} is a {type(part).__name__}.")
+            self.parts = tuple(FlatTasks(part) for part in task_space.task_spaces)
+            self.sizes = tuple(len(p) for p in self.parts)
+        else:
+            raise ConformanceError(f"SelectorCurriculum: a {type(task_space).__name__} is not a list of tasks.")
+        self.n = int(np.prod(self.sizes, dtype=np.int64))
+        if self.n < 1:
+            raise ParameterError(f"The 'task_space' parameter of SelectorCurriculum must hold at least one task; its parts have {list(self.sizes)}.", "task_space", repr(task_space))
+        # Syllabus's flatten=True: the encoding is the index itself (sub-spaces follow a Tuple's).
+        self.flat = isinstance(task_space, DiscreteTaskSpace) or bool(getattr(task_space, "flatten", False))
+
+    def __len__(self) -> int:
+        return self.n
+
+    def encoding(self, index: int) -> Any:
+        """The task space's encoding of task ``index``."""
+        if self.flat:
+            return int(index)
+        digits = np.unravel_index(int(index), self.sizes)
+        if self.parts is None:
+            return tuple(int(d) for d in digits)
+        return tuple(part.encoding(int(d)) for part, d in zip(self.parts, digits))
+
+    def index(self, encoding: Any) -> int:
+        """The index of the task the space encodes as ``encoding``."""
+        try:
+            if self.flat:
+                i = _whole(encoding)
+            else:
+                items = tuple(encoding)
+                if len(items) != len(self.sizes):
+                    raise ValueError(f"{len(items)} parts, not {len(self.sizes)}")
+                digits = [_whole(e) if self.parts is None else self.parts[k].index(e) for k, e in enumerate(items)]
+                if any(not 0 <= d < n for d, n in zip(digits, self.sizes)):
+                    raise ValueError("a part out of range")
+                i = int(np.ravel_multi_index(digits, self.sizes))
+        except (TypeError, ValueError) as e:
+            raise InputError(f"SelectorCurriculum: {encoding!r} is not an encoding of a task of {type(self.task_space).__name__} {list(self.sizes)} ({e}).") from None
+        if not 0 <= i < self.n:
+            raise InputError(f"SelectorCurriculum: {encoding!r} is not an encoding of a task of {type(self.task_space).__name__} {list(self.sizes)} (index {i} outside [0, {self.n})).")
+        return i
+
+    def task(self, index: int) -> Any:
+        """Task ``index`` as the environments see it (the space's decoding of its encoding)."""
+        return self.task_space.decode(self.encoding(index))
+
+
+def _whole(value: Any) -> int:
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
+        raise TypeError(f"{value!r} is not an int")
+    return int(value)
+
+
+def _check_list(flat: FlatTasks, selector: Any) -> None:
+    name = type(flat.task_space).__name__
     if not isinstance(selector, TaskListSelector):
-        raise ConformanceError(f"SelectorCurriculum over a DiscreteTaskSpace needs a task-list teacher (saggriac.DiscreteLpSelector, saggriac.PlrSelector); got {type(selector).__name__}.")
+        raise ConformanceError(f"SelectorCurriculum over a {name} needs a task-list teacher (saggriac.DiscreteLpSelector, saggriac.PlrSelector, saggriac.TsclSelector); got {type(selector).__name__}.")
     n = selector.n_tasks
-    if n != task_space.num_tasks:
-        raise ParameterError(f"The 'selector' parameter of SelectorCurriculum must have the task space's {task_space.num_tasks} tasks; it has {n}.", "selector", repr(selector))
+    if n != flat.n:
+        sizes = "" if len(flat.sizes) == 1 else f" ({' x '.join(map(str, flat.sizes))})"
+        raise ParameterError(f"The 'selector' parameter of SelectorCurriculum must have the task space's {flat.n} tasks{sizes}; it has {n}.", "selector", repr(selector))
 
 
 def _task_index(task: Any, idx: int) -> int:
@@ -83,14 +196,16 @@ class SelectorCurriculum(Curriculum):
     """A Syllabus ``Curriculum`` whose tasks ``selector`` chooses (see the module's help)."""
 
     def __init__(self, task_space: Any, selector: Any, *, competence: str | Callable[[float, int, Any, float], float] = "progress", **curriculum_kwargs: Any) -> None:
+        task_space = as_task_space(task_space)
+        #: The task list a task-list teacher chooses from (None over a box).
+        self.flat_tasks: FlatTasks | None = None
         if isinstance(task_space, BoxTaskSpace):
             _check_box(task_space, selector)
-            self._discrete = False
-        elif isinstance(task_space, DiscreteTaskSpace):
-            _check_discrete(task_space, selector)
-            self._discrete = True
+        elif isinstance(task_space, (DiscreteTaskSpace, MultiDiscreteTaskSpace, TupleTaskSpace)):
+            self.flat_tasks = FlatTasks(task_space)
+            _check_list(self.flat_tasks, selector)
         else:
-            raise ConformanceError(f"SelectorCurriculum needs a Syllabus BoxTaskSpace or DiscreteTaskSpace; got {type(task_space).__name__}.")
+            raise ConformanceError(f"SelectorCurriculum needs a Syllabus BoxTaskSpace, DiscreteTaskSpace, MultiDiscreteTaskSpace or TupleTaskSpace; got {type(task_space).__name__}.")
         if not (callable(competence) or competence in COMPETENCES):
             raise ParameterError(f"The 'competence' parameter of SelectorCurriculum must be one of {', '.join(map(repr, COMPETENCES))} or a function; got {competence!r}.", "competence", repr(competence))
         if competence == "progress" and callable(getattr(selector, "check_competences", None)):
@@ -114,8 +229,8 @@ class SelectorCurriculum(Curriculum):
         if isinstance(k, bool) or not isinstance(k, (int, np.integer)) or k < 1:
             raise ParameterError(f"The 'k' parameter of SelectorCurriculum.sample must be an int >= 1. Got {k!r} instead.", "k", repr(k))
         goals = sample_batch(self.selector, int(k))
-        if self._discrete:
-            return [int(g[0]) for g in goals]
+        if self.flat_tasks is not None:
+            return [self.flat_tasks.encoding(int(g[0])) for g in goals]
         # The bounds are values of the Box's dtype and rounding is monotone, so a goal inside
         # them stays inside after the cast.
         dtype = self.task_space.gym_space.dtype
@@ -128,9 +243,9 @@ class SelectorCurriculum(Curriculum):
 
     def update_on_episode(self, episode_return: float, length: int, task: Any, progress: float | bool, env_id: int | None = None) -> None:
         """Tell the teacher the competence of the episode that ran ``task``."""
+        goal = np.atleast_1d(np.asarray(task, dtype=np.float64)) if self.flat_tasks is None else np.array([float(self.flat_tasks.index(task))])
         super().update_on_episode(episode_return, length, task, progress, env_id=env_id)
         c = self._competence(episode_return, length, task, float(progress))
-        goal = np.atleast_1d(np.asarray(task, dtype=np.float64))
         self.selector.update(goal, c)
         self.told += 1
 

@@ -37,7 +37,7 @@ def _ours(path: Path) -> bool:
     return MARK.encode() in head or (path.parent.name == "figures" and (path.parent.parent / "study.json").is_file())
 
 
-def _write_png(fig: Figure, path: str | Path, dpi: int, title: str = "") -> Path:
+def write_png(fig: Figure, path: str | Path, dpi: int, title: str = "") -> Path:
     """Save ``fig`` as a PNG at ``path`` atomically; an existing file is replaced only if it is a
     figure saggriac wrote."""
     meta = {"Software": f"{MARK} {_core.__version__}", **({"Title": title} if title else {})}
@@ -104,7 +104,7 @@ def plot_curves(frame: pd.DataFrame, path: str | Path, title: str = "", step_uni
     """Write :func:`curves_figure` to ``path`` (PNG; its title is also kept as the file's
     ``Title`` metadata)."""
     path = Path(path)
-    _write_png(curves_figure(frame, title, step_unit), path, dpi=120, title=title)
+    write_png(curves_figure(frame, title, step_unit), path, dpi=120, title=title)
     return path
 
 
@@ -181,7 +181,7 @@ def goal_histograms_figure(run_dir: str | Path, n_windows: int = 4, bins: int = 
 def plot_goal_histograms(run_dir: str | Path, path: str | Path, n_windows: int = 4, bins: int = 40) -> Path:
     """Write :func:`goal_histograms_figure` of the run in ``run_dir`` to ``path`` (PNG)."""
     path = Path(path)
-    _write_png(goal_histograms_figure(run_dir, n_windows, bins), path, dpi=110)
+    write_png(goal_histograms_figure(run_dir, n_windows, bins), path, dpi=110)
     return path
 
 
@@ -265,7 +265,7 @@ def plot_arm(config: Config, path: str | Path) -> Path:
     ax.legend(loc="lower left", fontsize=8)
     ax.set_title(f"{n}-joint planar arm, total length {lengths.sum():g}")
     path = Path(path)
-    _write_png(fig, path, dpi=110)
+    write_png(fig, path, dpi=110)
     return path
 
 
@@ -301,7 +301,7 @@ def _plot_spatial_arm(lengths: np.ndarray, path: str | Path) -> Path:
     ax.legend(loc="upper left", fontsize=8)
     ax.set_title(f"{n}-joint spatial arm (joints alternately yaw and pitch), total length {r:g}")
     path = Path(path)
-    _write_png(fig, path, dpi=110)
+    write_png(fig, path, dpi=110)
     return path
 
 
@@ -334,5 +334,5 @@ def _plot_chain(config: Config, path: str | Path) -> Path:
     ax.legend(loc="upper left", fontsize=8)
     ax.set_title(f"{n}-joint chain (reach {config.reach:.3g}) in its goal box")
     path = Path(path)
-    _write_png(fig, path, dpi=110)
+    write_png(fig, path, dpi=110)
     return path

@@ -16,6 +16,7 @@ import numpy as np
 
 from .. import _core
 from ..errors import SaggriacError, StorageError
+from ..files import check_flag
 from .tasks import TASKS, TIERS
 from .teachers import CALL_TIMEOUT, Guarded, TeacherError, TeacherSpec, alarm_handler
 
@@ -109,6 +110,7 @@ def execute(jobs: list[Job], out: Path, workers: int, scheduler: Any = None, pro
     ``scheduler``), each written to its file as it finishes. The records, and the failures by key."""
     from tqdm.auto import tqdm
 
+    progress = check_flag(progress, "progress", "execute")
     records: list[dict[str, Any]] = []
     failures: dict[tuple[str, str, int], str] = {}
     bar = tqdm(total=len(jobs), unit="run", desc="bench", disable=not progress or not jobs)

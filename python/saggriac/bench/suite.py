@@ -15,7 +15,7 @@ import pandas as pd
 
 from .. import _core
 from ..errors import ParameterError, StorageError
-from ..files import as_path
+from ..files import as_path, check_flag
 from ..study.backends import default_workers
 from ..teachers import available
 from . import report, shipped
@@ -65,6 +65,7 @@ def run_bench(
     built-in teachers on the tasks of ``tier`` (seeds 0 .. ``seeds`` - 1; the tier's number by
     default) into the folder ``out``; see :class:`BenchResult`. Raises :class:`BenchError` after
     writing everything else if some runs failed."""
+    rerun, progress = check_flag(rerun, "rerun", "run_bench"), check_flag(progress, "progress", "run_bench")
     if tier not in TIERS:
         raise ParameterError(f"The 'tier' parameter of run_bench must be one of {', '.join(TIERS)}. Got {tier!r} instead.", "tier", repr(tier))
     n_seeds = TIERS[tier] if seeds is None else _check_int("seeds", seeds, 1)

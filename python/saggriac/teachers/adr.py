@@ -35,6 +35,9 @@ class AdrSelector(AskTellSelector):
     """
 
     _kind = "adr"
+    #: What its goal modes mean, as logged (saggriac.analysis.teacher_readings).
+    mode_shares = {"interest": "boundary_share"}
+    reading = "adr"
     competence_range = (0.0, 1.0)
 
     def __init__(self, low: Any, high: Any, seed: int = 0, *, boundary_prob: float = _ADR["boundary_prob"], buffer_size: int = _ADR["buffer_size"], t_low: float = _ADR["t_low"], t_high: float = _ADR["t_high"], step: float | Sequence[float] = _ADR["step"], initial: float | Sequence[float] = _ADR["initial"], initial_width: float | Sequence[float] = _ADR["initial_width"]) -> None:

@@ -21,6 +21,9 @@ class AlpGmmSelector(AskTellSelector):
     """
 
     _kind = "alp_gmm"
+    #: What its goal modes mean, as logged (saggriac.analysis.teacher_readings).
+    mode_shares = {"global": "uniform_share", "interest": "mixture_share"}
+    reading = "mixture"
 
     def __init__(self, low: Any, high: Any, seed: int = 0, *, fit_rate: int = _ALP["fit_rate"], max_components: int = _ALP["max_components"], random_task_ratio: float = _ALP["random_task_ratio"], bootstrap: int = _ALP["bootstrap"]) -> None:
         super().__init__(low, high, seed, fit_rate=fit_rate, max_components=max_components, random_task_ratio=random_task_ratio, bootstrap=bootstrap)

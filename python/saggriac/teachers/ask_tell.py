@@ -6,10 +6,8 @@ own file, naming its kind and its parameters."""
 
 from __future__ import annotations
 
-import functools
 import math
 import os
-import re
 from pathlib import Path
 from typing import Any, Protocol, runtime_checkable
 
@@ -19,16 +17,12 @@ from .. import _core
 from ..errors import InputError, ParameterError, StorageError
 from ..files import MAX_TEACHER_BYTES, as_path, check_flag, read_bounded, starts_with, write_file
 from ..values import as_numbers as _numbers
+from ..values import plain
 from . import copies, ownership
 
 # Every teacher's parameters and defaults are the core's (one declaration): each class below
 # takes exactly those of its kind, with those defaults (tests/core/test_stub.py checks it).
 DEFAULTS: dict[str, dict[str, Any]] = _core.teacher_defaults()
-
-# The parameters each teacher also takes per dimension of its box (the core's declaration):
-# "vector" (a list, one value per dimension, in place of the number) or "matrix" (d x d, beside
-# the numbers, None when not given).
-PER_DIMENSION: dict[str, dict[str, str]] = _core.teacher_per_dimension()
 
 #: The first bytes of a teacher saved by ``save(path)``.
 MAGIC = b"saggriac-teacher\n"
@@ -58,73 +52,12 @@ def _vector(name: str, value: Any, dim: int | None = None) -> np.ndarray:
 
 
 def _int_param(owner: str, name: str, value: Any, low: int, high: int) -> int:
-    """An int argument in [low, high): numpy ints are taken, floats and bools refused (never
-    truncated), and the range is checked here so the core's fixed-width ints never overflow
-    (the core checks each parameter's own rule)."""
+    """An int argument in [low, high) (a seed, a batch size): numpy ints are taken, floats and
+    bools refused (never truncated), and the range is checked here so the core's fixed-width
+    ints never overflow."""
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not low <= int(value) < high:
-        # The parameter's own rule where the core states one: the same text as for a value out of range.
-        rule = _core.teacher_param_rule(name) or f"an int in [{low}, 2**{high.bit_length() - 1})"
-        raise ParameterError(f"The '{name}' parameter of {owner} must be {rule}. Got {value!r} instead.", name, repr(value))
+        raise ParameterError(f"The '{name}' parameter of {owner} must be an int in [{low}, 2**{high.bit_length() - 1}). Got {value!r} instead.", name, repr(value))
     return int(value)
-
-
-def _float_param(owner: str, name: str, value: Any) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
-        rule = _core.teacher_param_rule(name) or "a float"
-        raise ParameterError(f"The '{name}' parameter of {owner} must be {rule}. Got {value!r} instead.", name, repr(value))
-    return float(value)
-
-
-@functools.lru_cache(maxsize=None)
-def _int_rule(kind: str, name: str) -> str:
-    """The core's rule for the int parameter ``name`` of the teacher ``kind``, in the words it
-    tells a value out of range: stated by name where the core lists it, else found by building
-    the teacher with 0 and then with 2**64 - 1 (one of them breaks every rule with bounds)."""
-    rule = _core.teacher_param_rule(name)
-    if rule:
-        return rule
-    for probe in (0, 2**64 - 1):
-        try:
-            _core.AskTell(kind, [0.0], [1.0], 0, {name: probe})
-        except ParameterError as e:
-            found = re.search(r" must be (.*)\. Got .* instead\.$", str(e), re.DOTALL)
-            if e.param == name and found:
-                return found.group(1)
-    return "an int >= 0"
-
-
-def _typed(kind: str, owner: str, name: str, value: Any, default: Any) -> Any:
-    """``value`` as the type of the parameter's default: numpy scalars taken, floats and bools
-    never taken for ints. An int of the wrong type or past the core's integers is told the rule
-    the core tells a value out of range, so that every wrong value hears one rule."""
-    if isinstance(default, bool):
-        return check_flag(value, name, owner)
-    if isinstance(default, int):
-        if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not 0 <= int(value) < 2**63:
-            raise ParameterError(f"The '{name}' parameter of {owner} must be {_int_rule(kind, name)}. Got {value!r} instead.", name, repr(value))
-        return int(value)
-    if isinstance(default, float):
-        return _float_param(owner, name, value)
-    if not isinstance(value, str):
-        raise ParameterError(f"The '{name}' parameter of {owner} must be a str. Got {value!r} instead.", name, repr(value))
-    return value
-
-
-def _per_dimension(owner: str, name: str, value: Any, shape: str, dim: int) -> Any:
-    """A value given per dimension as (nested) lists of floats for the core, which checks its
-    length and each value's rule; not a list of numbers (or rows of them) is refused here."""
-    want = f"a float, or a list of {dim} floats (one per dimension of the box)" if shape == "vector" else f"a {dim} x {dim} matrix of floats (one row and one column per dimension of the box)"
-    try:
-        arr = None if isinstance(value, (str, bytes, bool, dict)) else np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        arr = None
-    if arr is None or arr.ndim != (1 if shape == "vector" else 2):
-        raise ParameterError(f"The '{name}' parameter of {owner} must be {want}. Got {value!r} instead.", name, repr(value))
-    return arr.tolist()
-
-
-def _is_number(value: Any) -> bool:
-    return isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool)
 
 
 class AskTellSelector:
@@ -137,21 +70,20 @@ class AskTellSelector:
     #: The goal spaces the teacher takes: "box" (built as ``cls(low, high, seed=s)``) or "tasks"
     #: (a task list, built as ``cls(n_tasks, seed=s)``). The bench reads it, for a user's class too.
     spaces: tuple[str, ...] = ("box",)
+    #: What the teacher's goal modes mean (``MODES`` names), as the share of goals logged under
+    #: each name by ``saggriac.analysis.teacher_readings``; modes not listed are not counted apart.
+    mode_shares: dict[str, str] = {}
+    #: Which reader of ``saggriac.analysis.readings`` logs its state (None: only the shares).
+    reading: str | None = None
 
     def __init__(self, low: Any, high: Any, seed: int, **params: Any) -> None:
         owner = type(self).__name__
         lo, hi = _vector("low", low), _vector("high", high)
         seed = _int_param(owner, "seed", seed, 0, 2**64)
-        per = PER_DIMENSION.get(self._kind, {})
-        given = {}
-        for k, v in params.items():
-            if k in per and per[k] == "matrix" and v is None:
-                continue  # a covariance not given: the standard deviations stand
-            if k in per and (per[k] == "matrix" or not _is_number(v)):
-                given[k] = _per_dimension(owner, k, v, per[k], lo.size)
-            else:
-                given[k] = _typed(self._kind, owner, k, v, DEFAULTS[self._kind][k])
-        self._inner = _core.AskTell(self._kind, lo.tolist(), hi.tolist(), seed, given)
+        # numpy scalars and arrays as the numbers and lists they stand for; the core checks each
+        # value's type and rule, a list's values per dimension each against the single number's
+        # (crates/saggriac-py/src/teachers.rs, config/rules.rs): one check, one message.
+        self._inner = _core.AskTell(self._kind, lo.tolist(), hi.tolist(), seed, {k: plain(v) for k, v in params.items()})
         self.last_mode: str | None = None
         self.last_region: int | None = None
 
@@ -171,6 +103,11 @@ class AskTellSelector:
         if not isinstance(whence, str):
             raise ParameterError(f"The 'whence' parameter of {owner} must be a str (who tells the competences). Got {whence!r} instead.", "whence", repr(whence))
         self._inner.check_competences(float(lo), float(hi), whence)
+
+    def get_params(self) -> dict[str, Any]:
+        """The teacher's parameters by name, as it was built (defaults included; a task-list
+        teacher's ``n_tasks`` too)."""
+        return dict(self._inner.params())
 
     @property
     def seed(self) -> int:

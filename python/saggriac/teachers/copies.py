@@ -37,6 +37,8 @@ _QUIET_SECONDS = 10.0  # after raising a worker's refusal, the others' are not r
 _told_at = -_QUIET_SECONDS - 1.0
 _forking = False  # inside a fork's hooks, where an exception raised is dropped
 _deferred = False  # a refusal came while forking, to be raised after
+#: How long a refusing worker waits for its parent to read the refusal before it exits.
+_WAIT_FOR_PARENT = 10.0
 _GOAL_WRAPPERS = ("SelectorGoals", "VectorSelectorGoals")
 #: teacher -> (the pid of the process it came to be in, the copy it is or None); a fork copies
 #: this table with the teachers, so a forked worker finds its teachers born elsewhere
@@ -194,12 +196,22 @@ def tell_parent(message: str) -> None:
         started = read_private(dfd, f"listener-{parent.pid}", 64)
         if started is None or started.decode(errors="replace") != _start_time(parent.pid):
             return
+        name = f"refusal-{parent.pid}-{os.getpid()}-{uuid.uuid4().hex}"
         try:
-            write_new(dfd, f"refusal-{parent.pid}-{os.getpid()}-{uuid.uuid4().hex}", message.encode()[:_REFUSAL_BYTES])
+            write_new(dfd, name, message.encode()[:_REFUSAL_BYTES])
             os.kill(parent.pid, _SIGNAL)
         except OSError:
             return
-    time.sleep(0.5)  # let the parent take the signal before this worker's exit closes its pipes
+        # Exit only once the parent has read the refusal (it removes the file), or after a
+        # bound: this worker's exit closes its pipes, and a parent that sees the pipe close
+        # first raises ConnectionResetError instead (seen under load with a fixed 0.5 s wait).
+        deadline = time.monotonic() + _WAIT_FOR_PARENT
+        while time.monotonic() < deadline:
+            try:
+                os.stat(name, dir_fd=dfd, follow_symlinks=False)
+            except OSError:
+                break
+            time.sleep(0.02)
 
 
 def _on_refusal(signum: int, frame: Any) -> None:

@@ -20,6 +20,9 @@ class CovarGmmSelector(AskTellSelector):
     """
 
     _kind = "covar_gmm"
+    #: What its goal modes mean, as logged (saggriac.analysis.teacher_readings).
+    mode_shares = {"global": "uniform_share", "interest": "mixture_share"}
+    reading = "mixture"
 
     def __init__(self, low: Any, high: Any, seed: int = 0, *, fit_rate: int = _COVAR["fit_rate"], max_components: int = _COVAR["max_components"], random_task_ratio: float = _COVAR["random_task_ratio"], bootstrap: int = _COVAR["bootstrap"], absolute_lp: bool = _COVAR["absolute_lp"]) -> None:
         super().__init__(low, high, seed, fit_rate=fit_rate, max_components=max_components, random_task_ratio=random_task_ratio, bootstrap=bootstrap, absolute_lp=absolute_lp)

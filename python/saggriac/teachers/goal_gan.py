@@ -30,6 +30,9 @@ class GoalGanSelector(AskTellSelector):
     """
 
     _kind = "goal_gan"
+    #: What its goal modes mean, as logged (saggriac.analysis.teacher_readings).
+    mode_shares = {"initial": "uniform_share", "interest": "generated_share", "global": "replay_share"}
+    reading = "goal_gan"
     competence_range = (0.0, 1.0)
 
     def __init__(self, low: Any, high: Any, seed: int = 0, *, success_threshold: float = _GAN["success_threshold"], r_min: float = _GAN["r_min"], r_max: float = _GAN["r_max"], n_rollouts: int = _GAN["n_rollouts"], update_size: int = _GAN["update_size"], gan_iterations: int = _GAN["gan_iterations"], p_old: float = _GAN["p_old"], noise_dim: int = _GAN["noise_dim"], hidden: int = _GAN["hidden"], learning_rate: float = _GAN["learning_rate"], initial: float | Sequence[float] = _GAN["initial"], initial_width: float | Sequence[float] = _GAN["initial_width"]) -> None:

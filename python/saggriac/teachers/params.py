@@ -7,7 +7,6 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
-from .. import _core
 from ..errors import ParameterError
 from ..values import plain
 
@@ -56,12 +55,10 @@ def teacher_params(params: Any) -> TeacherParams:
     else:
         raise ParameterError(f"The 'teacher_params' parameter of Config must be a dict of the teacher's parameters, such as {{'fit_rate': 100}}. Got {params!r} instead.", "teacher_params", repr(params))
     for name, value in items:
-        if isinstance(name, str) and not isinstance(value, (bool, int, float, str)) and _core.teacher_param_rule(name):
-            # The parameter's own rule, as for a value of the right type out of range.
-            raise ParameterError(f"The 'teacher_params.{name}' parameter of Config must be {_core.teacher_param_rule(name)}. Got {value!r} instead.", f"teacher_params.{name}", repr(value))
-        if not isinstance(name, str) or not isinstance(value, (bool, int, float, str)):
-            # Values per dimension (lists) are taken by the teachers' classes, not by a run yet.
-            raise ParameterError(f"The 'teacher_params' parameter of Config must map parameter names (str) to numbers, bools or str (a value per dimension is taken by the teacher's class, such as SpdlSelector(init_mean=[0.1, 0.5]), not by a run). Got {name!r}: {value!r} instead.", "teacher_params", repr(params))
+        # Values of any type go to the core, which tells a wrong one its parameter's rule (one
+        # check, one message); only the names must be names here.
+        if not isinstance(name, str):
+            raise ParameterError(f"The 'teacher_params' parameter of Config must map parameter names (str) to values. Got {name!r}: {value!r} instead.", "teacher_params", repr(params))
     if len({n for n, _ in items}) != len(items):
         raise ParameterError(f"The 'teacher_params' parameter of Config must name each parameter once. Got {params!r} instead.", "teacher_params", repr(params))
     return TeacherParams(dict(items))

@@ -11,6 +11,8 @@ class RandomSelector(AskTellSelector):
     """Goals uniform in [low, high] (SAGG-Random's high level); ``update`` only records."""
 
     _kind = "random"
+    #: What its goal modes mean, as logged (saggriac.analysis.teacher_readings).
+    mode_shares = {"random": "uniform_share"}
 
     def __init__(self, low: Any, high: Any, seed: int = 0) -> None:
         super().__init__(low, high, seed)

@@ -23,6 +23,9 @@ class RiacSelector(AskTellSelector):
     """
 
     _kind = "riac"
+    #: What its goal modes mean, as logged (saggriac.analysis.teacher_readings).
+    mode_shares = {"global": "uniform_share", "interest": "alp_share", "lowest_competence": "worst_share"}
+    reading = "tree"
 
     def __init__(self, low: Any, high: Any, seed: int = 0, *, max_region_size: int = _RIAC["max_region_size"], split_attempts: int = _RIAC["split_attempts"], min_child_share: float = _RIAC["min_child_share"], min_dims_range_ratio: float = _RIAC["min_dims_range_ratio"], p_alp: float = _RIAC["p_alp"], p_random: float = _RIAC["p_random"]) -> None:
         super().__init__(low, high, seed, max_region_size=max_region_size, split_attempts=split_attempts, min_child_share=min_child_share, min_dims_range_ratio=min_dims_range_ratio, p_alp=p_alp, p_random=p_random)

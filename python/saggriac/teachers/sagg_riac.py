@@ -21,6 +21,9 @@ class SaggRiacSelector(AskTellSelector):
     """
 
     _kind = "sagg_riac"
+    #: What its goal modes mean, as logged (saggriac.analysis.teacher_readings).
+    mode_shares = {"initial": "uniform_share", "global": "uniform_share", "interest": "interest_share", "lowest_competence": "lowest_share"}
+    reading = "tree"
 
     def __init__(self, low: Any, high: Any, seed: int = 0, *, g_max: int = _SAGG["g_max"], zeta: int = _SAGG["zeta"], min_child: int = _SAGG["min_child"], interest_divisor: str = _SAGG["interest_divisor"], p_interest: float = _SAGG["p_interest"], p_global: float = _SAGG["p_global"], p_lowest: float = _SAGG["p_lowest"]) -> None:
         super().__init__(low, high, seed, g_max=g_max, zeta=zeta, min_child=min_child, interest_divisor=interest_divisor, p_interest=p_interest, p_global=p_global, p_lowest=p_lowest)

@@ -39,6 +39,7 @@ class SpdlSelector(AskTellSelector):
     """
 
     _kind = "spdl"
+    reading = "spdl"
     competence_range = (0.0, 1.0)
 
     def __init__(

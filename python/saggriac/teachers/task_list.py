@@ -16,6 +16,7 @@ class TaskListSelector(AskTellSelector):
     ``DiscreteTaskSpace`` takes any of them (:class:`saggriac.adapters.syllabus.SelectorCurriculum`)."""
 
     spaces = ("tasks",)
+    reading = "task_list"
 
     def __init__(self, n_tasks: int, seed: int, **params: Any) -> None:
         # The goals are task indices: no box.

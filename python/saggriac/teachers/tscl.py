@@ -26,6 +26,8 @@ class TsclSelector(TaskListSelector):
     """
 
     _kind = "tscl"
+    #: What its goal modes mean, as logged (saggriac.analysis.teacher_readings).
+    mode_shares = {"initial": "untried_share", "random": "uniform_share", "interest": "bandit_share"}
     competence_range = (0.0, 1.0)
 
     def __init__(self, n_tasks: int, seed: int = 0, *, variant: str = _TSCL["variant"], window: int = _TSCL["window"], policy: str = _TSCL["policy"], epsilon: float = _TSCL["epsilon"], temperature: float = _TSCL["temperature"], absolute: bool = _TSCL["absolute"]) -> None:

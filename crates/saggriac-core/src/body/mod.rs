@@ -25,6 +25,12 @@ pub trait Body: Send + Sync {
     fn forward(&self, _theta: &[f64]) -> Option<Point> {
         None
     }
+    /// `forward` at `theta` with joint i set to `values[i]`, for every joint i, into `out[i]`,
+    /// each with the bits `forward` gives it (a finite-difference Jacobian's positions, cheaper
+    /// together); false if the body cannot, and then nothing is written.
+    fn forward_moved(&self, _theta: &[f64], _values: &[f64], _out: &mut [Point]) -> bool {
+        false
+    }
     /// The Jacobian of `forward` at `theta` (task_dim x n_joints, row-major, into `out`) if the
     /// body has it in closed form; false makes callers use finite differences.
     fn jacobian(&self, _theta: &[f64], _out: &mut [f64]) -> bool {

@@ -63,16 +63,16 @@ impl EvalConfig {
         let c = Check { owner: "Evaluation" };
         c.at_least("n_test_goals", self.n_test_goals, 1)?;
         c.at_least("n_test_configs", self.n_test_configs, 1)?;
-        c.positive("tolerance", self.tolerance)?;
-        c.at_least("patience", self.patience, 1)?;
-        c.non_negative("timeout_factor", self.timeout_factor)?;
-        c.at_least("timeout_min", self.timeout_min, 1)?;
+        c.positive("eval_tolerance", self.tolerance)?;
+        c.at_least("eval_patience", self.patience, 1)?;
+        c.non_negative("eval_timeout_factor", self.timeout_factor)?;
+        c.at_least("eval_timeout_min", self.timeout_min, 1)?;
         if self.schedule.windows(2).any(|w| w[0] >= w[1]) {
-            return Err(invalid("Evaluation", "schedule", "strictly increasing", format!("{:?}", self.schedule)));
+            return Err(invalid("Evaluation", "eval_schedule", "strictly increasing", format!("{:?}", self.schedule)));
         }
         if let Some(&last) = self.schedule.last() {
             if last > n_steps {
-                return Err(invalid("Evaluation", "schedule", format!("a list of steps <= n_steps (n_steps = {n_steps})"), last));
+                return Err(invalid("Evaluation", "eval_schedule", format!("a list of steps <= n_steps (n_steps = {n_steps})"), last));
             }
         }
         Ok(())

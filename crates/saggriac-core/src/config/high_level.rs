@@ -1,7 +1,8 @@
 //! The high level's parameters: competence, the region tree, the goal selection modes, and the
 //! rule every box of a goal space obeys.
 
-use crate::error::{invalid, Check, Num, Result};
+use crate::config::rules::{check_fields, PROBABILITY, Rule};
+use crate::error::{invalid, Num, Result, MAX_COUNT};
 
 /// What an attempt's final distance to its goal is measured against.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -128,14 +129,23 @@ impl Default for RegionTreeConfig {
     }
 }
 
+/// The rules of SAGG-RIAC's high level: its region tree's and its goal modes' parameters.
+pub const SAGG_RIAC_RULES: &[(&str, Rule)] = &[
+    ("g_max", Rule::Int(2, MAX_COUNT)),
+    ("zeta", Rule::Int(2, MAX_COUNT)),
+    ("min_child", Rule::Int(1, MAX_COUNT)),
+    ("interest_divisor", Rule::Choice),
+    ("p_interest", PROBABILITY),
+    ("p_global", PROBABILITY),
+    ("p_lowest", PROBABILITY),
+];
+
 impl RegionTreeConfig {
     pub fn validate(&self) -> Result<()> {
-        let c = Check { owner: "RegionTree" };
-        crate::config::rules::check_int(&c, "g_max", self.g_max)?;
-        crate::config::rules::check_int(&c, "zeta", self.zeta)?;
-        c.at_least("min_child", self.min_child, 1)?;
+        let (o, r) = ("RegionTree", SAGG_RIAC_RULES);
+        check_fields!(o, r, self, int g_max, int zeta, int min_child);
         if 2 * self.min_child > self.g_max + 1 {
-            return Err(invalid("RegionTree", "min_child", format!("an int with 2 * min_child <= g_max + 1 (g_max = {})", self.g_max), self.min_child));
+            return Err(invalid(o, "min_child", format!("an int with 2 * min_child <= g_max + 1 (g_max = {})", self.g_max), self.min_child));
         }
         Ok(())
     }
@@ -156,10 +166,8 @@ impl Default for ModeProbabilities {
 
 impl ModeProbabilities {
     pub fn validate(&self) -> Result<()> {
-        let c = Check { owner: "SaggRiac" };
-        c.probability("p_interest", self.p_interest)?;
-        c.probability("p_global", self.p_global)?;
-        c.probability("p_lowest", self.p_lowest)?;
+        let (o, r) = ("SaggRiac", SAGG_RIAC_RULES);
+        check_fields!(o, r, self, float p_interest, float p_global, float p_lowest);
         let s = self.p_interest + self.p_global + self.p_lowest;
         if (s - 1.0).abs() > 1e-9 {
             return Err(invalid("SaggRiac", "p_lowest", format!("such that p_interest + p_global + p_lowest = 1 (p_interest = {}, p_global = {})", Num(self.p_interest), Num(self.p_global)), Num(self.p_lowest)));
@@ -170,16 +178,21 @@ impl ModeProbabilities {
 
 /// Bounds must be finite, of equal non-zero length, and strictly ordered.
 pub fn check_bounds(owner: &'static str, low: &[f64], high: &[f64]) -> Result<()> {
+    check_bounds_named(owner, "bounds", low, high)
+}
+
+/// `check_bounds` with the messages naming the bounds `param` (a run's "goal_low/goal_high").
+pub fn check_bounds_named(owner: &'static str, param: &str, low: &[f64], high: &[f64]) -> Result<()> {
     if low.is_empty() || low.len() != high.len() {
-        return Err(invalid(owner, "bounds", format!("low and high of equal non-zero length (low has {})", low.len()), high.len()));
+        return Err(invalid(owner, param, format!("low and high of equal non-zero length (low has {})", low.len()), high.len()));
     }
     for (i, (l, h)) in low.iter().zip(high).enumerate() {
         if !(l.is_finite() && h.is_finite() && l < h) {
-            return Err(invalid(owner, "bounds", format!("finite with low < high in every dimension (dimension {i}: low = {})", Num(*l)), Num(*h)));
+            return Err(invalid(owner, param, format!("finite with low < high in every dimension (dimension {i}: low = {})", Num(*l)), Num(*h)));
         }
         // Goals are drawn as low + u * (high - low): the width itself must be a finite float.
         if !(h - l).is_finite() {
-            return Err(invalid(owner, "bounds", format!("such that high - low is a finite float in every dimension (dimension {i}: low = {l:?})"), format!("{h:?}")));
+            return Err(invalid(owner, param, format!("such that high - low is a finite float in every dimension (dimension {i}: low = {l:?})"), format!("{h:?}")));
         }
     }
     Ok(())

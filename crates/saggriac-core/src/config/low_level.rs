@@ -96,7 +96,7 @@ impl ExplorationConfig {
     pub fn validate(&self) -> Result<()> {
         let c = Check { owner: "Exploration" };
         c.at_least("q", self.q, 1)?;
-        c.positive("step", self.step)?;
+        c.positive("explore_step", self.step)?;
         Ok(())
     }
 }

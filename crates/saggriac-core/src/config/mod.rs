@@ -12,7 +12,7 @@ pub mod teachers;
 
 pub use body::{ArmConfig, ArmKind, BodyChange};
 pub use evaluation::EvalConfig;
-pub use high_level::{check_bounds, CompetenceConfig, InterestDivisor, ModeProbabilities, RegionTreeConfig};
+pub use high_level::{check_bounds, check_bounds_named, CompetenceConfig, InterestDivisor, ModeProbabilities, RegionTreeConfig};
 pub use teachers::{SaggRiacConfig, Teacher};
 pub use low_level::{EpisodicConfig, ExplorationConfig, ExplorationTrigger, ReachingConfig};
 pub use model::{IndexKind, LocalModelConfig, MIN_RCOND};
@@ -183,7 +183,7 @@ impl RunConfig {
             }
         }
         let reach: f64 = self.arm.link_lengths.iter().sum();
-        let lengths = [("Reaching", "v", self.reaching.v), ("Reaching", "eps_max", self.reaching.eps_max), ("Evaluation", "tolerance", self.eval.tolerance)];
+        let lengths = [("Reaching", "v", self.reaching.v), ("Reaching", "eps_max", self.reaching.eps_max), ("Evaluation", "eval_tolerance", self.eval.tolerance)];
         for (owner, name, value) in lengths {
             if !(value > 0.0 && value <= 2.0 * reach) {
                 let rule = format!("a finite float > 0 and <= 2 * reach, the diameter of the ball the body reaches (reach = {})", crate::error::G(reach));
@@ -207,7 +207,7 @@ impl RunConfig {
                 format!("{:?}", self.goal_low),
             ));
         }
-        check_bounds("Run", &self.goal_low, &self.goal_high)?;
+        check_bounds_named("Run", "goal_low/goal_high", &self.goal_low, &self.goal_high)?;
         self.check_sizes()?;
         self.reaching.validate()?;
         self.exploration.validate()?;

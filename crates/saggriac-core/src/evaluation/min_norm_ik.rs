@@ -2,8 +2,9 @@
 //! limits: min |theta|^2 subject to f(theta) = x_g and |theta_i| <= limit (docs/reproduction.md, "What is measured":
 //! the forward-model metric's test configurations).
 //!
-//! Only the body's forward kinematics is used (the Jacobian by finite differences), so the same
-//! code serves the built-in arms and bodies written in Python. The solver is a sequential
+//! Only the body's forward kinematics is needed (the Jacobian by finite differences where the
+//! body has none in closed form, `kinematics`), so the same code serves the built-in
+//! arms and bodies written in Python. The solver is a sequential
 //! quadratic programme (Wilson-Han-Powell SQP, as in Nocedal & Wright, "Numerical
 //! Optimization", ch. 18): each step solves the quadratic model of the Lagrangian subject to the
 //! linearised goal constraint, with an inverse-BFGS estimate of the Lagrangian's Hessian and a
@@ -15,7 +16,8 @@
 
 use nalgebra::{DMatrix, DVector};
 
-use crate::body::Body;
+use crate::evaluation::kinematics::Differences;
+pub use crate::evaluation::kinematics::{BodyKinematics, Kinematics};
 use crate::task_space::Point;
 
 /// Bends (the same angle at every joint) the solver starts from: both senses, slight and
@@ -27,8 +29,6 @@ const SCATTERED_STARTS: usize = 2;
 const REACH_ITERATIONS: usize = 100;
 const MAX_ITERATIONS: usize = 150;
 const MAX_HALVINGS: usize = 30;
-/// Finite-difference step of the Jacobian (central differences; one-sided at a limit).
-const FD_STEP: f64 = 1e-6;
 
 /// The least-norm configuration found for one goal.
 #[derive(Debug, Clone, PartialEq)]
@@ -36,34 +36,6 @@ pub struct IkSolution {
     pub theta: Vec<f64>,
     /// Distance from the goal to where `theta` puts the end effector.
     pub residual: f64,
-}
-
-/// Forward kinematics as the solver sees it.
-pub trait Kinematics {
-    /// The position at a configuration.
-    fn position(&mut self, theta: &[f64]) -> Point;
-    /// The Jacobian at `theta` (one row per task dimension, row-major, into `out`, which has room
-    /// for `MAX_TASK_DIM` rows) if known in closed form; false makes the solver use finite
-    /// differences.
-    fn jacobian(&mut self, _theta: &[f64], _out: &mut [f64]) -> bool {
-        false
-    }
-}
-
-/// A body's kinematics: its noise-free forward model and Jacobian where it has them, else a
-/// placement and a reading per position.
-pub struct BodyKinematics<'a>(pub &'a mut dyn Body);
-
-impl Kinematics for BodyKinematics<'_> {
-    fn position(&mut self, theta: &[f64]) -> Point {
-        self.0.forward(theta).unwrap_or_else(|| {
-            self.0.set_theta(theta);
-            self.0.position()
-        })
-    }
-    fn jacobian(&mut self, theta: &[f64], out: &mut [f64]) -> bool {
-        self.0.jacobian(theta, out)
-    }
 }
 
 /// The least-norm configuration reaching `goal` (first `m` coordinates) for a body with `n`
@@ -80,7 +52,7 @@ pub fn min_norm_ik_from(fk: &mut dyn Kinematics, n: usize, m: usize, limit: f64,
     starts.extend(extra.map(|t| t.to_vec()));
     // First onto the goal from every start; then the norm is lowered from each start that got
     // there. A goal no start reaches keeps the closest configuration.
-    let mut sqp = Sqp { fk, n, m, limit, goal, tolerance };
+    let mut sqp = Sqp { fk, n, m, limit, goal, tolerance, differences: Differences::default() };
     let reached: Vec<(Vec<f64>, f64)> = starts.into_iter().map(|s| sqp.reach(s)).collect();
     let mut best: Option<IkSolution> = None;
     for (theta, residual) in reached {
@@ -117,6 +89,7 @@ struct Sqp<'f> {
     limit: f64,
     goal: &'f Point,
     tolerance: f64,
+    differences: Differences,
 }
 
 impl Sqp<'_> {
@@ -135,29 +108,15 @@ impl Sqp<'_> {
         DVector::from_iterator(self.m, (0..self.m).map(|j| self.goal[j] - x[j]))
     }
 
-    /// Jacobian of the position (m x n), central differences, one-sided where a limit is near.
+    /// Jacobian of the position (m x n): the body's own, else central differences.
     fn jacobian(&mut self, theta: &[f64], x: &Point) -> DMatrix<f64> {
-        let (n, m, lim) = (self.n, self.m, self.limit);
+        let (n, m) = (self.n, self.m);
         // The body's rows (as many as its task dimensions), of which the goal uses the first m.
         let mut rows = vec![0.0; crate::task_space::MAX_TASK_DIM * n];
         if self.fk.jacobian(theta, &mut rows) {
             return DMatrix::from_row_slice(m, n, &rows[..m * n]);
         }
-        let mut jac = DMatrix::zeros(m, n);
-        let mut t = theta.to_vec();
-        for i in 0..n {
-            let (up, down) = (theta[i] + FD_STEP <= lim, theta[i] - FD_STEP >= -lim);
-            t[i] = if up { theta[i] + FD_STEP } else { theta[i] };
-            let hi = if up { self.fk.position(&t) } else { *x };
-            t[i] = if down { theta[i] - FD_STEP } else { theta[i] };
-            let lo = if down { self.fk.position(&t) } else { *x };
-            t[i] = theta[i];
-            let h = if up && down { 2.0 * FD_STEP } else { FD_STEP };
-            for j in 0..m {
-                jac[(j, i)] = (hi[j] - lo[j]) / h;
-            }
-        }
-        jac
+        self.differences.jacobian(&mut *self.fk, theta, x, m, self.limit)
     }
 
     /// Levenberg-Marquardt on the residual alone, within the limits: a configuration on the

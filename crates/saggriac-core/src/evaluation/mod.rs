@@ -5,10 +5,11 @@
 //! changes what is learnt.
 //!
 //! The parts of the evaluator: the fixed test sets (`test_set`, with the least-norm IK of the
-//! test configurations, `min_norm_ik`, and the draw of test goals from a cloud of reached
-//! positions, `reachable_cloud`), one test reach by micro-actions (`micro`), and the pool that
-//! runs evaluations beside learning (`pool`).
+//! test configurations, `min_norm_ik`, on a body's `kinematics`, and the draw of test goals from
+//! a cloud of reached positions, `reachable_cloud`), one test reach by micro-actions (`micro`),
+//! and the pool that runs evaluations beside learning (`pool`).
 
+pub mod kinematics;
 pub(crate) mod micro;
 pub mod min_norm_ik;
 pub(crate) mod pool;

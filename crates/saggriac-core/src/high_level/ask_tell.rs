@@ -10,13 +10,15 @@ use crate::high_level::region_tree::RegionTreeConfig;
 use crate::config::teachers::{RandomConfig, SaggRiacConfig, Teacher};
 use crate::high_level::teachers::TeacherSpec;
 
-/// Bumped whenever the saved layout changes. Format 5: the parameters given per dimension after
-/// the seed, SPDL's form, covariance and alpha parameters, Goal GAN's first goals' box. Formats 4
-/// (saggriac 0.6 before #46, the teacher's parameters as the one `Teacher` enum beside the box
-/// and the seed), 3 (saggriac 0.5, each teacher's state in its own encoding), 2 (saggriac
-/// 0.3-0.4, one enum of every teacher's state) and 1 (saggriac <= 0.2, before SAGG-RIAC's tree had
-/// an eq.-2 divisor, read as the `Window` reading it ran) are still read.
-const FORMAT: u32 = 5;
+/// Bumped whenever the saved layout changes. Format 6: the parameters given per dimension after
+/// the seed, SPDL's form, covariance and alpha parameters, Goal GAN's first goals' box. Formats 5
+/// (saggriac after 0.6.0, before #46's SPDL and Goal GAN parameters: PLR's parameters end with
+/// `ties`), 4 (saggriac 0.6, the teacher's parameters as the one `Teacher` enum beside the box
+/// and the seed; a PLR teacher read with the `Average` ties it ran), 3 (saggriac 0.5, each
+/// teacher's state in its own encoding), 2 (saggriac 0.3-0.4, one enum of every teacher's
+/// state) and 1 (saggriac <= 0.2, before SAGG-RIAC's tree had an eq.-2 divisor, read as the
+/// `Window` reading it ran) are still read.
+const FORMAT: u32 = 6;
 /// Told competences are bounded so that every teacher's sums, squares and mixtures of them stay
 /// finite (a mixture teacher squares differences of competences).
 pub const MAX_COMPETENCE: f64 = 1e100;
@@ -61,8 +63,9 @@ fn decode<T: serde::de::DeserializeOwned>(bytes: &[u8]) -> std::result::Result<T
 
 /// The layouts of formats 1 (saggriac <= 0.2: SAGG-RIAC's tree parameters without the divisor),
 /// 2 (saggriac 0.3-0.4, whose teachers' states were variants of one enum), 3 (saggriac 0.5,
-/// the parameters as one enum of teachers with their boxes and seeds) and 4 (saggriac 0.6 before
-/// #46: no parameters per dimension, SPDL's and Goal GAN's parameters as they were).
+/// the parameters as one enum of teachers with their boxes and seeds), 4 (saggriac 0.6, PLR's
+/// parameters without `ties`) and 5 (no parameters per dimension, SPDL's and Goal GAN's
+/// parameters as they were before #46).
 mod legacy;
 
 pub struct AskTell {
@@ -128,6 +131,7 @@ impl AskTell {
             2 => decode::<legacy::SavedV2>(bytes).map(legacy::upgrade),
             3 => decode::<legacy::SavedV3>(bytes).map(legacy::upgrade),
             4 => decode::<legacy::SavedV4>(bytes).map(legacy::upgrade),
+            5 => decode::<legacy::SavedV5>(bytes).map(legacy::upgrade),
             _ => decode::<Saved>(bytes),
         };
         let s = match decoded {
@@ -277,23 +281,31 @@ mod tests {
     }
 
     /// Teachers saved in format 4 (saggriac 0.6.0 before #46, 164832d, by
-    /// tests/data/teachers_v4.py) continue exactly: ADR and Goal GAN with their parameters of
-    /// then, SPDL over its 20 goals before its next update (its update rule changed, its draws
-    /// did not), the task-list teachers as ever.
+    /// tests/data/teachers_v4.py) or 5 (saggriac after 0.6.0 with PLR's ties, 02d4afe, by
+    /// tests/data/teachers_v5.py) continue exactly: ADR and Goal GAN with their parameters of
+    /// then, SPDL of format 4 over its 20 goals before its next update (its update rule changed
+    /// in 10bb97b, its draws did not) and of format 5 through an update, the task-list teachers
+    /// as ever (format 4's PLR: `a_plr_teacher_saved_by_saggriac_0_6_restores_with_its_ties`).
     #[test]
     fn teachers_saved_before_per_dimension_parameters_continue_exactly() {
-        let files: [(&str, &[u8], &str); 5] = [
+        let files: [(&str, &[u8], &str); 9] = [
             ("adr", include_bytes!("../../tests/data/teacher_v4_adr.bin"), include_str!("../../tests/data/teacher_v4_adr.next")),
             ("spdl", include_bytes!("../../tests/data/teacher_v4_spdl.bin"), include_str!("../../tests/data/teacher_v4_spdl.next")),
             ("goal_gan", include_bytes!("../../tests/data/teacher_v4_goal_gan.bin"), include_str!("../../tests/data/teacher_v4_goal_gan.next")),
             ("tscl", include_bytes!("../../tests/data/teacher_v4_tscl.bin"), include_str!("../../tests/data/teacher_v4_tscl.next")),
-            ("plr", include_bytes!("../../tests/data/teacher_v4_plr.bin"), include_str!("../../tests/data/teacher_v4_plr.next")),
+            ("adr", include_bytes!("../../tests/data/teacher_v5_adr.bin"), include_str!("../../tests/data/teacher_v5_adr.next")),
+            ("spdl", include_bytes!("../../tests/data/teacher_v5_spdl.bin"), include_str!("../../tests/data/teacher_v5_spdl.next")),
+            ("goal_gan", include_bytes!("../../tests/data/teacher_v5_goal_gan.bin"), include_str!("../../tests/data/teacher_v5_goal_gan.next")),
+            ("tscl", include_bytes!("../../tests/data/teacher_v5_tscl.bin"), include_str!("../../tests/data/teacher_v5_tscl.next")),
+            ("plr", include_bytes!("../../tests/data/teacher_v5_plr.bin"), include_str!("../../tests/data/teacher_v5_plr.next")),
         ];
         let told = |kind: &str, g: &[f64]| match kind {
             "tscl" | "plr" => (g[0] + 1.0) / 6.0,
             _ => f64::from(u8::from(g[0] + 0.5 * (g[1] + 1.0) + 0.25 * g[2] < 0.9)),
         };
         for (kind, bytes, next) in files {
+            let format = postcard::take_from_bytes::<u32>(bytes).unwrap().0;
+            assert!(format == 4 || format == 5, "{kind}: {format}");
             let mut a = AskTell::restore(bytes).unwrap();
             assert_eq!(a.spec().kind(), kind);
             assert!(a.spec().dims.is_empty());
@@ -347,6 +359,30 @@ mod tests {
                 again.update(&h, told(kind, &h)).unwrap();
             }
         }
+    }
+
+    /// A PLR teacher saved by saggriac 0.6 (format 4, at 164832d: `PlrSelector(5, seed=1)`, 10
+    /// levels drawn and told 0.3) restores with the ties rule it ran (`Average`), its history and
+    /// state, and goes on drawing levels; saved again, it is a format-5 teacher.
+    #[test]
+    fn a_plr_teacher_saved_by_saggriac_0_6_restores_with_its_ties() {
+        use crate::config::teachers::{PlrConfig, PlrScore, PlrTies, ReplaySchedule};
+        let mut a = AskTell::restore(include_bytes!("../../tests/data/teacher_v4_plr.bin")).unwrap();
+        let want = PlrConfig { n_tasks: 5, temperature: 0.1, staleness_coef: 0.1, replay_schedule: ReplaySchedule::Proportionate, replay_prob: 0.5, score: PlrScore::Progress, ties: PlrTies::Average };
+        assert_eq!(a.spec().teacher, Teacher::Plr(want));
+        assert_eq!((a.asked.len(), a.told_competence.len()), (10, 10));
+        assert!(a.told_competence.iter().all(|&c| c == 0.3));
+        // Every level has a chance at the next draw (a replay or, if unseen, a new level).
+        let p = a.selector().task_probabilities().unwrap();
+        assert!((p.iter().sum::<f64>() - 1.0).abs() < 1e-12 && p.iter().all(|&x| x > 0.0), "{p:?}");
+        for _ in 0..20 {
+            let g = a.sample().goal;
+            assert!(g[0].fract() == 0.0 && (0.0..5.0).contains(&g[0]));
+            a.update(&g, 0.3).unwrap();
+        }
+        let bytes = a.save().unwrap();
+        assert_eq!(postcard::take_from_bytes::<u32>(&bytes).unwrap().0, FORMAT);
+        assert_eq!(AskTell::restore(&bytes).unwrap().spec(), a.spec());
     }
 
     #[test]

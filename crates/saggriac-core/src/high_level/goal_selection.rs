@@ -6,7 +6,7 @@ use crate::config::high_level::check_bounds;
 pub use crate::config::high_level::ModeProbabilities;
 use crate::error::Result;
 use crate::high_level::region_tree::{RegionTree, RegionTreeConfig};
-use crate::rng::{index, rng_from_seed, uniform, unit, CoreRng};
+use crate::rng::{index, pick_weighted, rng_from_seed, uniform, unit, CoreRng};
 
 /// How a goal was chosen.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -73,6 +73,11 @@ pub trait GoalSelector: Send + Sync {
     /// measurements held.
     fn leaf_table(&self) -> Vec<LeafRow> {
         Vec::new()
+    }
+    /// A task-list teacher's probability of each task at its next draw, where it says (PLR);
+    /// None otherwise.
+    fn task_probabilities(&self) -> Option<Vec<f64>> {
+        None
     }
     /// The selector's state for a checkpoint or a saved teacher, in the selector's own encoding
     /// of its own state type (None: this selector cannot be saved). `save_state` encodes one.
@@ -228,15 +233,7 @@ impl GoalSelector for SaggRiac {
                 let c = index(&mut self.rng, candidates.len());
                 return pick(c, Mode::Interest, Some(leaves[c]));
             }
-            let mut r = unit(&mut self.rng) * total;
-            let mut chosen = w.iter().rposition(|&x| x > 0.0).unwrap_or(0);
-            for (c, &x) in w.iter().enumerate() {
-                if r < x {
-                    chosen = c;
-                    break;
-                }
-                r -= x;
-            }
+            let chosen = pick_weighted(&w, unit(&mut self.rng) * total);
             pick(chosen, Mode::Interest, Some(leaves[chosen]))
         } else if u < self.modes.p_interest + self.modes.p_global {
             let c = index(&mut self.rng, candidates.len());

@@ -1,7 +1,10 @@
 # Teachers saved by the saggriac 0.6.0 core (format 4, 164832d) after 300 goals, and the 20
 # goals each asks next. SPDL updates every 100 goals after 200, so its 20 next goals are drawn
-# before its next update (its update rule changed in format 5; its draws did not).
+# before its next update (its update rule changed in 10bb97b; its draws did not).
 # python teachers_v4.py PATH_OF_THE_164832d_CORE.so OUT_DIR
+# (teacher_v4_plr.bin is not this script's: it is 461215a's, a PlrSelector(5, seed=1) saved by
+# the 164832d build after 10 levels drawn and told 0.3; a format-4 PLR does not continue to the
+# bit, since its staleness rule changed in 961e3d0.)
 import importlib.util, struct, sys
 spec = importlib.util.spec_from_file_location("_core", sys.argv[1])
 core = importlib.util.module_from_spec(spec); spec.loader.exec_module(core)
@@ -12,7 +15,6 @@ makers = {
     "spdl": {"init_mean": 0.2, "init_std": 0.1},
     "goal_gan": {"update_size": 20, "gan_iterations": 10, "hidden": 8},
     "tscl": {"n_tasks": 5},
-    "plr": {"n_tasks": 5},
 }
 # Success where the scaled goal is near the low corner (a frontier for ADR, SPDL and Goal GAN);
 # a task index's own share for the task-list teachers.

@@ -3,7 +3,8 @@
 use serde::{Deserialize, Serialize};
 
 use crate::config::teachers::{Registered, Shape, TeacherParams};
-use crate::error::{invalid, Check, Num, Result, MAX_COUNT};
+use crate::config::rules::{check_fields, open_closed, COUNT, PROBABILITY, Rule};
+use crate::error::{invalid, Num, Result};
 
 /// Parameters of Automatic Domain Randomization (Akkaya et al., 2019, Algorithm 1).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -35,25 +36,27 @@ impl Default for AdrConfig {
 }
 
 impl TeacherParams for AdrConfig {
-    fn validate(&self) -> Result<()> {
-        let c = Check { owner: Self::CLASS };
-        c.probability("boundary_prob", self.boundary_prob)?;
-        c.within("buffer_size", self.buffer_size, 1, MAX_COUNT)?;
-        for (name, v) in [("t_low", self.t_low), ("t_high", self.t_high)] {
-            if !(v.is_finite() && v.abs() <= 1e100) {
-                return Err(invalid(Self::CLASS, name, "a finite float with |value| <= 1e100", Num(v)));
-            }
-        }
-        if self.t_low >= self.t_high {
-            return Err(invalid(Self::CLASS, "t_low", format!("a float < t_high (t_high = {})", Num(self.t_high)), Num(self.t_low)));
-        }
-        c.in_open_closed("step", self.step, 0.0, 1.0)?;
-        c.probability("initial", self.initial)?;
-        c.probability("initial_width", self.initial_width)?;
-        Ok(())
-    }
+    const RULES: &'static [(&'static str, Rule)] = &[
+        ("boundary_prob", PROBABILITY),
+        ("buffer_size", COUNT),
+        ("t_low", Rule::Finite),
+        ("t_high", Rule::Finite),
+        ("step", open_closed(0.0, 1.0)),
+        ("initial", PROBABILITY),
+        ("initial_width", PROBABILITY),
+    ];
 
     const PER_DIMENSION: &'static [(&'static str, Shape)] = &[("initial", Shape::Vector), ("initial_width", Shape::Vector), ("step", Shape::Vector)];
+
+    fn validate(&self) -> Result<()> {
+        let (o, r) = (Self::CLASS, Self::RULES);
+        check_fields!(o, r, self, float boundary_prob, int buffer_size, float t_low, float t_high);
+        if self.t_low >= self.t_high {
+            return Err(invalid(o, "t_low", format!("a float < t_high (t_high = {})", Num(self.t_high)), Num(self.t_low)));
+        }
+        check_fields!(o, r, self, float step, float initial, float initial_width);
+        Ok(())
+    }
 
     fn scaled_to_competences(self, lo: f64, hi: f64) -> Self {
         let at = |share: f64| lo + share * (hi - lo);

@@ -2,9 +2,9 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::config::rules::check_int;
+use crate::config::rules::{check_fields, PROBABILITY, Rule};
 use crate::config::teachers::{Registered, TeacherParams};
-use crate::error::{invalid, Check, Result};
+use crate::error::{invalid, Result, MAX_COUNT};
 
 /// The parameters both mixture teachers share (ALP-GMM's names and defaults).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -26,6 +26,14 @@ impl Default for AlpGmmConfig {
 }
 
 impl TeacherParams for AlpGmmConfig {
+    const RULES: &'static [(&'static str, Rule)] = &[
+        ("fit_rate", Rule::Int(2, MAX_COUNT)),
+        // EM tries every number of components up to this one at each refit.
+        ("max_components", Rule::Int(2, 100)),
+        ("random_task_ratio", PROBABILITY),
+        ("bootstrap", Rule::Int(0, MAX_COUNT)),
+    ];
+
     fn validate(&self) -> Result<()> {
         self.check(Self::CLASS)
     }
@@ -34,11 +42,8 @@ impl TeacherParams for AlpGmmConfig {
 impl AlpGmmConfig {
     /// The rules, with `owner`'s name in the messages (Covar-GMM shares them).
     pub fn check(&self, owner: &'static str) -> Result<()> {
-        let c = Check { owner };
-        check_int(&c, "fit_rate", self.fit_rate)?;
-        check_int(&c, "max_components", self.max_components)?;
-        check_int(&c, "bootstrap", self.bootstrap)?;
-        c.probability("random_task_ratio", self.random_task_ratio)?;
+        let r = <Self as TeacherParams>::RULES;
+        check_fields!(owner, r, self, int fit_rate, int max_components, int bootstrap, float random_task_ratio);
         if self.max_components > self.fit_rate {
             return Err(invalid(owner, "max_components", format!("an int <= fit_rate (fit_rate = {})", self.fit_rate), self.max_components));
         }

@@ -3,9 +3,18 @@
 use serde::{Deserialize, Serialize};
 
 use crate::config::teachers::{AlpGmmConfig, Registered, TeacherParams};
-use crate::error::Result;
+use crate::config::rules::{Rule, PROBABILITY};
+use crate::error::{Result, MAX_COUNT};
 
 impl TeacherParams for CovarGmmConfig {
+    const RULES: &'static [(&'static str, Rule)] = &[
+        ("fit_rate", Rule::Int(2, MAX_COUNT)),
+        ("max_components", Rule::Int(2, 100)),
+        ("random_task_ratio", PROBABILITY),
+        ("bootstrap", Rule::Int(0, MAX_COUNT)),
+        ("absolute_lp", Rule::Bool),
+    ];
+
     fn validate(&self) -> Result<()> {
         self.mixture.check(Self::CLASS)
     }

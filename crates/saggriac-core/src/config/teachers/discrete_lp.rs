@@ -3,7 +3,8 @@
 use serde::{Deserialize, Serialize};
 
 use crate::config::teachers::{Registered, TeacherParams};
-use crate::error::{invalid, Check, Num, Result, MAX_COUNT};
+use crate::config::rules::{check_fields, open_closed, COUNT, Rule};
+use crate::error::Result;
 
 /// Parameters of the discrete learning-progress teacher.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -26,13 +27,16 @@ impl Default for DiscreteLpConfig {
 impl TeacherParams for DiscreteLpConfig {
     const HAS_BOX: bool = false;
 
+    const RULES: &'static [(&'static str, Rule)] = &[
+        ("n_tasks", COUNT),
+        ("alpha", open_closed(0.0, 1.0)),
+        // 0.5 makes r the identity; 0 and 1 make it constant.
+        ("theta", Rule::Float { lo: 0.0, lo_in: false, hi: 1.0, hi_in: false, note: "" }),
+    ];
+
     fn validate(&self) -> Result<()> {
-        let c = Check { owner: Self::CLASS };
-        c.within("n_tasks", self.n_tasks, 1, MAX_COUNT)?;
-        c.in_open_closed("alpha", self.alpha, 0.0, 1.0)?;
-        if !(self.theta.is_finite() && self.theta > 0.0 && self.theta < 1.0) {
-            return Err(invalid(Self::CLASS, "theta", "a float in (0, 1)", Num(self.theta)));
-        }
+        let (o, r) = (Self::CLASS, Self::RULES);
+        check_fields!(o, r, self, int n_tasks, float alpha, float theta);
         Ok(())
     }
 }

@@ -3,7 +3,8 @@
 use serde::{Deserialize, Serialize};
 
 use crate::config::teachers::{Registered, Shape, TeacherParams};
-use crate::error::{invalid, Check, Num, Result};
+use crate::config::rules::{check_fields, open_closed, PROBABILITY, Rule};
+use crate::error::{invalid, Num, Result};
 
 /// Goal GAN's parameters (Florensa et al., ICML 2018).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -42,35 +43,39 @@ impl Default for GoalGanConfig {
 }
 
 impl TeacherParams for GoalGanConfig {
+    const RULES: &'static [(&'static str, Rule)] = &[
+        ("success_threshold", Rule::Finite),
+        ("r_min", PROBABILITY),
+        ("r_max", PROBABILITY),
+        ("n_rollouts", Rule::Int(1, 255)),
+        ("update_size", Rule::Int(1, 100_000)),
+        ("gan_iterations", Rule::Int(0, 100_000)),
+        ("p_old", PROBABILITY),
+        ("noise_dim", Rule::Int(1, 1024)),
+        ("hidden", Rule::Int(1, 1024)),
+        ("learning_rate", open_closed(0.0, 1.0)),
+        ("initial", PROBABILITY),
+        ("initial_width", PROBABILITY),
+    ];
+
+    const PER_DIMENSION: &'static [(&'static str, Shape)] = &[("initial", Shape::Vector), ("initial_width", Shape::Vector)];
+
     fn validate(&self) -> Result<()> {
-        let c = Check { owner: Self::CLASS };
-        if !(self.success_threshold.is_finite() && self.success_threshold.abs() <= 1e100) {
-            return Err(invalid(Self::CLASS, "success_threshold", "a finite float of absolute value <= 1e100", Num(self.success_threshold)));
-        }
-        c.probability("r_min", self.r_min)?;
-        c.probability("r_max", self.r_max)?;
+        let (o, r) = (Self::CLASS, Self::RULES);
+        check_fields!(o, r, self, float success_threshold, float r_min, float r_max);
         if self.r_min > self.r_max {
-            return Err(invalid(Self::CLASS, "r_max", format!("a float >= r_min (r_min = {})", Num(self.r_min)), Num(self.r_max)));
+            return Err(invalid(o, "r_max", format!("a float >= r_min (r_min = {})", Num(self.r_min)), Num(self.r_max)));
         }
-        c.within("n_rollouts", self.n_rollouts, 1, 255)?;
+        check_fields!(o, r, self, int n_rollouts);
         // A goal's success rate is k / n_rollouts: none in [r_min, r_max] and no goal is ever
         // good, so the GAN would never train.
         let n = self.n_rollouts as f64;
         if !(0..=self.n_rollouts).any(|k| (self.r_min..=self.r_max).contains(&(k as f64 / n))) {
-            return Err(invalid(Self::CLASS, "r_max", format!("a float such that [r_min, r_max] holds a success rate k / n_rollouts (r_min = {}, n_rollouts = {})", Num(self.r_min), self.n_rollouts), Num(self.r_max)));
+            return Err(invalid(o, "r_max", format!("a float such that [r_min, r_max] holds a success rate k / n_rollouts (r_min = {}, n_rollouts = {})", Num(self.r_min), self.n_rollouts), Num(self.r_max)));
         }
-        c.within("update_size", self.update_size, 1, 100_000)?;
-        c.within("gan_iterations", self.gan_iterations, 0, 100_000)?;
-        c.probability("p_old", self.p_old)?;
-        c.within("noise_dim", self.noise_dim, 1, 1024)?;
-        c.within("hidden", self.hidden, 1, 1024)?;
-        c.in_open_closed("learning_rate", self.learning_rate, 0.0, 1.0)?;
-        c.probability("initial", self.initial)?;
-        c.probability("initial_width", self.initial_width)?;
+        check_fields!(o, r, self, int update_size, int gan_iterations, float p_old, int noise_dim, int hidden, float learning_rate, float initial, float initial_width);
         Ok(())
     }
-
-    const PER_DIMENSION: &'static [(&'static str, Shape)] = &[("initial", Shape::Vector), ("initial_width", Shape::Vector)];
 
     fn scaled_to_competences(self, lo: f64, hi: f64) -> Self {
         GoalGanConfig { success_threshold: lo + self.success_threshold * (hi - lo), ..self }

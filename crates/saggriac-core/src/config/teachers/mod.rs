@@ -11,7 +11,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{invalid, Result};
 
-pub use crate::config::rules::param_rule;
+pub use crate::config::rules::Rule;
 
 mod per_dimension;
 pub use per_dimension::{PerDimension, Shape};
@@ -53,12 +53,18 @@ pub trait TeacherParams: Registered + Copy + Default + Serialize + DeserializeOw
     /// Goals are points of a box (true) or indices into a task list (false).
     const HAS_BOX: bool = true;
 
-    /// The parameters' rules (the box is checked by the teacher).
-    fn validate(&self) -> Result<()>;
+    /// Every parameter by its name (as `Config`'s `teacher_params` and the Python class name
+    /// it) with its rule: `validate` checks each value against it, and a value of the wrong type
+    /// is told its text.
+    const RULES: &'static [(&'static str, Rule)];
 
     /// The parameters also taken per dimension (`PerDimension`), by their serde names: a
-    /// `Shape::Vector` in place of the single number, a `Shape::Matrix` beside the numbers.
+    /// `Shape::Vector` in place of the single number (each value meets the number's rule in
+    /// `RULES`), a `Shape::Matrix` beside the numbers (its rules are its teacher's).
     const PER_DIMENSION: &'static [(&'static str, Shape)] = &[];
+
+    /// The parameters' rules (the box is checked by the teacher).
+    fn validate(&self) -> Result<()>;
 
     /// The paper's defaults of the parameters compared with a told competence (written for a
     /// success rate in [0, 1]) moved to competences in [lo, hi] by the linear map 0 -> lo,
@@ -125,6 +131,18 @@ macro_rules! declare_teachers {
                 }
             }
 
+            /// Every parameter of the teacher with its rule.
+            pub fn rules(&self) -> &'static [(&'static str, Rule)] {
+                match self {
+                    $(Teacher::$variant(_) => <$params as TeacherParams>::RULES,)*
+                }
+            }
+
+            /// The rule of the parameter `name`, None for a name the teacher has not.
+            pub fn rule(&self, name: &str) -> Option<Rule> {
+                crate::config::rules::rule_of(self.rules(), name)
+            }
+
             /// `TeacherParams::PER_DIMENSION` of the variant.
             pub fn per_dimension(&self) -> &'static [(&'static str, Shape)] {
                 match self {
@@ -189,6 +207,35 @@ pub fn flat_params<T: Serialize>(params: &T) -> Vec<(String, String)> {
 #[cfg(test)]
 mod tests {
     use super::Teacher;
+
+    /// Every parameter has its rule, and only its parameters have one.
+    #[test]
+    fn every_parameter_has_a_rule() {
+        for t in Teacher::all() {
+            let names: Vec<String> = super::flat_params(&t).into_iter().map(|(k, _)| k).collect();
+            let ruled: Vec<String> = t.rules().iter().map(|r| r.0.to_string()).collect();
+            assert_eq!(ruled.len(), names.len(), "{}", t.kind());
+            for n in &names {
+                assert!(ruled.contains(n), "{}: {n}", t.kind());
+            }
+        }
+    }
+
+    /// A parameter taken as a list, one value per dimension, is a float of the struct whose
+    /// rule each value meets; a matrix is no field of it (it has no single number).
+    #[test]
+    fn values_per_dimension_have_the_single_numbers_rule() {
+        use super::{Rule, Shape};
+        for t in Teacher::all() {
+            let names: Vec<String> = super::flat_params(&t).into_iter().map(|(k, _)| k).collect();
+            for (name, shape) in t.per_dimension() {
+                match shape {
+                    Shape::Vector => assert!(matches!(t.rule(name), Some(Rule::Float { .. } | Rule::Finite)), "{}: {name}", t.kind()),
+                    Shape::Matrix => assert!(t.rule(name).is_none() && !names.iter().any(|n| n == name), "{}: {name}", t.kind()),
+                }
+            }
+        }
+    }
 
     /// The name `kind()` gives (the file's) is the one serde writes in saved teachers.
     #[test]

@@ -6,8 +6,9 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::config::rules::{rule_of, Rule};
 use crate::config::teachers::TeacherParams;
-use crate::error::{invalid, Error, Num, Result};
+use crate::error::{invalid, Num, Result};
 
 /// How a parameter is taken per dimension.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -33,6 +34,12 @@ impl PerDimension {
         format!("[{}]", values.chunks(cols).map(row).collect::<Vec<_>>().join(", "))
     }
 
+    /// The rule of a matrix over `d` dimensions, as a message states it (its teacher's own
+    /// rules, such as a covariance's, come after).
+    pub fn matrix_rule(d: usize) -> String {
+        format!("a {d} x {d} matrix of finite floats: {d} rows of {d} (one row and one column per dimension of the box)")
+    }
+
     pub fn is_empty(&self) -> bool {
         self.0.is_empty()
     }
@@ -48,9 +55,10 @@ impl PerDimension {
     }
 
     /// Each value's name is one the teacher takes per dimension, given once, of its shape over
-    /// `d` dimensions, finite, and each value of a vector meets the parameter's own rule (the
-    /// one its single number meets). A matrix's own rules are its teacher's.
-    pub fn check<P: TeacherParams>(&self, params: &P, d: usize) -> Result<()> {
+    /// `d` dimensions; each value of a vector meets the single number's rule (`RULES`, one
+    /// message per bad value: the parameter, the values, the one that breaks the rule and the
+    /// rule); a matrix's values are finite (its own rules are its teacher's).
+    pub fn check<P: TeacherParams>(&self, d: usize) -> Result<()> {
         let taken: Vec<&str> = P::PER_DIMENSION.iter().map(|(n, _)| *n).collect();
         for (k, (name, values)) in self.0.iter().enumerate() {
             let Some(&(_, shape)) = P::PER_DIMENSION.iter().find(|(n, _)| n == name) else {
@@ -61,30 +69,16 @@ impl PerDimension {
             if self.0[..k].iter().any(|(n, _)| n == name) {
                 return Err(invalid(P::CLASS, name, "given once", Self::show(values, d.max(1))));
             }
-            let (want, what, finite) = match shape {
-                Shape::Vector => (d, format!("a float, or a list of {d} floats (one per dimension of the box)"), format!("a float, or a list of {d} finite floats (one per dimension of the box)")),
-                Shape::Matrix => (
-                    d * d,
-                    format!("a {d} x {d} matrix (one row and one column per dimension of the box)"),
-                    format!("a {d} x {d} matrix of finite floats (one row and one column per dimension of the box)"),
-                ),
-            };
-            if values.len() != want {
-                let cols = if shape == Shape::Matrix { (values.len() as f64).sqrt().round().max(1.0) as usize } else { values.len() };
-                return Err(invalid(P::CLASS, name, what, format!("{} ({} values)", Self::show(values, cols), values.len())));
-            }
-            if let Some(i) = values.iter().position(|v| !v.is_finite()) {
-                return Err(invalid(P::CLASS, name, finite, format!("{} ({} at {})", Self::show(values, d), Num(values[i]), place(shape, i, d))));
-            }
-            if shape == Shape::Vector {
-                for (i, v) in values.iter().enumerate() {
-                    let Some(one) = with_value(params, name, *v) else { continue };
-                    match one.validate() {
-                        Err(Error::InvalidParameter { param, rule, .. }) if param == *name => {
-                            return Err(invalid(P::CLASS, name, format!("{rule}, or a list of such floats, one per dimension"), format!("{} ({} in dimension {i})", Self::show(values, d), Num(*v))));
-                        }
-                        Err(other) => return Err(other),
-                        Ok(()) => {}
+            match shape {
+                Shape::Vector => check_vector(P::CLASS, name, rule_of(P::RULES, name).unwrap_or(Rule::Finite), values, d)?,
+                Shape::Matrix => {
+                    if values.len() != d * d {
+                        let cols = (values.len() as f64).sqrt().round().max(1.0) as usize;
+                        return Err(invalid(P::CLASS, name, Self::matrix_rule(d), format!("{} ({} values)", Self::show(values, cols), values.len())));
+                    }
+                    if let Some(i) = values.iter().position(|v| !v.is_finite()) {
+                        let at = format!("{} ({} at row {}, column {})", Self::show(values, d), Num(values[i]), i / d.max(1), i % d.max(1));
+                        return Err(invalid(P::CLASS, name, Self::matrix_rule(d), at));
                     }
                 }
             }
@@ -93,21 +87,24 @@ impl PerDimension {
     }
 }
 
-/// `params` with its float `name` set to `v` (serde's names), None if it has no such float.
-fn with_value<P: TeacherParams>(params: &P, name: &str, v: f64) -> Option<P> {
-    let mut json = serde_json::to_value(params).ok()?;
-    let field = json.get_mut(name)?;
-    if !field.is_f64() {
-        return None;
+/// The values of the vector `name` against its length `d` and, each, the single number's
+/// `rule`: refused with the rule as a list states it (`Rule::per_dimension_text`).
+fn check_vector(owner: &'static str, name: &str, rule: Rule, values: &[f64], d: usize) -> Result<()> {
+    let shown = PerDimension::show(values, values.len());
+    if values.len() != d {
+        let n = values.len();
+        return Err(invalid(owner, name, rule.per_dimension_text(), format!("{shown} ({n} value{} for a box of {d} dimension{})", plural(n), plural(d))));
     }
-    *field = serde_json::Value::from(v);
-    serde_json::from_value(json).ok()
+    match values.iter().enumerate().find(|(_, v)| !rule.holds_float(**v)) {
+        Some((i, v)) => Err(invalid(owner, name, rule.per_dimension_text(), format!("{shown} ({} in dimension {i})", Num(*v)))),
+        None => Ok(()),
+    }
 }
 
-/// "dimension i" of a vector, "row r, column c" of a matrix.
-fn place(shape: Shape, i: usize, d: usize) -> String {
-    match shape {
-        Shape::Vector => format!("dimension {i}"),
-        Shape::Matrix => format!("row {}, column {}", i / d.max(1), i % d.max(1)),
+fn plural(n: usize) -> &'static str {
+    if n == 1 {
+        ""
+    } else {
+        "s"
     }
 }

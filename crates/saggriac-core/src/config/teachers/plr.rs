@@ -3,7 +3,8 @@
 use serde::{Deserialize, Serialize};
 
 use crate::config::teachers::{Registered, TeacherParams};
-use crate::error::{invalid, Check, Num, Result, MAX_COUNT};
+use crate::config::rules::{check_fields, COUNT, PROBABILITY, Rule};
+use crate::error::Result;
 
 /// How PLR decides between a new level and a replay (P_D).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -25,6 +26,19 @@ pub enum PlrScore {
     Told,
 }
 
+/// How PLR's rank prioritisation ranks levels of equal score.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum PlrTies {
+    /// As the authors' code and Syllabus rank (a reversed argsort of every level's score, unseen
+    /// levels at 0): tied levels take distinct ranks, the later level in the list first, so one
+    /// level of a tied group takes nearly all its mass.
+    Order,
+    /// Tied levels share the mean of their ranks, taken among the seen levels only (saggriac's
+    /// rule before issue 46).
+    Average,
+}
+
 /// Parameters of Prioritized Level Replay (Jiang, Grefenstette & Rocktäschel, ICML 2021).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct PlrConfig {
@@ -37,28 +51,35 @@ pub struct PlrConfig {
     /// The replay probability of the `fixed` schedule (0.5, Syllabus's and Robust PLR's).
     pub replay_prob: f64,
     pub score: PlrScore,
+    /// How levels of equal score are ranked (`Order`, the authors').
+    pub ties: PlrTies,
 }
 
 impl Default for PlrConfig {
     /// The paper's beta, rho and schedule; `n_tasks` has no default worth the name (the Python
     /// class requires it), 1 is the least valid.
     fn default() -> Self {
-        PlrConfig { n_tasks: 1, temperature: 0.1, staleness_coef: 0.1, replay_schedule: ReplaySchedule::Proportionate, replay_prob: 0.5, score: PlrScore::Progress }
+        PlrConfig { n_tasks: 1, temperature: 0.1, staleness_coef: 0.1, replay_schedule: ReplaySchedule::Proportionate, replay_prob: 0.5, score: PlrScore::Progress, ties: PlrTies::Order }
     }
 }
 
 impl TeacherParams for PlrConfig {
     const HAS_BOX: bool = false;
 
-    fn validate(&self) -> Result<()> {
-        let c = Check { owner: Self::CLASS };
-        c.within("n_tasks", self.n_tasks, 1, MAX_COUNT)?;
+    const RULES: &'static [(&'static str, Rule)] = &[
+        ("n_tasks", COUNT),
         // rank^(-1/beta) must not underflow to 0 for every rank > 1 too soon: beta >= 0.01.
-        if !(self.temperature.is_finite() && self.temperature >= 0.01) {
-            return Err(invalid(Self::CLASS, "temperature", "a finite float >= 0.01", Num(self.temperature)));
-        }
-        c.probability("staleness_coef", self.staleness_coef)?;
-        c.probability("replay_prob", self.replay_prob)?;
+        ("temperature", Rule::Float { lo: 0.01, lo_in: true, hi: f64::INFINITY, hi_in: false, note: "" }),
+        ("staleness_coef", PROBABILITY),
+        ("replay_schedule", Rule::Choice),
+        ("replay_prob", PROBABILITY),
+        ("score", Rule::Choice),
+        ("ties", Rule::Choice),
+    ];
+
+    fn validate(&self) -> Result<()> {
+        let (o, r) = (Self::CLASS, Self::RULES);
+        check_fields!(o, r, self, int n_tasks, float temperature, float staleness_coef, float replay_prob);
         Ok(())
     }
 }

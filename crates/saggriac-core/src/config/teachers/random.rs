@@ -3,6 +3,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::config::teachers::TeacherParams;
+use crate::config::rules::Rule;
 use crate::error::Result;
 
 /// Goals uniform in the box: no parameter.
@@ -10,6 +11,8 @@ use crate::error::Result;
 pub struct RandomConfig {}
 
 impl TeacherParams for RandomConfig {
+    const RULES: &'static [(&'static str, Rule)] = &[];
+
     fn validate(&self) -> Result<()> {
         Ok(())
     }

@@ -2,9 +2,9 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::config::rules::{check_int, float_rule};
+use crate::config::rules::{check_fields, open_closed, PROBABILITY, Rule};
 use crate::config::teachers::{Registered, TeacherParams};
-use crate::error::{invalid, Check, Num, Result};
+use crate::error::{invalid, Num, Result, MAX_COUNT};
 
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct RiacConfig {
@@ -29,20 +29,21 @@ impl Default for RiacConfig {
 }
 
 impl TeacherParams for RiacConfig {
+    const RULES: &'static [(&'static str, Rule)] = &[
+        ("max_region_size", Rule::Int(2, MAX_COUNT)),
+        // Each attempt scans the leaf: 10^4 attempts of 10^6 measurements is already long.
+        ("split_attempts", Rule::Int(1, 10_000)),
+        ("min_child_share", open_closed(0.0, 0.5)),
+        ("min_dims_range_ratio", open_closed(0.0, 0.5)),
+        ("p_alp", PROBABILITY),
+        ("p_random", PROBABILITY),
+    ];
+
     fn validate(&self) -> Result<()> {
-        let c = Check { owner: Self::CLASS };
-        check_int(&c, "max_region_size", self.max_region_size)?;
-        check_int(&c, "split_attempts", self.split_attempts)?;
-        if !(self.min_child_share.is_finite() && self.min_child_share > 0.0 && self.min_child_share <= 0.5) {
-            return Err(invalid(Self::CLASS, "min_child_share", float_rule("min_child_share"), Num(self.min_child_share)));
-        }
-        if !(self.min_dims_range_ratio.is_finite() && self.min_dims_range_ratio > 0.0 && self.min_dims_range_ratio <= 0.5) {
-            return Err(invalid(Self::CLASS, "min_dims_range_ratio", float_rule("min_dims_range_ratio"), Num(self.min_dims_range_ratio)));
-        }
-        c.probability("p_alp", self.p_alp)?;
-        c.probability("p_random", self.p_random)?;
+        let (o, r) = (Self::CLASS, Self::RULES);
+        check_fields!(o, r, self, int max_region_size, int split_attempts, float min_child_share, float min_dims_range_ratio, float p_alp, float p_random);
         if self.p_alp + self.p_random > 1.0 + 1e-12 {
-            return Err(invalid(Self::CLASS, "p_alp", format!("a float with p_alp + p_random <= 1 (p_random = {})", Num(self.p_random)), Num(self.p_alp)));
+            return Err(invalid(o, "p_alp", format!("a float with p_alp + p_random <= 1 (p_random = {})", Num(self.p_random)), Num(self.p_alp)));
         }
         Ok(())
     }

@@ -3,7 +3,8 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::config::high_level::{ModeProbabilities, RegionTreeConfig};
+use crate::config::high_level::{ModeProbabilities, RegionTreeConfig, SAGG_RIAC_RULES};
+use crate::config::rules::Rule;
 use crate::config::teachers::TeacherParams;
 use crate::error::Result;
 
@@ -16,6 +17,8 @@ pub struct SaggRiacConfig {
 }
 
 impl TeacherParams for SaggRiacConfig {
+    const RULES: &'static [(&'static str, Rule)] = SAGG_RIAC_RULES;
+
     fn validate(&self) -> Result<()> {
         self.tree.validate().and_then(|_| self.modes.validate())
     }

@@ -3,7 +3,8 @@
 use serde::{Deserialize, Serialize};
 
 use crate::config::teachers::{Registered, Shape, TeacherParams};
-use crate::error::{invalid, Check, Num, Result, MAX_COUNT};
+use crate::config::rules::{check_fields, COUNT, POSITIVE, Rule};
+use crate::error::{invalid, Num, Result, MAX_COUNT};
 
 /// Which of the papers' updates SPDL runs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -81,29 +82,24 @@ impl Default for SpdlConfig {
     }
 }
 
+const MEAN: Rule = Rule::Float { lo: 0.0, lo_in: true, hi: 1.0, hi_in: true, note: "a position in the box scaled to [0, 1]" };
+const STD: Rule = Rule::Float { lo: 1e-4, lo_in: true, hi: 10.0, hi_in: true, note: "box widths" };
+
 impl TeacherParams for SpdlConfig {
-    fn validate(&self) -> Result<()> {
-        let c = Check { owner: Self::CLASS };
-        for (name, v) in [("init_mean", self.init_mean), ("target_mean", self.target_mean)] {
-            if !(v.is_finite() && (0.0..=1.0).contains(&v)) {
-                return Err(invalid(Self::CLASS, name, "a float in [0, 1] (a position in the box scaled to [0, 1])", Num(v)));
-            }
-        }
-        for (name, v) in [("init_std", self.init_std), ("target_std", self.target_std)] {
-            if !(v.is_finite() && (1e-4..=10.0).contains(&v)) {
-                return Err(invalid(Self::CLASS, name, "a float in [1e-4, 10] (box widths)", Num(v)));
-            }
-        }
-        c.positive("epsilon", self.epsilon)?;
-        if !(self.delta.is_finite() && self.delta.abs() <= 1e100) {
-            return Err(invalid(Self::CLASS, "delta", "a finite float of absolute value <= 1e100", Num(self.delta)));
-        }
-        c.within("update_every", self.update_every, 1, MAX_COUNT)?;
-        c.within("warmup", self.warmup, 0, MAX_COUNT)?;
-        c.within("alpha_offset", self.alpha_offset, 0, MAX_COUNT)?;
-        c.non_negative("alpha_zeta", self.alpha_zeta)?;
-        Ok(())
-    }
+    const RULES: &'static [(&'static str, Rule)] = &[
+        ("init_mean", MEAN),
+        ("init_std", STD),
+        ("target_mean", MEAN),
+        ("target_std", STD),
+        ("epsilon", POSITIVE),
+        ("delta", Rule::Finite),
+        ("update_every", COUNT),
+        ("warmup", Rule::Int(0, MAX_COUNT)),
+        ("form", Rule::Choice),
+        ("covariance", Rule::Choice),
+        ("alpha_offset", Rule::Int(0, MAX_COUNT)),
+        ("alpha_zeta", Rule::Float { lo: 0.0, lo_in: true, hi: f64::INFINITY, hi_in: false, note: "" }),
+    ];
 
     const PER_DIMENSION: &'static [(&'static str, Shape)] = &[
         ("init_mean", Shape::Vector),
@@ -113,6 +109,12 @@ impl TeacherParams for SpdlConfig {
         ("init_cov", Shape::Matrix),
         ("target_cov", Shape::Matrix),
     ];
+
+    fn validate(&self) -> Result<()> {
+        let (o, r) = (Self::CLASS, Self::RULES);
+        check_fields!(o, r, self, float init_mean, float init_std, float target_mean, float target_std, float epsilon, float delta, int update_every, int warmup, int alpha_offset, float alpha_zeta);
+        Ok(())
+    }
 
     fn scaled_to_competences(self, lo: f64, hi: f64) -> Self {
         SpdlConfig { delta: lo + self.delta * (hi - lo), ..self }

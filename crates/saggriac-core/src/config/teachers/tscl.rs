@@ -4,7 +4,8 @@
 use serde::{Deserialize, Serialize};
 
 use crate::config::teachers::{Registered, TeacherParams};
-use crate::error::{Check, Num, Result, MAX_COUNT};
+use crate::config::rules::{check_fields, COUNT, PROBABILITY, Rule};
+use crate::error::Result;
 
 /// How a task's learning progress is estimated (the paper's Algorithms 3 and 4).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -54,16 +55,20 @@ impl Default for TsclConfig {
 impl TeacherParams for TsclConfig {
     const HAS_BOX: bool = false;
 
-    fn validate(&self) -> Result<()> {
-        let c = Check { owner: Self::CLASS };
-        c.within("n_tasks", self.n_tasks, 1, MAX_COUNT)?;
+    const RULES: &'static [(&'static str, Rule)] = &[
+        ("n_tasks", COUNT),
+        ("variant", Rule::Choice),
         // A slope needs two scores.
-        c.within("window", self.window, 2, 10_000)?;
-        c.probability("epsilon", self.epsilon)?;
-        c.positive("temperature", self.temperature)?;
-        if self.temperature < 1e-12 {
-            return Err(crate::error::invalid(Self::CLASS, "temperature", "a float >= 1e-12", Num(self.temperature)));
-        }
+        ("window", Rule::Int(2, 10_000)),
+        ("policy", Rule::Choice),
+        ("epsilon", PROBABILITY),
+        ("temperature", Rule::Float { lo: 1e-12, lo_in: true, hi: f64::INFINITY, hi_in: false, note: "" }),
+        ("absolute", Rule::Bool),
+    ];
+
+    fn validate(&self) -> Result<()> {
+        let (o, r) = (Self::CLASS, Self::RULES);
+        check_fields!(o, r, self, int n_tasks, int window, float epsilon, float temperature);
         Ok(())
     }
 }

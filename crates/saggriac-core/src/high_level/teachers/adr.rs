@@ -31,7 +31,6 @@ pub use crate::config::teachers::AdrConfig;
 use crate::config::teachers::PerDimension;
 use crate::error::Result;
 use crate::config::teachers::TeacherParams;
-use crate::high_level::teachers::Build;
 use crate::high_level::goal_selection::{load_state, save_state, GoalChoice, GoalSelector, LeafRow, Mode};
 use crate::rng::{index, rng_from_seed, uniform, unit, CoreRng};
 
@@ -225,14 +224,7 @@ impl GoalSelector for Adr {
     }
 }
 
-impl Build for AdrConfig {
-    fn build(&self, low: &[f64], high: &[f64], seed: u64) -> Result<Box<dyn GoalSelector>> {
-        Ok(Box::new(Adr::new(low, high, *self, seed)?))
-    }
-    fn build_per_dimension(&self, low: &[f64], high: &[f64], dims: &PerDimension, seed: u64) -> Result<Box<dyn GoalSelector>> {
-        Ok(Box::new(Adr::with_dims(low, high, *self, dims, seed)?))
-    }
-}
+build_by_new!(AdrConfig => Adr, box, per_dimension);
 
 #[cfg(test)]
 mod tests {

@@ -13,7 +13,6 @@
 use nalgebra::DVector;
 
 use crate::error::Result;
-use crate::high_level::teachers::Build;
 use crate::high_level::goal_selection::{GoalChoice, GoalSelector};
 use crate::high_level::teachers::gmm::Gmm;
 pub use crate::high_level::teachers::mixture::AlpGmmConfig;
@@ -79,11 +78,7 @@ impl GoalSelector for AlpGmm {
     }
 }
 
-impl Build for AlpGmmConfig {
-    fn build(&self, low: &[f64], high: &[f64], seed: u64) -> Result<Box<dyn GoalSelector>> {
-        Ok(Box::new(AlpGmm::new(low, high, *self, seed)?))
-    }
-}
+build_by_new!(AlpGmmConfig => AlpGmm, box);
 
 #[cfg(test)]
 mod tests {

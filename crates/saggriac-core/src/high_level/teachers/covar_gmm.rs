@@ -13,7 +13,6 @@
 use nalgebra::DVector;
 
 use crate::error::Result;
-use crate::high_level::teachers::Build;
 use crate::high_level::goal_selection::{GoalChoice, GoalSelector};
 use crate::high_level::teachers::gmm::Gmm;
 use crate::high_level::teachers::mixture::MixtureCore;
@@ -91,11 +90,7 @@ impl GoalSelector for CovarGmm {
     }
 }
 
-impl Build for CovarGmmConfig {
-    fn build(&self, low: &[f64], high: &[f64], seed: u64) -> Result<Box<dyn GoalSelector>> {
-        Ok(Box::new(CovarGmm::new(low, high, *self, seed)?))
-    }
-}
+build_by_new!(CovarGmmConfig => CovarGmm, box);
 
 #[cfg(test)]
 mod tests {

@@ -19,9 +19,9 @@ use serde::{Deserialize, Serialize};
 pub use crate::config::teachers::DiscreteLpConfig;
 use crate::error::Result;
 use crate::config::teachers::TeacherParams;
-use crate::high_level::teachers::Build;
+use crate::high_level::teachers::task_index::{check_task, task_of};
 use crate::high_level::goal_selection::{load_state, save_state, GoalChoice, GoalSelector, Mode};
-use crate::rng::{rng_from_seed, unit, CoreRng};
+use crate::rng::{pick_weighted, rng_from_seed, unit, CoreRng};
 
 /// The teacher's state: its generator and both moving averages of every task.
 #[derive(Debug, Clone, Serialize, Deserialize)]
@@ -77,16 +77,12 @@ impl DiscreteLp {
         w.iter().map(|x| x / total).collect()
     }
 
-    /// The task index of a goal: it must be a whole number in [0, n).
     fn task(&self, goal: &[f64]) -> Option<usize> {
-        let g = goal[0];
-        (g.fract() == 0.0 && g >= 0.0 && g < self.cfg.n_tasks as f64).then_some(g as usize)
+        task_of(goal, self.cfg.n_tasks)
     }
 
     pub fn check_goal(&self, goal: &[f64], competence: f64) -> Result<()> {
-        if self.task(goal).is_none() {
-            return Err(crate::Error::InvalidInput(format!("goal must be a task index, a whole number in [0, {}); got {}.", self.cfg.n_tasks, crate::error::Num(goal[0]))));
-        }
+        check_task(goal, self.cfg.n_tasks)?;
         if !(0.0..=1.0).contains(&competence) {
             return Err(crate::Error::InvalidInput(format!("competence must be a success rate in [0, 1] for the discrete learning-progress teacher; got {}.", crate::error::Num(competence))));
         }
@@ -100,15 +96,7 @@ impl GoalSelector for DiscreteLp {
     }
     fn sample(&mut self) -> GoalChoice {
         let p = self.distribution();
-        let mut u = unit(&mut self.rng);
-        let mut task = p.iter().rposition(|&x| x > 0.0).unwrap_or(0);
-        for (i, &pi) in p.iter().enumerate() {
-            if u < pi {
-                task = i;
-                break;
-            }
-            u -= pi;
-        }
+        let task = pick_weighted(&p, unit(&mut self.rng));
         GoalChoice { goal: vec![task as f64], mode: Mode::Interest, region: Some(task) }
     }
     fn check_told(&self, goal: &[f64], competence: f64) -> Result<()> {
@@ -135,11 +123,7 @@ impl GoalSelector for DiscreteLp {
     }
 }
 
-impl Build for DiscreteLpConfig {
-    fn build(&self, _low: &[f64], _high: &[f64], seed: u64) -> Result<Box<dyn GoalSelector>> {
-        Ok(Box::new(DiscreteLp::new(*self, seed)?))
-    }
-}
+build_by_new!(DiscreteLpConfig => DiscreteLp, tasks);
 
 #[cfg(test)]
 mod tests {

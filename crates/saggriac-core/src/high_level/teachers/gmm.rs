@@ -3,13 +3,14 @@
 //! `GaussianMixture(covariance_type="full")`: responsibilities from the log densities, then
 //! weights, means and covariances (plus `reg_covar` on the diagonal), stopping when the mean
 //! log-likelihood changes by less than `tol`. From the same start it reaches scikit-learn's
-//! parameters (tests/test_gmm.py). Starts come from k-means++ and Lloyd's iterations
-//! (Arthur & Vassilvitskii, 2007), as scikit-learn's default starts come from k-means.
+//! parameters (tests/test_gmm.py). Starts come from k-means (`kmeans.rs`), as scikit-learn's
+//! default starts do.
 
 use nalgebra::{DMatrix, DVector};
 
 use super::gmm_lanes::{mahalanobis_sq, weighted_scatter, LANES};
-use crate::rng::{index, unit, CoreRng};
+use super::kmeans;
+use crate::rng::CoreRng;
 
 /// A mixture of Gaussians in d dimensions.
 #[derive(Debug, Clone, PartialEq)]
@@ -234,7 +235,7 @@ fn fit_samples(data: &Samples, start: Gmm, cfg: EmConfig) -> GmmFit {
 /// k clusters by k-means++ seeding and Lloyd's iterations; the start of EM (hard
 /// responsibilities), as scikit-learn's default `init_params="kmeans"`.
 pub fn kmeans_start(data: &[DVector<f64>], k: usize, reg_covar: f64, rng: &mut CoreRng) -> Gmm {
-    let labels = kmeans_labels(data, k, rng);
+    let labels = kmeans::labels(data, k, rng);
     kmeans_gmm(&Samples::new(data), &labels, k, reg_covar)
 }
 
@@ -247,72 +248,6 @@ fn kmeans_gmm(data: &Samples, labels: &[usize], k: usize, reg_covar: f64) -> Gmm
     Gmm::from_responsibilities(data, &resp, k, reg_covar)
 }
 
-/// The cluster of each sample after k-means++ seeding and Lloyd's iterations.
-fn kmeans_labels(data: &[DVector<f64>], k: usize, rng: &mut CoreRng) -> Vec<usize> {
-    let n = data.len();
-    let mut centres = vec![data[index(rng, n)].clone()];
-    // Each sample's squared distance to its nearest centre so far, brought up to date with the
-    // newest centre only (a running minimum: the same values as a minimum over all centres).
-    let mut d2 = vec![f64::INFINITY; n];
-    let mut seen = 0;
-    while centres.len() < k {
-        for c in &centres[seen..] {
-            for (m, x) in d2.iter_mut().zip(data) {
-                *m = m.min((x - c).norm_squared());
-            }
-        }
-        seen = centres.len();
-        let total: f64 = d2.iter().sum();
-        if total <= 0.0 || total.is_nan() {
-            centres.push(data[index(rng, n)].clone());
-            continue;
-        }
-        let mut u = unit(rng) * total;
-        let mut pick = n - 1;
-        for (i, v) in d2.iter().enumerate() {
-            if u < *v {
-                pick = i;
-                break;
-            }
-            u -= v;
-        }
-        centres.push(data[pick].clone());
-    }
-    let mut labels = vec![0usize; n];
-    let d = data[0].len();
-    let (mut sums, mut counts) = (vec![0.0; k * d], vec![0usize; k]);
-    let mut dist = vec![0.0; k];
-    for _ in 0..100 {
-        let mut changed = false;
-        for (i, x) in data.iter().enumerate() {
-            // Each distance once (the comparison below would otherwise compute two per step).
-            for (dc, c) in dist.iter_mut().zip(&centres) {
-                *dc = x.iter().zip(c.iter()).map(|(a, b)| (a - b) * (a - b)).sum::<f64>();
-            }
-            let best = (0..k).min_by(|&a, &b| dist[a].total_cmp(&dist[b])).unwrap_or(0);
-            changed |= best != labels[i];
-            labels[i] = best;
-        }
-        sums.iter_mut().for_each(|v| *v = 0.0);
-        counts.iter_mut().for_each(|v| *v = 0);
-        for (x, &l) in data.iter().zip(&labels) {
-            counts[l] += 1;
-            for (s, v) in sums[l * d..(l + 1) * d].iter_mut().zip(x.iter()) {
-                *s += v;
-            }
-        }
-        for (j, c) in centres.iter_mut().enumerate() {
-            if counts[j] > 0 {
-                *c = DVector::from_iterator(d, sums[j * d..(j + 1) * d].iter().map(|s| s / counts[j] as f64));
-            }
-        }
-        if !changed {
-            break;
-        }
-    }
-    labels
-}
-
 /// The mixture with the lowest AIC among `ks` components (each from a k-means start), as ALP-GMM
 /// and Covar-GMM choose theirs. None if no k is at most the number of samples.
 pub fn best_by_aic(data: &[DVector<f64>], ks: &[usize], cfg: EmConfig, rng: &mut CoreRng) -> Option<Gmm> {
@@ -320,7 +255,7 @@ pub fn best_by_aic(data: &[DVector<f64>], ks: &[usize], cfg: EmConfig, rng: &mut
     // The samples in one flat array, shared by the fits of every k.
     let samples = Samples::new(data);
     for &k in ks.iter().filter(|&&k| k >= 1 && k <= data.len()) {
-        let labels = kmeans_labels(data, k, rng);
+        let labels = kmeans::labels(data, k, rng);
         let start = kmeans_gmm(&samples, &labels, k, cfg.reg_covar);
         let fit = fit_samples(&samples, start, cfg);
         let aic = fit.gmm.aic_of(&samples);

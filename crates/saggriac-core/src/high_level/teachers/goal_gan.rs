@@ -21,7 +21,6 @@ use nalgebra::DMatrix;
 use crate::config::high_level::check_bounds;
 use crate::error::Result;
 use crate::config::teachers::TeacherParams;
-use crate::high_level::teachers::Build;
 use crate::high_level::goal_selection::{load_state, save_state, GoalChoice, GoalSelector, Mode};
 use crate::high_level::teachers::mlp::Mlp;
 use crate::rng::{child_seed, index, normal, rng_from_seed, unit, CoreRng};
@@ -232,14 +231,7 @@ impl GoalSelector for GoalGan {
     }
 }
 
-impl Build for GoalGanConfig {
-    fn build(&self, low: &[f64], high: &[f64], seed: u64) -> Result<Box<dyn GoalSelector>> {
-        Ok(Box::new(GoalGan::new(low, high, *self, seed)?))
-    }
-    fn build_per_dimension(&self, low: &[f64], high: &[f64], dims: &PerDimension, seed: u64) -> Result<Box<dyn GoalSelector>> {
-        Ok(Box::new(GoalGan::with_dims(low, high, *self, dims, seed)?))
-    }
-}
+build_by_new!(GoalGanConfig => GoalGan, box, per_dimension);
 
 #[cfg(test)]
 mod tests {

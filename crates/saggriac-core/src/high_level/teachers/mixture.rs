@@ -11,7 +11,7 @@ use crate::config::high_level::check_bounds;
 use crate::error::Result;
 use crate::high_level::goal_selection::{load_state, save_state, GoalChoice, Mode};
 use crate::high_level::teachers::gmm::{best_by_aic, EmConfig, Gmm};
-use crate::rng::{child_seed, index, rng_from_seed, uniform, unit, CoreRng};
+use crate::rng::{child_seed, index, pick_weighted, rng_from_seed, uniform, unit, CoreRng};
 
 pub use crate::config::teachers::AlpGmmConfig;
 
@@ -56,14 +56,7 @@ fn proportional_component(gmm: &Gmm, weight: impl Fn(usize) -> f64, rng: &mut Co
     if !(total > 0.0 && total.is_finite()) {
         return index(rng, w.len());
     }
-    let mut u = unit(rng) * total;
-    for (j, x) in w.iter().enumerate() {
-        if u < *x {
-            return j;
-        }
-        u -= x;
-    }
-    w.iter().rposition(|x| *x > 0.0).unwrap_or(0)
+    pick_weighted(&w, unit(rng) * total)
 }
 
 pub(crate) struct MixtureCore {

@@ -7,14 +7,16 @@
 pub mod gaussian;
 pub mod gmm;
 mod gmm_lanes;
+mod kmeans;
 pub(crate) mod mixture;
 pub mod mlp;
+pub(crate) mod task_index;
 
 use serde::{Deserialize, Serialize};
 
 use crate::config::teachers::registry;
-pub use crate::config::teachers::{PerDimension, Teacher};
 use crate::config::teachers::TeacherParams;
+pub use crate::config::teachers::{PerDimension, Teacher};
 use crate::error::Result;
 use crate::high_level::goal_selection::GoalSelector;
 
@@ -27,7 +29,7 @@ pub trait Build: TeacherParams {
     /// are checked here (`PerDimension::check`); a teacher whose `PER_DIMENSION` names some
     /// writes `build_per_dimension`.
     fn build_with(&self, low: &[f64], high: &[f64], dims: &PerDimension, seed: u64) -> Result<Box<dyn GoalSelector>> {
-        dims.check(self, low.len())?;
+        dims.check::<Self>(low.len())?;
         if dims.is_empty() {
             self.build(low, high, seed)
         } else {
@@ -39,6 +41,43 @@ pub trait Build: TeacherParams {
     fn build_per_dimension(&self, low: &[f64], high: &[f64], _dims: &PerDimension, seed: u64) -> Result<Box<dyn GoalSelector>> {
         self.build(low, high, seed)
     }
+}
+
+/// `Build` for the parameters `$params` of a teacher built by `$teacher::new(low, high, params,
+/// seed)` (`box`) or `$teacher::new(params, seed)` (`tasks`: its goals are task indices); with
+/// `box, per_dimension`, the values given per dimension build it by `$teacher::with_dims(low,
+/// high, params, dims, seed)`.
+macro_rules! build_by_new {
+    ($params:ty => $teacher:ty, box) => {
+        impl $crate::high_level::teachers::Build for $params {
+            fn build(&self, low: &[f64], high: &[f64], seed: u64) -> $crate::error::Result<Box<dyn $crate::high_level::goal_selection::GoalSelector>> {
+                Ok(Box::new(<$teacher>::new(low, high, *self, seed)?))
+            }
+        }
+    };
+    ($params:ty => $teacher:ty, box, per_dimension) => {
+        impl $crate::high_level::teachers::Build for $params {
+            fn build(&self, low: &[f64], high: &[f64], seed: u64) -> $crate::error::Result<Box<dyn $crate::high_level::goal_selection::GoalSelector>> {
+                Ok(Box::new(<$teacher>::new(low, high, *self, seed)?))
+            }
+            fn build_per_dimension(
+                &self,
+                low: &[f64],
+                high: &[f64],
+                dims: &$crate::config::teachers::PerDimension,
+                seed: u64,
+            ) -> $crate::error::Result<Box<dyn $crate::high_level::goal_selection::GoalSelector>> {
+                Ok(Box::new(<$teacher>::with_dims(low, high, *self, dims, seed)?))
+            }
+        }
+    };
+    ($params:ty => $teacher:ty, tasks) => {
+        impl $crate::high_level::teachers::Build for $params {
+            fn build(&self, _low: &[f64], _high: &[f64], seed: u64) -> $crate::error::Result<Box<dyn $crate::high_level::goal_selection::GoalSelector>> {
+                Ok(Box::new(<$teacher>::new(*self, seed)?))
+            }
+        }
+    };
 }
 
 /// Each teacher's module, and `TeacherSpec::build` dispatching to its `Build`.

@@ -20,7 +20,6 @@
 use crate::config::high_level::check_bounds;
 use crate::error::Result;
 use crate::config::teachers::TeacherParams;
-use crate::high_level::teachers::Build;
 use crate::high_level::goal_selection::{load_state, save_state, GoalChoice, GoalSelector, LeafRow, Mode};
 use crate::rng::{child_seed, index, normal, rng_from_seed, uniform, unit, CoreRng};
 
@@ -240,11 +239,7 @@ impl GoalSelector for Riac {
     }
 }
 
-impl Build for RiacConfig {
-    fn build(&self, low: &[f64], high: &[f64], seed: u64) -> Result<Box<dyn GoalSelector>> {
-        Ok(Box::new(Riac::new(low, high, *self, seed)?))
-    }
-}
+build_by_new!(RiacConfig => Riac, box);
 
 #[cfg(test)]
 mod tests {

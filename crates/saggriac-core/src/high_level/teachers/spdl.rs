@@ -28,7 +28,6 @@ use crate::error::{invalid, Result};
 use crate::high_level::goal_selection::{load_state, save_state, GoalChoice, GoalSelector, LeafRow, Mode};
 use crate::high_level::teachers::gaussian::Gaussian;
 use crate::high_level::teachers::mixture::UnitBox;
-use crate::high_level::teachers::Build;
 use crate::rng::{rng_from_seed, CoreRng};
 
 /// A constraint of the COBYLA step: feasible where it is >= 0.
@@ -361,14 +360,7 @@ impl GoalSelector for Spdl {
     }
 }
 
-impl Build for SpdlConfig {
-    fn build(&self, low: &[f64], high: &[f64], seed: u64) -> Result<Box<dyn GoalSelector>> {
-        Ok(Box::new(Spdl::new(low, high, *self, seed)?))
-    }
-    fn build_per_dimension(&self, low: &[f64], high: &[f64], dims: &PerDimension, seed: u64) -> Result<Box<dyn GoalSelector>> {
-        Ok(Box::new(Spdl::with_dims(low, high, *self, dims, seed)?))
-    }
-}
+build_by_new!(SpdlConfig => Spdl, box, per_dimension);
 
 #[cfg(test)]
 mod tests;

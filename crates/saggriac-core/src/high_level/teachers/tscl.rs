@@ -26,8 +26,8 @@ use crate::config::teachers::TeacherParams;
 pub use crate::config::teachers::{TsclConfig, TsclPolicy, TsclVariant};
 use crate::error::{Error, Num, Result};
 use crate::high_level::goal_selection::{load_state, save_state, GoalChoice, GoalSelector, Mode};
-use crate::high_level::teachers::Build;
-use crate::rng::{index, rng_from_seed, unit, CoreRng};
+use crate::high_level::teachers::task_index::{check_task, task_of};
+use crate::rng::{index, pick_weighted, rng_from_seed, unit, CoreRng};
 
 /// What the teacher knows of one task: its last K scores with their steps (window), its last K
 /// score changes (sampling), and its last score.
@@ -95,8 +95,7 @@ impl Tscl {
     }
 
     fn task(&self, goal: &[f64]) -> Option<usize> {
-        let g = goal[0];
-        (g.fract() == 0.0 && g >= 0.0 && g < self.cfg.n_tasks as f64).then_some(g as usize)
+        task_of(goal, self.cfg.n_tasks)
     }
 
     fn choose(&mut self) -> (usize, Mode) {
@@ -124,15 +123,7 @@ impl Tscl {
             TsclPolicy::Boltzmann => {
                 let top = q.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
                 let w: Vec<f64> = q.iter().map(|v| ((v - top) / self.cfg.temperature).exp()).collect();
-                let mut u = unit(&mut self.state.rng) * w.iter().sum::<f64>();
-                let mut pick = w.iter().rposition(|&x| x > 0.0).unwrap_or(0);
-                for (i, &wi) in w.iter().enumerate() {
-                    if u < wi {
-                        pick = i;
-                        break;
-                    }
-                    u -= wi;
-                }
+                let pick = pick_weighted(&w, unit(&mut self.state.rng) * w.iter().sum::<f64>());
                 (pick, Mode::Interest)
             }
         }
@@ -148,9 +139,7 @@ impl GoalSelector for Tscl {
         GoalChoice { goal: vec![task as f64], mode, region: Some(task) }
     }
     fn check_told(&self, goal: &[f64], competence: f64) -> Result<()> {
-        if self.task(goal).is_none() {
-            return Err(Error::InvalidInput(format!("goal must be a task index, a whole number in [0, {}); got {}.", self.cfg.n_tasks, Num(goal[0]))));
-        }
+        check_task(goal, self.cfg.n_tasks)?;
         if !(competence.is_finite() && competence.abs() <= 1e100) {
             return Err(Error::InvalidInput(format!("competence must be a finite score with |score| <= 1e100 for TSCL; got {}.", Num(competence))));
         }
@@ -186,11 +175,7 @@ impl GoalSelector for Tscl {
     }
 }
 
-impl Build for TsclConfig {
-    fn build(&self, _low: &[f64], _high: &[f64], seed: u64) -> Result<Box<dyn GoalSelector>> {
-        Ok(Box::new(Tscl::new(*self, seed)?))
-    }
-}
+build_by_new!(TsclConfig => Tscl, tasks);
 
 #[cfg(test)]
 mod tests {
