@@ -65,6 +65,11 @@ def test_the_examples_of_the_audit_read_the_same_rule():
             sg.SpdlSelector([0, 0], [1, 1], warmup=v)
     # Right values still go through, numpy ints included.
     assert sg.AdrSelector([0, 0], [1, 1], buffer_size=np.int64(3)).dim == 2
+    # A 0-d array is its value (it raised TypeError: 'float' object is not iterable), as the
+    # fuzz of tests/teachers/test_new_teachers_fuzz.py found.
+    assert sg.AdrSelector([0, 0], [1, 1], boundary_prob=np.array(0.5)).get_params()["boundary_prob"] == 0.5
+    with pytest.raises(sg.ParameterError, match=r"'buffer_size' parameter of AdrSelector must be an int in \[1, 1000000\]\. Got 0 instead"):
+        sg.AdrSelector([0, 0], [1, 1], buffer_size=np.array(0))
 
 
 @pytest.mark.parametrize(
