@@ -25,6 +25,7 @@ from __future__ import annotations
 import argparse
 import time
 from collections import deque
+from typing import Callable, Iterable
 
 import numpy as np
 
@@ -155,12 +156,22 @@ def main() -> None:
     a = p.parse_args()
     free, dist = maze()
     print(f"U-maze {N}x{N} over [-1, 1]^2: {free.sum()} free cells, longest path {dist[free].max():.2f}; seeds 0-{a.seeds - 1}, {a.goals} goals each")
-    results: dict[str, list[dict[str, np.ndarray]]] = {name: [] for name in TEACHERS}
-    for seed in range(a.seeds):
-        for name in TEACHERS:
+    summarise(run_all(TEACHERS, run, a.seeds, a.goals, a.windows))
+
+
+def run_all(names: Iterable[str], run: Callable[[str, int, int, int], dict[str, np.ndarray]], seeds: int, goals: int, windows: int) -> dict[str, list[dict[str, np.ndarray]]]:
+    """``run(name, goals, seed, windows)`` for every seed and name, timed as it goes."""
+    results: dict[str, list[dict[str, np.ndarray]]] = {name: [] for name in names}
+    for seed in range(seeds):
+        for name in results:
             t0 = time.perf_counter()
-            results[name].append(run(name, a.goals, seed, a.windows))
-            print(f"  seed {seed} {name:8s} {time.perf_counter() - t0:5.1f} s, final coverage {results[name][-1]['coverage'][-1]:.3f}")
+            results[name].append(run(name, goals, seed, windows))
+            print(f"  seed {seed} {name:8s} {time.perf_counter() - t0:5.1f} s, final coverage {results[name][-1]['coverage'][-1]:.3f}", flush=True)
+    return results
+
+
+def summarise(results: dict[str, list[dict[str, np.ndarray]]]) -> None:
+    """Each teacher's share of goals of intermediate difficulty and coverage, over seeds."""
     for name, rs in results.items():
         goid = np.array([r["goid"] for r in rs])
         cov = np.array([r["coverage"] for r in rs])

@@ -15,6 +15,7 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import hashlib
+import importlib.util
 import json
 import math
 import sys
@@ -30,7 +31,6 @@ import pyarrow.parquet as pq
 import saggriac
 from saggriac import _core
 from saggriac.config import CONDITIONS
-from saggriac.bodies.environments import PlanarArm
 
 TABLES = ("metrics", "goals", "attempts", "regions")
 # Keys of run.json that measure the machine, not the run ("checksum" hashes run.json itself, wall
@@ -58,23 +58,17 @@ for _key, _value in (("test_configs", "uniform"), ("actuator_candidates", 0), ("
 STEPS = {"exp1": 15000, "exp2": 30000, "explauto": 10000, "arm3d": 12000}
 
 
-class NoisySensorArm(PlanarArm):
-    """The example's Python environment: the paper's arm with a noisy position sensor."""
+def _example(name: str) -> Any:
+    """A module of examples/, whose Python environment is one of the cases."""
+    path = Path(__file__).resolve().parents[1] / "examples" / f"{name}.py"
+    spec = importlib.util.spec_from_file_location(name, path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
 
-    def __init__(self, noise: float) -> None:
-        super().__init__()
-        self.noise = noise
-        self.rng = np.random.default_rng(0)
 
-    def reset(self, *, seed=None, options=None):
-        if seed is not None:
-            self.rng = np.random.default_rng(seed)
-        theta, x = super().reset(options=options)
-        return theta, x if options else x + self.rng.normal(0.0, self.noise, 2)
-
-    def step(self, dtheta):
-        theta, x = super().step(dtheta)
-        return theta, x + self.rng.normal(0.0, self.noise, 2)
+class NoisySensorArm(_example("python_environment").NoisySensorArm):
+    """The example's environment, named here as the reference's run.json names it."""
 
 
 class CycleGoals:

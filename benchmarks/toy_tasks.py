@@ -42,49 +42,16 @@ import numpy as np
 import pandas as pd
 
 import saggriac as sg
+from saggriac.bench.tasks import Hypercube
 
 
-class HypercubeUnlock:
-    """The toy task: cells of the relevant dimensions, unlocked by mastering a neighbour."""
+class HypercubeUnlock(Hypercube):
+    """The bench's hypercube-unlocking task (saggriac.bench.tasks.Hypercube) with its sizes
+    given, and where a try lands; the task has no randomness, so its seed is 0."""
 
     def __init__(self, relevant: int, bins: int, irrelevant: int = 0, need: int = 20, reach: int | None = None) -> None:
-        self.relevant, self.bins, self.need = relevant, bins, need
-        self.dim = relevant + irrelevant
-        self.low, self.high = np.zeros(self.dim), np.ones(self.dim)
-        self.n_cells = bins**relevant
-        self.practice = np.zeros(self.n_cells, dtype=np.int64)
-        self.unlocked = np.zeros(self.n_cells, dtype=bool)
-        self.unlocked[0] = True
-        self._strides = bins ** np.arange(relevant)
-        # With ``reach``, only the cells whose bin indices sum to at most ``reach`` can ever be
-        # unlocked; the others stay locked (competence 0) whatever is mastered beside them.
-        idx = (np.arange(self.n_cells)[:, None] // self._strides) % bins
-        self.possible = np.ones(self.n_cells, dtype=bool) if reach is None else idx.sum(axis=1) <= reach
-
-    def cell(self, goal: np.ndarray) -> int:
-        idx = np.minimum((np.asarray(goal[: self.relevant]) * self.bins).astype(np.int64), self.bins - 1)
-        return int(idx @ self._strides)
-
-    def centre(self, cell: int) -> np.ndarray:
-        idx = (cell // self._strides) % self.bins
-        return np.concatenate([(idx + 0.5) / self.bins, np.full(self.dim - self.relevant, 0.5)])
-
-    def attempt_cell(self, c: int) -> float:
-        if not self.unlocked[c]:
-            return 0.0
-        if self.practice[c] < self.need:
-            self.practice[c] += 1
-            if self.practice[c] == self.need:
-                idx = (c // self._strides) % self.bins
-                for j in range(self.relevant):
-                    for step in (-1, 1):
-                        if 0 <= idx[j] + step < self.bins:
-                            n = c + step * self._strides[j]
-                            self.unlocked[n] = self.possible[n]
-        return self.practice[c] / self.need
-
-    def attempt(self, goal: np.ndarray) -> float:
-        return self.attempt_cell(self.cell(goal))
+        self.relevant, self.bins, self.irrelevant, self.need, self.reach = relevant, bins, irrelevant, need, reach
+        super().__init__(seed=0)
 
     def where(self, c: int) -> str:
         """Where a try of cell c lands now: impossible, locked, frontier or mastered."""
@@ -93,10 +60,6 @@ class HypercubeUnlock:
         if not self.unlocked[c]:
             return "locked"
         return "mastered" if self.practice[c] >= self.need else "frontier"
-
-    def score(self) -> float:
-        """Share of the cells that can be mastered that are."""
-        return float(np.mean(self.practice[self.possible] >= self.need))
 
 
 SPACES = {"2d": dict(relevant=2, bins=10, irrelevant=0), "5d": dict(relevant=5, bins=3, irrelevant=0), "2d+3": dict(relevant=2, bins=10, irrelevant=3), "2d-reach": dict(relevant=2, bins=10, irrelevant=0, reach=5)}

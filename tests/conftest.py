@@ -1,6 +1,7 @@
 import pytest
 
 import saggriac
+from saggriac.errors import StorageError
 
 
 @pytest.fixture(scope="session")
@@ -16,3 +17,20 @@ def _sb3_logs_in_pytests_tmp(tmp_path_factory):
     with pytest.MonkeyPatch.context() as mp:
         mp.setenv("SB3_LOGDIR", str(tmp_path_factory.mktemp("sb3-logs")))
         yield
+
+
+@pytest.fixture
+def unwritable_study_runs(monkeypatch):
+    """A study whose runs cannot be written: each run finishes, then its writing fails as a full
+    disk would, with the result on the error (as the runner's own failures carry it)."""
+    from saggriac.study import spec
+
+    real = spec.run
+
+    def unwritable(cfg, seed, out_dir, **kw):
+        res = real(cfg, seed=seed, **kw)
+        e = StorageError(f"Cannot write the run to {out_dir}: No space left on device (simulated).")
+        e.result = res
+        raise e
+
+    monkeypatch.setattr(spec, "run", unwritable)

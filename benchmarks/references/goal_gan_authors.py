@@ -28,7 +28,6 @@ from __future__ import annotations
 import argparse
 import importlib.util
 import sys
-import time
 from collections import deque
 from pathlib import Path
 
@@ -173,20 +172,7 @@ def main() -> None:
     a = p.parse_args()
     torch.set_num_threads(1)
     names = tuple(ABLATIONS) if a.ablations else ("authors", "goal_gan", "uniform")
-    results: dict[str, list[dict[str, np.ndarray]]] = {n: [] for n in names}
-    for seed in range(a.seeds):
-        for name in names:
-            t0 = time.perf_counter()
-            results[name].append(run(name, a.goals, seed, a.windows))
-            print(f"  seed {seed} {name:8s} {time.perf_counter() - t0:5.1f} s, final coverage {results[name][-1]['coverage'][-1]:.3f}", flush=True)
-    for name, rs in results.items():
-        goid = np.array([r["goid"] for r in rs])
-        cov = np.array([r["coverage"] for r in rs])
-        print(f"{name}: share of goals of intermediate difficulty per window (mean +- sd over seeds)")
-        print("   " + "  ".join(f"{m:.3f}+-{s:.3f}" for m, s in zip(goid.mean(0), goid.std(0))))
-        print(f"{name}: coverage at 0 and after each window")
-        print("   " + "  ".join(f"{m:.3f}+-{s:.3f}" for m, s in zip(cov.mean(0), cov.std(0))))
-        print(f"{name}: per seed, share in the last window / final coverage: " + ", ".join(f"{g[-1]:.3f}/{c[-1]:.3f}" for g, c in zip(goid, cov)))
+    claims.summarise(claims.run_all(names, run, a.seeds, a.goals, a.windows))
 
 
 if __name__ == "__main__":

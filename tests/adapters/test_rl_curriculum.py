@@ -3,7 +3,6 @@ teachers given by name with the oracle, the per-run tables, resuming without rer
 of budgets refused, and --analyse recomputing the tables from curves.csv alone. Skipped without
 the SB3 extra, unless SAGGRIAC_REQUIRE_EXTRAS=1 (CI sets it)."""
 
-import importlib.util
 import os
 import re
 import subprocess
@@ -14,6 +13,8 @@ import numpy as np
 import pandas as pd
 import pytest
 
+from tests import benchmark_scripts
+
 if os.environ.get("SAGGRIAC_REQUIRE_EXTRAS") != "1":
     pytest.importorskip("stable_baselines3", reason='the SB3 extra is not installed (pip install "saggriac[sb3]")')
 
@@ -22,10 +23,7 @@ ENV = {**os.environ, "TQDM_DISABLE": "1"}
 
 
 def bench():
-    spec = importlib.util.spec_from_file_location("rl_curriculum", SCRIPT)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return benchmark_scripts.load("rl_curriculum")
 
 
 def run(*args, timeout=600):

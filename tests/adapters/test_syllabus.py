@@ -276,27 +276,34 @@ class PointEnv(TaskEnv, Still):
         return np.zeros(3), -1.0, False, done, info
 
 
+def through_sync_wrapper(space, selector, inner, episodes, steps):
+    """Syllabus's own plumbing: ``selector`` behind a curriculum in Syllabus's update thread,
+    ``inner`` behind its sync wrapper, ``episodes`` episodes of ``steps`` random actions; the
+    curriculum once it was told every episode (or after 30 s)."""
+    cur = make_multiprocessing_curriculum(SelectorCurriculum(space, selector))
+    try:
+        env = GymnasiumSyncWrapper(inner, space, cur.components, buffer_size=1)
+        for _ in range(episodes):
+            env.reset()
+            for _ in range(steps):
+                env.step(env.action_space.sample())
+        deadline = time.time() + 30
+        while cur.curriculum.told < episodes and time.time() < deadline:
+            time.sleep(0.01)
+    finally:
+        cur.stop()
+    return cur.curriculum
+
+
 @pytest.mark.parametrize("make", [lambda: sg.SaggRiacSelector(LOW, HIGH, seed=4), lambda: sg.AdrSelector(LOW, HIGH, seed=4, buffer_size=2, boundary_prob=1.0, t_low=0.1, t_high=0.2)], ids=["sagg_riac", "adr"])
 def test_through_syllabus_sync_wrappers(make):
     """Syllabus's own plumbing: the curriculum behind its update thread, the environment behind
     its sync wrapper; the teacher is told every finished episode of the tasks it chose."""
-    space = box_space()
-    cur = make_multiprocessing_curriculum(SelectorCurriculum(space, make()))
-    try:
-        inner = PointEnv()
-        env = GymnasiumSyncWrapper(inner, space, cur.components, buffer_size=1)
-        for _ in range(60):
-            env.reset()
-            for _ in range(4):
-                env.step(env.action_space.sample())
-        deadline = time.time() + 30
-        while cur.curriculum.told < 60 and time.time() < deadline:
-            time.sleep(0.01)
-    finally:
-        cur.stop()
-    teacher = cur.curriculum.selector
+    inner = PointEnv()
+    curriculum = through_sync_wrapper(box_space(), make(), inner, 60, 4)
+    teacher = curriculum.selector
     h = teacher.history()
-    assert cur.curriculum.told == 60
+    assert curriculum.told == 60
     received = np.array(inner.received, dtype=np.float64)
     assert len(received) == 60
     np.testing.assert_array_equal(h["told_goal"], received)
@@ -327,22 +334,10 @@ class LevelEnv(TaskEnv, Still):
 
 
 def test_plr_through_syllabus_sync_wrappers():
-    space = DiscreteTaskSpace(8)
-    cur = make_multiprocessing_curriculum(SelectorCurriculum(space, sg.PlrSelector(8, seed=1)))
-    try:
-        inner = LevelEnv()
-        env = GymnasiumSyncWrapper(inner, space, cur.components, buffer_size=1)
-        for _ in range(40):
-            env.reset()
-            for _ in range(4):
-                env.step(env.action_space.sample())
-        deadline = time.time() + 30
-        while cur.curriculum.told < 40 and time.time() < deadline:
-            time.sleep(0.01)
-    finally:
-        cur.stop()
-    h = cur.curriculum.selector.history()
-    assert cur.curriculum.told == 40
+    inner = LevelEnv()
+    curriculum = through_sync_wrapper(DiscreteTaskSpace(8), sg.PlrSelector(8, seed=1), inner, 40, 4)
+    h = curriculum.selector.history()
+    assert curriculum.told == 40
     np.testing.assert_array_equal(h["told_goal"][:, 0], inner.received)
     np.testing.assert_array_equal(h["asked_goal"][:40, 0], inner.received)
     np.testing.assert_allclose(h["told_competence"], np.array(inner.received) / 10)
@@ -372,21 +367,9 @@ def test_plr_over_a_multidiscrete_space_through_syllabus_sync_wrappers():
     """The environments decode what the curriculum hands out and report tasks in Syllabus's
     encoding; the teacher is asked and told indices of the flat list."""
     inner = PairEnv()
-    space = inner.task_space
-    cur = make_multiprocessing_curriculum(SelectorCurriculum(space, sg.PlrSelector(12, seed=4)))
-    try:
-        env = GymnasiumSyncWrapper(inner, space, cur.components, buffer_size=1)
-        for _ in range(30):
-            env.reset()
-            for _ in range(3):
-                env.step(env.action_space.sample())
-        deadline = time.time() + 30
-        while cur.curriculum.told < 30 and time.time() < deadline:
-            time.sleep(0.01)
-    finally:
-        cur.stop()
-    h = cur.curriculum.selector.history()
-    assert cur.curriculum.told == 30 and all(isinstance(t, tuple) for t in inner.received)
+    curriculum = through_sync_wrapper(inner.task_space, sg.PlrSelector(12, seed=4), inner, 30, 3)
+    h = curriculum.selector.history()
+    assert curriculum.told == 30 and all(isinstance(t, tuple) for t in inner.received)
     indices = [a * 4 + b for a, b in inner.received]
     np.testing.assert_array_equal(h["told_goal"][:, 0], indices)
     np.testing.assert_array_equal(h["asked_goal"][:30, 0], indices)

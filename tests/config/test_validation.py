@@ -51,12 +51,23 @@ def test_unknown_parameter_and_preset():
         saggriac.Config.from_preset("exp3")
 
 
-def test_toml_file_errors_name_file_and_key(tmp_path):
+@pytest.mark.parametrize(
+    "text, says",
+    [
+        ('preset = "exp2"\ng_max = 0\n', ("key 'g_max'", "Got 0 instead")),
+        # Bounds are checked as a pair; the message still names the file's key.
+        ("goal_low = [10, 0]\ngoal_high = [0, 50]\n", ("key 'goal_low'", "goal_high")),
+    ],
+)
+def test_toml_file_errors_name_file_and_key(tmp_path, text, says):
     f = tmp_path / "bad.toml"
-    f.write_text('preset = "exp2"\ng_max = 0\n')
+    f.write_text(text)
     with pytest.raises(ParameterError) as e:
         saggriac.Config.from_toml(f)
-    assert str(f) in str(e.value) and "key 'g_max'" in str(e.value) and "Got 0 instead" in str(e.value)
+    assert str(f) in str(e.value) and all(s in str(e.value) for s in says), str(e.value)
+
+
+def test_a_toml_file_is_read_over_its_preset(tmp_path):
     ok = tmp_path / "ok.toml"
     ok.write_text('preset = "exp2"\nzeta = 30\n')
     cfg = saggriac.Config.from_toml(ok)

@@ -19,21 +19,6 @@ def small():
     return Config.from_preset("exp1", n_steps=300, n_evals=1, n_test_goals=3, n_test_configs=3)
 
 
-@pytest.fixture
-def unwritable_study_runs(monkeypatch):
-    from saggriac.study import spec
-
-    real = spec.run
-
-    def unwritable(cfg, seed, out_dir, **kw):
-        res = real(cfg, seed=seed, **kw)
-        e = StorageError(f"Cannot write the run to {out_dir}: No space left on device (simulated).")
-        e.result = res
-        raise e
-
-    monkeypatch.setattr(spec, "run", unwritable)
-
-
 def saved_to(e) -> Path:
     return Path(str(e.value).split("saved to ")[1].split(" instead")[0])
 

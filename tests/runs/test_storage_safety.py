@@ -347,14 +347,6 @@ def test_bad_config_values_are_refused_in_config_terms(kw, text):
     assert text in str(e.value)
 
 
-def test_goal_bounds_in_a_toml_file_name_the_file_and_key(tmp_path):
-    f = tmp_path / "bounds.toml"
-    f.write_text("goal_low = [10, 0]\ngoal_high = [0, 50]\n")
-    with pytest.raises(ParameterError) as e:
-        saggriac.Config.from_toml(f)
-    assert str(f) in str(e.value) and "key 'goal_low'" in str(e.value) and "goal_high" in str(e.value)
-
-
 @pytest.mark.parametrize("kw", [dict(seed=-1), dict(seed=2**70), dict(seed=1.5), dict(seed=True), dict(g_max=10**30), dict(zeta=2.0), dict(p_interest="0.7")])
 def test_selector_arguments_are_checked_not_coerced(kw):
     with pytest.raises(ParameterError, match=f"'{next(iter(kw))}' parameter of SaggRiacSelector"):

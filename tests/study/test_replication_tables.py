@@ -4,14 +4,14 @@ is a row that `benchmarks/replication.py --from-tables` prints, every CI the pro
 its tables, and the statistics, time budgets and claims it recomputes equal the committed files
 ``saggriac reproduce`` and the rule's script wrote from the run folders."""
 
-import importlib.util
 import re
 from pathlib import Path
 
 import pytest
 
+from tests import benchmark_scripts
+
 ROOT = Path(__file__).resolve().parents[2]
-SCRIPT = ROOT / "benchmarks" / "replication.py"
 TABLES = ROOT / "docs" / "figures" / "replication"
 PAGE = ROOT / "docs" / "reproduction.md"
 SECTION = ("## Replication on the report seeds 15-29", "## The episodic paradigm")
@@ -19,10 +19,7 @@ Q_TABLE = ("Rerun at q = 20 on the report seeds 15-29", "python benchmarks/readi
 
 
 def replication():
-    spec = importlib.util.spec_from_file_location("replication", SCRIPT)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return benchmark_scripts.load("replication")
 
 
 @pytest.fixture(scope="module")

@@ -11,19 +11,9 @@ from saggriac import Config
 from saggriac.errors import StorageError
 
 
-def test_a_study_run_that_cannot_be_written_says_where_it_went(tmp_path, monkeypatch):
+def test_a_study_run_that_cannot_be_written_says_where_it_went(tmp_path, unwritable_study_runs):
     from saggriac import study as study_mod
-    from saggriac.study import spec
 
-    real = spec.run
-
-    def unwritable(cfg, seed, out_dir, **kw):
-        res = real(cfg, seed=seed, **kw)
-        e = StorageError(f"Cannot write the run to {out_dir}: No space left on device (simulated).")
-        e.result = res
-        raise e
-
-    monkeypatch.setattr(spec, "run", unwritable)
     cfg = Config.from_preset("exp1", n_steps=300, n_evals=1, n_test_goals=3, n_test_configs=3)
     task = study_mod.Study(cfg, "sagg_riac", (0,)).tasks()[0]
     with pytest.raises(StorageError, match="saved to (.*recovered-[^ ]*)") as e:

@@ -8,25 +8,18 @@ neither. Seeds 0-3, 3,000 goals each: benchmarks/goal_gan_claims.py prints the l
 
 from __future__ import annotations
 
-import importlib.util
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
 
-_PATH = Path(__file__).resolve().parents[2] / "benchmarks" / "goal_gan_claims.py"
+from tests import benchmark_scripts
+
 SEEDS, GOALS, WINDOWS = range(4), 3000, 2
 
 
 @pytest.fixture(scope="module")
 def claims():
-    spec = importlib.util.spec_from_file_location("goal_gan_claims_under_test", _PATH)
-    mod = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = mod
-    spec.loader.exec_module(mod)
-    yield mod
-    del sys.modules[spec.name]
+    return benchmark_scripts.load("goal_gan_claims")
 
 
 @pytest.fixture(scope="module")

@@ -4,16 +4,14 @@ redrawn for its staleness. The comparison with Syllabus's TaskSampler, state by 
 benchmarks/references/plr_vs_syllabus.py's, on fewer states; it is skipped without Syllabus
 unless SAGGRIAC_REQUIRE_EXTRAS=1."""
 
-import importlib.util
 import os
-from pathlib import Path
 
 import numpy as np
 import pytest
 
 import saggriac as sg
+from tests import benchmark_scripts
 
-BENCH = Path(__file__).resolve().parents[2] / "benchmarks" / "references" / "plr_vs_syllabus.py"
 
 
 def told(n, scores, **kw):
@@ -74,10 +72,7 @@ def test_the_draws_follow_the_probabilities_it_reports():
 def _bench():
     if os.environ.get("SAGGRIAC_REQUIRE_EXTRAS") != "1":
         pytest.importorskip("syllabus", reason='the Syllabus extra is not installed (pip install "saggriac[syllabus]")')
-    spec = importlib.util.spec_from_file_location("plr_vs_syllabus", BENCH)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return benchmark_scripts.load("references/plr_vs_syllabus")
 
 
 @pytest.mark.parametrize("scenario", range(7))

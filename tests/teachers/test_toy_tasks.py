@@ -3,24 +3,17 @@ most of the box is impossible: what the docs say about it must hold."""
 
 from __future__ import annotations
 
-import importlib.util
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
 
-_PATH = Path(__file__).resolve().parents[2] / "benchmarks" / "toy_tasks.py"
+from tests import benchmark_scripts
+
 
 
 @pytest.fixture(scope="module")
 def toy():
-    spec = importlib.util.spec_from_file_location("toy_tasks_under_test", _PATH)
-    mod = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = mod
-    spec.loader.exec_module(mod)
-    yield mod
-    del sys.modules[spec.name]
+    return benchmark_scripts.load("toy_tasks")
 
 
 def _master_everything_possible(env) -> None:

@@ -5,12 +5,9 @@
 //!     cargo run --release -p saggriac-core --example index_probe -- [steps] [condition] [repeats] [blocks]
 #[path = "probe_setup/mod.rs"]
 mod probe_setup;
-use saggriac_core::body::arm::Arm;
 use saggriac_core::config::Condition;
 use saggriac_core::model::block_index::BlockIndex;
-use saggriac_core::model::local_model::LocalModel;
 use saggriac_core::model::neighbours::{BruteForce, Neighbour, NeighbourIndex, PointIndex, WarmStart};
-use saggriac_core::task_space::desired_step;
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
@@ -23,35 +20,8 @@ fn main() {
     let n = mem.n_joints();
     let k = cfg.local.k_neighbours;
     // Record the queries of 100 test reaches (what one evaluation asks).
-    let tests = probe_setup::test_goals(&cfg);
-    let mut arm = Arm::new(cfg.arm.clone()).unwrap();
-    let mut model = LocalModel::new(n, 2, cfg.local.clone());
-    let mut ws = WarmStart::new(cfg.warm_start_recent);
-    let mut nb: Vec<Neighbour> = Vec::new();
     let mut queries: Vec<(bool, Vec<f64>)> = Vec::new();
-    let mut dtheta = vec![0.0; n];
-    for (i, g) in tests.goals.iter().enumerate() {
-        if i % 2 == 0 {
-            arm.reset();
-        }
-        ws.clear();
-        let mut fresh = true;
-        for _ in 0..(2.0 * saggriac_core::task_space::distance(g, &arm.position()) / 0.5).ceil() as usize + 20 {
-            let x = arm.position();
-            if saggriac_core::task_space::distance(g, &x) <= 0.01 {
-                break;
-            }
-            let th = arm.theta().to_vec();
-            mem.knn_warm(&mut ws, &th, k, &mut nb);
-            queries.push((fresh, th));
-            fresh = false;
-            let dx = desired_step(&x, g, 0.5);
-            if model.fit(mem, &nb).and_then(|_| model.inverse(&dx[..2], &mut dtheta)).is_err() {
-                break;
-            }
-            arm.step(&mut dtheta);
-        }
-    }
+    probe_setup::replay_test_reaches(&cfg, mem, 100, |fresh, th, _| queries.push((fresh, th.to_vec())));
     let [thetas, ..] = mem.arrays();
     let thetas = &thetas;
     let mut tree = BruteForce::new(n);

@@ -10,11 +10,8 @@
 //!     cargo run --release -p saggriac-core --example search_probe -- exp1|exp2 CONDITION
 #[path = "probe_setup/mod.rs"]
 mod probe_setup;
-use saggriac_core::body::arm::Arm;
 use saggriac_core::config::Condition;
-use saggriac_core::model::local_model::LocalModel;
-use saggriac_core::model::neighbours::{dist_sq, Neighbour, WarmStart};
-use saggriac_core::task_space::desired_step;
+use saggriac_core::model::neighbours::dist_sq;
 use saggriac_core::{Learner, RunConfig};
 use std::collections::HashMap;
 
@@ -35,7 +32,6 @@ fn main() {
     };
     let mem = l.memory();
     let n = mem.n_joints();
-    let k = cfg.local.k_neighbours;
     let [thetas, ..] = mem.arrays();
     let npts = thetas.len() / n;
     let mut seen: HashMap<Vec<u64>, usize> = HashMap::new();
@@ -51,12 +47,6 @@ fn main() {
     let maxm = seen.values().max().unwrap();
     let ndup = dup.iter().filter(|&&d| d).count();
     println!("{exp} {}: {npts} points, {} distinct, {ndup} duplicates, largest multiplicity {maxm}", cond.name(), seen.len());
-    let tests = probe_setup::test_goals(&cfg);
-    let mut arm = Arm::new(cfg.arm.clone()).unwrap();
-    let mut model = LocalModel::new(n, 2, cfg.local.clone());
-    let mut ws = WarmStart::new(cfg.warm_start_recent);
-    let mut nb: Vec<Neighbour> = Vec::new();
-    let mut dtheta = vec![0.0; n];
     let (mut nq, mut in_t, mut in_t_dup, mut blocks_pts, mut blocks_box, mut l1_box, mut blocks_dup_only) = (0usize, 0usize, 0usize, 0usize, 0usize, 0usize, 0usize);
     let (mut blocks_ball, mut blocks_capsule, mut blocks_both) = (0usize, 0usize, 0usize);
     let (mut leaves_box, mut leaves_pts) = (0usize, 0usize);
@@ -65,70 +55,50 @@ fn main() {
     let leaves = SpatialLeaves::new(&thetas, n, 16);
     let shapes: Vec<Shapes> = (0..npts.div_ceil(16)).map(|b| Shapes::new(&thetas, n, b * 16..((b + 1) * 16).min(npts))).collect();
     let mut d = vec![0.0; npts];
-    for (i, g) in tests.goals.iter().enumerate() {
-        if i % 2 == 0 {
-            arm.reset();
-        }
-        ws.clear();
-        for _ in 0..(2.0 * saggriac_core::task_space::distance(g, &arm.position()) / 0.5).ceil() as usize + 20 {
-            let x = arm.position();
-            if saggriac_core::task_space::distance(g, &x) <= 0.01 {
-                break;
+    probe_setup::replay_test_reaches(&cfg, mem, 20, |_, th, nb| {
+        let t = nb.last().unwrap().dist_sq;
+        nq += 1;
+        // Every distance, then what each block and group of 128 holds and reaches.
+        {
+            for (j, p) in thetas.chunks_exact(n).enumerate() {
+                d[j] = dist_sq(&th, p);
             }
-            let th = arm.theta().to_vec();
-            mem.knn_warm(&mut ws, &th, k, &mut nb);
-            let t = nb.last().unwrap().dist_sq;
-            nq += 1;
-            // Every distance, then what each block and group of 128 holds and reaches.
-            {
-                for (j, p) in thetas.chunks_exact(n).enumerate() {
-                    d[j] = dist_sq(&th, p);
-                }
-                for b in 0..npts.div_ceil(16) {
-                    let r = b * 16..((b + 1) * 16).min(npts);
-                    let c = r.clone().filter(|&j| d[j] <= t).count();
-                    let cd = r.clone().filter(|&j| d[j] <= t && dup[j]).count();
-                    in_t += c;
-                    in_t_dup += cd;
-                    if c > 0 {
-                        blocks_pts += 1;
-                        if c == cd {
-                            blocks_dup_only += 1;
-                        }
-                    }
-                    let boxd = box_dist_sq(&thetas, n, r, &th);
-                    if boxd <= t {
-                        blocks_box += 1;
-                    }
-                    let (ball, capsule) = shapes[b].bounds(&th);
-                    blocks_ball += usize::from(ball <= t);
-                    blocks_capsule += usize::from(capsule <= t);
-                    blocks_both += usize::from(boxd.max(ball).max(capsule) <= t);
-                }
-                for (c, &sz) in by_size.iter_mut().zip(&sizes) {
-                    *c += (0..npts.div_ceil(sz)).filter(|b| box_dist_sq(&thetas, n, b * sz..((b + 1) * sz).min(npts), &th) <= t).count();
-                }
-                for (lo, hi, members) in leaves.iter() {
-                    leaves_box += usize::from(leaves.box_dist_sq(lo, hi, &th) <= t);
-                    leaves_pts += usize::from(members.iter().any(|&j| d[j] <= t));
-                }
-                for b in 0..npts.div_ceil(128) {
-                    let r = b * 128..((b + 1) * 128).min(npts);
-                    if box_dist_sq(&thetas, n, r, &th) <= t {
-                        l1_box += 1;
+            for b in 0..npts.div_ceil(16) {
+                let r = b * 16..((b + 1) * 16).min(npts);
+                let c = r.clone().filter(|&j| d[j] <= t).count();
+                let cd = r.clone().filter(|&j| d[j] <= t && dup[j]).count();
+                in_t += c;
+                in_t_dup += cd;
+                if c > 0 {
+                    blocks_pts += 1;
+                    if c == cd {
+                        blocks_dup_only += 1;
                     }
                 }
+                let boxd = box_dist_sq(&thetas, n, r, &th);
+                if boxd <= t {
+                    blocks_box += 1;
+                }
+                let (ball, capsule) = shapes[b].bounds(&th);
+                blocks_ball += usize::from(ball <= t);
+                blocks_capsule += usize::from(capsule <= t);
+                blocks_both += usize::from(boxd.max(ball).max(capsule) <= t);
             }
-            let dx = desired_step(&x, g, 0.5);
-            if model.fit(mem, &nb).and_then(|_| model.inverse(&dx[..2], &mut dtheta)).is_err() {
-                break;
+            for (c, &sz) in by_size.iter_mut().zip(&sizes) {
+                *c += (0..npts.div_ceil(sz)).filter(|b| box_dist_sq(&thetas, n, b * sz..((b + 1) * sz).min(npts), &th) <= t).count();
             }
-            arm.step(&mut dtheta);
+            for (lo, hi, members) in leaves.iter() {
+                leaves_box += usize::from(leaves.box_dist_sq(lo, hi, &th) <= t);
+                leaves_pts += usize::from(members.iter().any(|&j| d[j] <= t));
+            }
+            for b in 0..npts.div_ceil(128) {
+                let r = b * 128..((b + 1) * 128).min(npts);
+                if box_dist_sq(&thetas, n, r, &th) <= t {
+                    l1_box += 1;
+                }
+            }
         }
-        if i >= 19 {
-            break;
-        }
-    }
+    });
     let f = |x: usize| x as f64 / nq as f64;
     println!(
         "{nq} queries (first 20 test reaches): per query points within T {:.1} (dups {:.1}); blocks with such points {:.1} (dup-only {:.1}); blocks whose box is within T {:.1} of {}; level-1 boxes within T {:.1} of {}",

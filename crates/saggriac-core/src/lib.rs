@@ -19,6 +19,7 @@ pub mod parts;
 pub mod recorder;
 pub mod rng;
 pub mod run_loop;
+pub mod table;
 pub mod task_space;
 pub mod timers;
 

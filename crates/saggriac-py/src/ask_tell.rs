@@ -4,6 +4,7 @@ use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, P
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use saggriac_core::high_level::ask_tell::AskTell;
+use saggriac_core::high_level::goal_selection::leaves_table;
 use saggriac_core::high_level::teachers::{Teacher, TeacherSpec};
 use saggriac_core::Error;
 
@@ -121,18 +122,10 @@ impl PyAskTell {
 
     /// Every region of the tree (an empty table for a selector without regions).
     fn regions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let d = PyDict::new(py);
-        let dim = self.inner.dim();
         let leaves = self.inner.selector().leaf_table();
         if !leaves.is_empty() {
             // A selector with leaves but no region tree (RIAC): its leaves only.
-            let n = leaves.len();
-            d.set_item("low", rows(py, leaves.iter().flat_map(|r| r.low.clone()).collect(), dim)?)?;
-            d.set_item("high", rows(py, leaves.iter().flat_map(|r| r.high.clone()).collect(), dim)?)?;
-            d.set_item("interest", leaves.iter().map(|r| r.interest).collect::<Vec<_>>().into_pyarray(py))?;
-            d.set_item("n_measurements", leaves.iter().map(|r| r.n_measurements as i64).collect::<Vec<_>>().into_pyarray(py))?;
-            d.set_item("is_leaf", vec![true; n].into_pyarray(py))?;
-            return Ok(d);
+            return crate::recorder::table(py, leaves_table(&leaves, self.inner.dim()));
         }
         // A tree's regions: the table a run's regions.parquet holds.
         crate::goal_selection::regions(py, self.inner.selector())

@@ -2,10 +2,11 @@
 //! (failures handled as for environments, see `body.rs`), and the region tree of a selector as
 //! numpy arrays.
 
-use numpy::{IntoPyArray, PyArrayMethods};
+use numpy::IntoPyArray;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use saggriac_core::high_level::goal_selection::{GoalChoice, GoalSelector, Mode};
+use saggriac_core::high_level::region_tree::region_table;
 use saggriac_core::error::Num;
 
 use crate::errors::{keep_first, Failure, Slot};
@@ -84,29 +85,9 @@ impl GoalSelector for PySelector {
     }
 }
 
-fn col<'py, T: numpy::Element>(py: Python<'py>, v: Vec<T>) -> Bound<'py, numpy::PyArray1<T>> {
-    v.into_pyarray(py)
-}
-
 /// The selector's region tree (all nodes, leaves and inner): bounds, parent, split, interest,
 /// count. Empty arrays for selectors without a tree.
 pub fn regions<'py>(py: Python<'py>, selector: &dyn GoalSelector) -> PyResult<Bound<'py, PyDict>> {
-    let d = PyDict::new(py);
-    let regs = selector.tree().map(|t| t.regions().to_vec()).unwrap_or_default();
-    let dim = selector.dim();
-    let n = regs.len();
-    let low: Vec<f64> = regs.iter().flat_map(|r| r.low.clone()).collect();
-    let high: Vec<f64> = regs.iter().flat_map(|r| r.high.clone()).collect();
-    d.set_item("low", low.into_pyarray(py).reshape([n, dim])?)?;
-    d.set_item("high", high.into_pyarray(py).reshape([n, dim])?)?;
-    d.set_item("parent", col(py, regs.iter().map(|r| r.parent.map(|p| p as i64).unwrap_or(-1)).collect()))?;
-    d.set_item("is_leaf", col(py, regs.iter().map(|r| r.is_leaf()).collect()))?;
-    d.set_item("split_dim", col(py, regs.iter().map(|r| if r.is_leaf() { -1 } else { r.split_dim as i64 }).collect()))?;
-    d.set_item("split_value", col(py, regs.iter().map(|r| r.split_value).collect()))?;
-    d.set_item("interest", col(py, regs.iter().map(|r| r.interest).collect()))?;
-    d.set_item("n_measurements", col(py, regs.iter().map(|r| r.entries.len() as i64).collect()))?;
-    d.set_item("mean_competence", col(py, regs.iter().map(|r| r.mean().unwrap_or(f64::NAN)).collect()))?;
-    d.set_item("created_at", col(py, regs.iter().map(|r| r.created_at as i64).collect()))?;
-    d.set_item("depth", col(py, regs.iter().map(|r| r.depth as i64).collect()))?;
-    Ok(d)
+    let regions = selector.tree().map(|t| t.regions()).unwrap_or_default();
+    crate::recorder::table(py, region_table(regions, selector.dim()))
 }

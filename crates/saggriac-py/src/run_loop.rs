@@ -8,7 +8,7 @@ use saggriac_core::assembly::UserParts;
 use saggriac_core::body::Body;
 use saggriac_core::evaluation::reachable_cloud::Cloud;
 use saggriac_core::high_level::goal_selection::GoalSelector;
-use saggriac_core::recorder::MetricRow;
+use saggriac_core::recorder::{attempt_table, goal_table, metric_table, MetricRow};
 use saggriac_core::task_space::point;
 use saggriac_core::Learner;
 
@@ -89,7 +89,7 @@ impl PyLearner {
                         return false;
                     }
                     let Some(cb) = &callback else { return true };
-                    let r = recorder::metric_row(py, row).and_then(|d| cb.call1(py, (d,)));
+                    let r = recorder::first_row(py, metric_table(std::slice::from_ref(row))).and_then(|d| cb.call1(py, (d,)));
                     match r {
                         // Only an explicit False stops the run; None or anything else goes on.
                         Ok(v) => !v.bind(py).is_instance_of::<pyo3::types::PyBool>() || v.extract::<bool>(py).unwrap_or(true),
@@ -146,19 +146,20 @@ impl PyLearner {
         self.inner.memory().len()
     }
 
-    /// Learning curve: dict of 1-D arrays (step, n_samples, reach_error, pred_error, n_goals, n_regions).
+    /// Learning curve: dict of 1-D arrays (step, n_samples, reach_error, pred_error, dx_error,
+    /// n_goals, n_regions).
     fn metrics<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        recorder::metrics(py, self.inner.recorder())
+        recorder::table(py, metric_table(self.inner.recorder().metrics()))
     }
 
     /// Self-generated goals: one row per goal.
     fn goals<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        recorder::goals(py, self.inner.recorder(), self.inner.task_dim())
+        recorder::table(py, goal_table(self.inner.recorder().goals(), self.inner.task_dim()))
     }
 
     /// Every (sub)goal attempt and the competence the high level received for it.
     fn attempts<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        recorder::attempts(py, self.inner.recorder(), self.inner.task_dim())
+        recorder::table(py, attempt_table(self.inner.recorder().attempts(), self.inner.task_dim()))
     }
 
     /// The region tree (all nodes, leaves and inner): bounds, parent, split, interest, count.
@@ -176,7 +177,7 @@ impl PyLearner {
     /// Micro-action counts and wall time (s) per part of the loop.
     fn profile<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let l = &self.inner;
-        recorder::profile(py, l.recorder(), l.actuator_reset_period(), l.memory().rejected(), l.evaluation_split())
+        recorder::record(py, l.recorder().profile(l.actuator_reset_period(), l.memory().rejected(), l.evaluation_split()))
     }
 }
 

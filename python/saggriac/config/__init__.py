@@ -123,7 +123,7 @@ class Config:
     p_lowest: float = _CORE["p_lowest"]
     reset_every: int = _CORE["reset_every"]
     # Beyond the paper: the teacher choosing sagg_riac's goals. "own" is SAGG-RIAC's high level;
-    # any teacher of goals in a box ("riac", "alp_gmm", "covar_gmm", "adr", "spdl", "goal_gan")
+    # any registered teacher of goals in a box (saggriac.teachers.available(), spaces "box")
     # replaces it, with its paper's defaults (docs/teachers.md) except those teacher_params sets:
     # a dict of the parameters of that teacher's class (kept as a read-only TeacherParams mapping,
     # so that a Config stays hashable).

@@ -85,23 +85,20 @@ impl Differences {
         let mut t = theta.to_vec();
         for i in 0..n {
             let (up, down) = (theta[i] + FD_STEP <= lim, theta[i] - FD_STEP >= -lim);
-            let hi = match (up, together) {
+            // One side of the difference: x where the joint cannot move, the position moved
+            // together with the others when that worked, else joint i moved alone.
+            let mut side = |moves: bool, moved: &Point, to: f64| match (moves, together) {
                 (false, _) => *x,
-                (true, true) => self.hi[i],
+                (true, true) => *moved,
                 (true, false) => {
-                    t[i] = self.up[i];
-                    fk.position(&t)
+                    t[i] = to;
+                    let p = fk.position(&t);
+                    t[i] = theta[i];
+                    p
                 }
             };
-            let lo = match (down, together) {
-                (false, _) => *x,
-                (true, true) => self.lo[i],
-                (true, false) => {
-                    t[i] = self.down[i];
-                    fk.position(&t)
-                }
-            };
-            t[i] = theta[i];
+            let hi = side(up, &self.hi[i], self.up[i]);
+            let lo = side(down, &self.lo[i], self.down[i]);
             let h = if up && down { 2.0 * FD_STEP } else { FD_STEP };
             for j in 0..m {
                 jac[(j, i)] = (hi[j] - lo[j]) / h;

@@ -6,6 +6,7 @@ use crate::config::high_level::check_bounds;
 pub use crate::config::high_level::ModeProbabilities;
 use crate::error::Result;
 use crate::high_level::region_tree::{RegionTree, RegionTreeConfig};
+use crate::table::{bools, floats, ints, slices, Table};
 use crate::rng::{index, pick_weighted, rng_from_seed, uniform, unit, CoreRng};
 
 /// How a goal was chosen.
@@ -41,6 +42,17 @@ pub struct LeafRow {
     pub high: Vec<f64>,
     pub interest: f64,
     pub n_measurements: usize,
+}
+
+/// Leaves as a table (the same column names as a region tree's, each row a leaf).
+pub fn leaves_table(leaves: &[LeafRow], dim: usize) -> Table {
+    vec![
+        ("low", slices(leaves, dim, |r| &r.low)),
+        ("high", slices(leaves, dim, |r| &r.high)),
+        ("interest", floats(leaves, |r| r.interest)),
+        ("n_measurements", ints(leaves, |r| r.n_measurements as i64)),
+        ("is_leaf", bools(leaves, |_| true)),
+    ]
 }
 
 /// A goal selector, usable inside the run loop or on its own.

@@ -60,6 +60,16 @@ def _check_goal_space(space: Any, owner: str) -> None:
         raise ConformanceError(f"{owner} needs a goal-conditioned environment: a Dict observation space with 'achieved_goal' and 'desired_goal'; got {space}.")
 
 
+def _take_selector(selector: Any, goal_space: Any, owner: str, allow_copy: Any) -> None:
+    """A wrapper's selector must ask and be told, be this wrapper's alone (unless a copy is
+    allowed) and fit the environment's goals."""
+    if not (callable(getattr(selector, "sample", None)) and callable(getattr(selector, "update", None))):
+        raise ConformanceError(f"{owner} needs a selector with sample() and update(goal, competence); got {selector!r}.")
+    check_flag(allow_copy, "allow_copy", owner)
+    ownership.claim(selector, owner, allow_copy)
+    check_fits(selector, goal_space, owner)
+
+
 def check_fits(teacher: Any, goal_space: Any, owner: str) -> None:
     """A teacher's goal box must have the environment's goal dimension and lie within its
     desired_goal bounds (where they are finite): found before training, not as a numpy
@@ -164,11 +174,7 @@ class SelectorGoals(gymnasium.Wrapper):
         _check_goal_space(env.observation_space, "SelectorGoals")
         if goal_via not in GOAL_VIA:
             raise ParameterError(f"The 'goal_via' parameter of SelectorGoals must be one of {', '.join(map(repr, GOAL_VIA))}. Got {goal_via!r} instead.", "goal_via", repr(goal_via))
-        if not (callable(getattr(selector, "sample", None)) and callable(getattr(selector, "update", None))):
-            raise ConformanceError(f"SelectorGoals needs a selector with sample() and update(goal, competence); got {selector!r}.")
-        check_flag(allow_copy, "allow_copy", "SelectorGoals")
-        ownership.claim(selector, "SelectorGoals", allow_copy)
-        check_fits(selector, env.observation_space["desired_goal"], "SelectorGoals")
+        _take_selector(selector, env.observation_space["desired_goal"], "SelectorGoals", allow_copy)
         self.selector, self.goal_via, self.allow_copy = selector, goal_via, allow_copy
         self._score = _Scoring(min_c, eps_c, competence, reach)
         self._success = _success_rule(success, env, "SelectorGoals") if goal_via == "observation" else False
@@ -245,11 +251,7 @@ class VectorSelectorGoals(gymnasium.vector.VectorWrapper):
         mode = env.metadata.get("autoreset_mode", gymnasium.vector.AutoresetMode.NEXT_STEP)
         if mode != gymnasium.vector.AutoresetMode.NEXT_STEP:
             raise ParameterError(f"VectorSelectorGoals needs a vector environment that resets on the next step (autoreset_mode=AutoresetMode.NEXT_STEP, Gymnasium's default); this one has {mode}.", "autoreset_mode", repr(mode))
-        if not (callable(getattr(selector, "sample", None)) and callable(getattr(selector, "update", None))):
-            raise ConformanceError(f"VectorSelectorGoals needs a selector with sample() and update(goal, competence); got {selector!r}.")
-        check_flag(allow_copy, "allow_copy", "VectorSelectorGoals")
-        ownership.claim(selector, "VectorSelectorGoals", allow_copy)
-        check_fits(selector, env.single_observation_space["desired_goal"], "VectorSelectorGoals")
+        _take_selector(selector, env.single_observation_space["desired_goal"], "VectorSelectorGoals", allow_copy)
         self.selector, self.allow_copy = selector, allow_copy
         self._score = _Scoring(min_c, eps_c, competence, reach)
         n = env.num_envs

@@ -6,6 +6,7 @@ use crate::config::high_level::check_bounds;
 pub use crate::config::high_level::RegionTreeConfig;
 use crate::error::Result;
 use crate::high_level::interest::interest;
+use crate::table::{bools, floats, index_or_none, ints, slices, Table};
 
 mod cut;
 use cut::Cuts;
@@ -40,6 +41,24 @@ impl Region {
             Some(self.sum / self.entries.len() as f64)
         }
     }
+}
+
+/// Every node of a tree (leaves and inner): bounds, parent, split, interest, count; the
+/// columns' names and kinds with no rows when there is no tree.
+pub fn region_table(regions: &[Region], dim: usize) -> Table {
+    vec![
+        ("low", slices(regions, dim, |r| &r.low)),
+        ("high", slices(regions, dim, |r| &r.high)),
+        ("parent", ints(regions, |r| index_or_none(r.parent))),
+        ("is_leaf", bools(regions, |r| r.is_leaf())),
+        ("split_dim", ints(regions, |r| if r.is_leaf() { -1 } else { r.split_dim as i64 })),
+        ("split_value", floats(regions, |r| r.split_value)),
+        ("interest", floats(regions, |r| r.interest)),
+        ("n_measurements", ints(regions, |r| r.entries.len() as i64)),
+        ("mean_competence", floats(regions, |r| r.mean().unwrap_or(f64::NAN))),
+        ("created_at", ints(regions, |r| r.created_at as i64)),
+        ("depth", ints(regions, |r| r.depth as i64)),
+    ]
 }
 
 #[derive(Debug, Clone)]
