@@ -12,7 +12,11 @@ Printed per task: E_p[competence] in closed form averaged over the updates of th
 the run, then over seeds (the slab's known answer is delta); p's x_0 mean and sd at the end; and
 KL(p || mu) at the end (0 for "all", its start for "none").
 
-    python benchmarks/references/spdl_known_optima.py [--seeds 5] [--goals 6000]
+    python benchmarks/references/spdl_known_optima.py [--seeds 5] [--goals 6000] [--form delta] [--covariance diagonal]
+
+``--form alpha`` runs the NeurIPS paper's form instead (its answer on the slab is not delta: alpha
+trades competence against KL to the target; benchmarks/references/spdl_vs_tma.py sets it beside
+TeachMyAgent's).
 """
 
 import argparse
@@ -33,8 +37,8 @@ def phi(z: float) -> float:
     return 0.5 * (1.0 + math.erf(z / math.sqrt(2.0)))
 
 
-def run(task: str, d: int, every: int, seed: int, goals: int) -> tuple[float, float, float, float]:
-    t = sg.SpdlSelector(np.zeros(d), np.ones(d), seed=seed, init_mean=0.1, init_std=0.05, update_every=every, warmup=every)
+def run(task: str, d: int, every: int, seed: int, goals: int, **form: str) -> tuple[float, float, float, float]:
+    t = sg.SpdlSelector(np.zeros(d), np.ones(d), seed=seed, init_mean=0.1, init_std=0.05, update_every=every, warmup=every, **form)
     told, e = TASKS[task], []
     for k in range(goals):
         g = t.sample()
@@ -52,13 +56,16 @@ def main() -> None:
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--seeds", type=int, default=5)
     p.add_argument("--goals", type=int, default=6000)
+    p.add_argument("--form", default="delta", choices=["delta", "alpha"])
+    p.add_argument("--covariance", default="diagonal", choices=["diagonal", "full"])
     a = p.parse_args()
+    form = {"form": a.form, "covariance": a.covariance}
     print("| task | d | update every | E_p[competence] (slab: delta = 0.5) | per seed | x_0 mean, sd | KL(p \\|\\| mu) |")
     print("|---|---|---|---|---|---|---|")
     for task in TASKS:
         for d in (2, 5):
             for every in (50, 100):
-                rows = np.array([run(task, d, every, s, a.goals) for s in range(a.seeds)])
+                rows = np.array([run(task, d, every, s, a.goals, **form) for s in range(a.seeds)])
                 e = rows[:, 0]
                 per = ", ".join(f"{v:.3f}" for v in e) if task == "slab" else "-"
                 shown = f"{e.mean():.3f}" if task == "slab" else "-"

@@ -38,11 +38,12 @@ def _holds_bool(value: Any) -> bool:
 
 
 def plain(value: Any) -> Any:
-    """numpy scalars and arrays as the Python values they stand for (lists keep their type)."""
+    """numpy scalars and arrays as the Python values they stand for (lists keep their type; a
+    0-d array is its one value)."""
     if isinstance(value, np.generic):
         return value.item()
     if isinstance(value, np.ndarray):
-        return [plain(v) for v in value.tolist()]
+        return value.item() if value.ndim == 0 else [plain(v) for v in value.tolist()]
     if isinstance(value, (list, tuple)):
         return type(value)(plain(v) for v in value)
     return value

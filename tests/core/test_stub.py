@@ -74,10 +74,15 @@ def test_each_default_is_declared_once_by_the_core():
     _CLASSES = classes()
 
     teachers = _core.teacher_defaults()
-    assert set(_CLASSES) == set(teachers)
+    per_dimension = _core.teacher_per_dimension()
+    assert set(_CLASSES) == set(teachers) == set(per_dimension)
     for kind, cls in _CLASSES.items():
         sig = inspect.signature(cls).parameters
-        assert set(sig) - {"low", "high", "seed"} == set(teachers[kind]), kind
+        # A matrix taken per dimension (SPDL's covariances) has no single number: None, not given.
+        matrices = {n for n, shape in per_dimension[kind].items() if shape == "matrix"}
+        assert set(sig) - {"low", "high", "seed"} == set(teachers[kind]) | matrices, kind
+        assert all(sig[n].default is None for n in matrices), kind
+        assert {n for n, shape in per_dimension[kind].items() if shape == "vector"} <= set(teachers[kind]), kind
         given = {k: p.default for k, p in sig.items() if k in teachers[kind] and p.default is not p.empty}
         assert given == {k: teachers[kind][k] for k in given} and len(given) >= len(teachers[kind]) - 1, kind
     # The registry names each class and its goal space as the Python classes are, in order.

@@ -22,8 +22,8 @@ count = COUNTS.count
 
 BOX = {
     saggriac.AdrSelector: ["boundary_prob", "buffer_size", "t_low", "t_high", "step", "initial", "initial_width"],
-    saggriac.SpdlSelector: ["init_mean", "init_std", "target_mean", "target_std", "epsilon", "delta", "update_every", "warmup"],
-    saggriac.GoalGanSelector: ["success_threshold", "r_min", "r_max", "n_rollouts", "update_size", "gan_iterations", "p_old", "noise_dim", "hidden", "learning_rate"],
+    saggriac.SpdlSelector: ["init_mean", "init_std", "target_mean", "target_std", "epsilon", "delta", "update_every", "warmup", "form", "covariance", "alpha_offset", "alpha_zeta", "init_cov", "target_cov"],
+    saggriac.GoalGanSelector: ["success_threshold", "r_min", "r_max", "n_rollouts", "update_size", "gan_iterations", "p_old", "noise_dim", "hidden", "learning_rate", "initial", "initial_width"],
 }
 LISTS = {
     saggriac.PlrSelector: ["temperature", "staleness_coef", "replay_schedule", "replay_prob", "score", "ties"],
@@ -34,7 +34,8 @@ LISTS = {
 values = st.one_of(
     floats,
     st.integers(-(2**70), 2**70),
-    st.sampled_from([0, 1, 2, -1, 3, 10, 1000, 2**31, 2**63, True, False, None, "1", "", "value_l1", "proportionate", "progress", "order", "average", [1.0], (0.5,)]),
+    st.sampled_from([0, 1, 2, -1, 3, 10, 1000, 2**31, 2**63, True, False, None, "1", "", "value_l1", "proportionate", "progress", "order", "average", "alpha", "full", [1.0], (0.5,), [[0.01, 0.0], [0.0, 0.01]], [[1.0, 2.0], [2.0, 1.0]], [[0.5]], [["a"]]]),
+    st.lists(st.one_of(floats, st.floats(0, 1)), max_size=4),
     st.builds(np.int64, st.integers(-(2**40), 2**40)),
     st.builds(np.float32, st.floats(width=32, allow_nan=True)),
     st.builds(np.float64, floats),

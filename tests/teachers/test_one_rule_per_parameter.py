@@ -65,6 +65,11 @@ def test_the_examples_of_the_audit_read_the_same_rule():
             sg.SpdlSelector([0, 0], [1, 1], warmup=v)
     # Right values still go through, numpy ints included.
     assert sg.AdrSelector([0, 0], [1, 1], buffer_size=np.int64(3)).dim == 2
+    # A 0-d array is its value (it raised TypeError: 'float' object is not iterable), as the
+    # fuzz of tests/teachers/test_new_teachers_fuzz.py found.
+    assert sg.AdrSelector([0, 0], [1, 1], boundary_prob=np.array(0.5)).get_params()["boundary_prob"] == 0.5
+    with pytest.raises(sg.ParameterError, match=r"'buffer_size' parameter of AdrSelector must be an int in \[1, 1000000\]\. Got 0 instead"):
+        sg.AdrSelector([0, 0], [1, 1], buffer_size=np.array(0))
 
 
 @pytest.mark.parametrize(
@@ -141,8 +146,15 @@ def test_one_bad_value_is_told_its_rule_by_every_route(kind, cls, name, tmp_path
 
     rule = sg._core.teacher_param_rule(kind, name)
     assert rule, (kind, name)
-    for value in _bad_values(rule):
-        assert _told(lambda: sg.testing.example_teacher(cls, **{name: value}), name) == rule, (name, value)
+    # A parameter the class also takes per dimension (issue 46, item 3) is told, for a list, the
+    # same rule as a list states it: each value in a list of the box's length meets it.
+    per_dimension = sg._core.teacher_per_dimension()[kind].get(name) == "vector"
+    bad = _bad_values(rule)
+    if per_dimension:
+        bad += [[DEFAULTS[kind][name], v] for v in bad if isinstance(v, float)]
+    for value in bad:
+        told = rule + ", or a list of such floats, one per dimension of the box" if per_dimension and isinstance(value, list) else rule
+        assert _told(lambda: sg.testing.example_teacher(cls, **{name: value}), name) == told, (name, value)
         if "box" not in cls.spaces or kind == "sagg_riac":
             continue  # a run takes teachers of a box; SAGG-RIAC's own parameters are Config's
         assert _told(lambda: sg.Config(teacher=kind, teacher_params={name: value}), name) == rule, (name, value)

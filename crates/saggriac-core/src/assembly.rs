@@ -57,10 +57,10 @@ pub fn run_teacher(cfg: &RunConfig, seed: u64) -> TeacherSpec {
             let dims = if cfg.paradigm == Paradigm::Episodic { n } else { 2 * n };
             let low: Vec<f64> = (0..dims).map(|i| if i < n { -lim } else { -b }).collect();
             let high: Vec<f64> = (0..dims).map(|i| if i < n { lim } else { b }).collect();
-            return TeacherSpec { teacher: own, low, high, seed };
+            return TeacherSpec { teacher: own, low, high, seed, dims: Default::default() };
         }
     };
-    TeacherSpec { teacher, low, high, seed }
+    TeacherSpec { teacher, low, high, seed, dims: Default::default() }
 }
 
 impl Learner {

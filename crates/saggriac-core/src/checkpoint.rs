@@ -5,6 +5,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::config::teachers::{SpdlConfig, Teacher};
 use crate::config::RunConfig;
 use crate::error::{Error, Result};
 use crate::body::arm::InlineState;
@@ -14,8 +15,10 @@ use crate::run_loop::Learner;
 /// Bumped whenever the layout below changes. Format 3: the encoding is followed by a CRC-32
 /// (Castagnoli) of it. Format 4: the test motions' true displacements and the metric rows'
 /// dx_error. Format 5: each part's state in one piece. Format 6: the body's state in the body's
-/// own encoding (bytes), as the goal selector's. Format 5 is still read; older ones are refused.
-const FORMAT: u32 = 6;
+/// own encoding (bytes), as the goal selector's. Format 7: the layout of 6, with configurations
+/// that print the parameters SPDL and Goal GAN gained in #46. Formats 5 and 6 are still read;
+/// older ones are refused.
+const FORMAT: u32 = 7;
 
 /// CRC-32C: detects every error of up to 32 consecutive bits, so any one damaged byte.
 const CHECKSUM: crc::Crc<u32> = crc::Crc::<u32>::new(&crc::CRC_32_ISCSI);
@@ -70,26 +73,50 @@ struct Head {
 fn other_format(bytes: &[u8]) -> Option<Head> {
     let (h, _) = postcard::take_from_bytes::<Head>(bytes).ok()?;
     let version = h.version.split('.').count() == 3 && h.version.split('.').all(|p| !p.is_empty() && p.chars().all(|c| c.is_ascii_digit()));
-    (![5, FORMAT].contains(&h.format) && (1..FORMAT + 100).contains(&h.format) && version).then_some(h)
+    (![5, 6, FORMAT].contains(&h.format) && (1..FORMAT + 100).contains(&h.format) && version).then_some(h)
 }
 
 /// The configuration as a checkpoint of `format` printed it. Format 5 (saggriac 0.5) printed the
 /// run's teacher as its own enum, `Own` for the condition's own high level, and no trigger.
+/// Formats 5 and 6 printed SPDL and Goal GAN without the parameters of #46.
 fn config_text(cfg: &RunConfig, format: u32) -> String {
     let mut text = format!("{cfg:?}");
     if format == 5 {
         // 0.5 had no choice of exploration trigger: its runs used today's default.
         text = text.replacen(", trigger: Executed", "", 1);
     }
-    match (format, &cfg.teacher) {
-        (5, None) => text.replacen("teacher: None,", "teacher: Own,", 1),
-        (5, Some(t)) => text.replacen(&format!("teacher: Some({t:?}),"), &format!("teacher: {t:?},"), 1),
+    let Some(t) = &cfg.teacher else {
+        return if format == 5 { text.replacen("teacher: None,", "teacher: Own,", 1) } else { text };
+    };
+    let now = format!("teacher: Some({t:?}),");
+    match format {
+        5 => text.replacen(&now, &format!("teacher: {},", teacher_before_46(t)), 1),
+        6 => text.replacen(&now, &format!("teacher: Some({}),", teacher_before_46(t)), 1),
         _ => text,
     }
 }
 
+/// A teacher as saggriac printed it before #46: SPDL without its form, covariance and alpha
+/// parameters, Goal GAN without its first goals' box. Runs of then ran them at the values these
+/// take by default; with other values the text differs, and the checkpoint is another run's.
+fn teacher_before_46(t: &Teacher) -> String {
+    let text = format!("{t:?}");
+    let d = SpdlConfig::default();
+    let added = match t {
+        Teacher::Spdl(c) if (c.form, c.covariance, c.alpha_offset, c.alpha_zeta) == (d.form, d.covariance, d.alpha_offset, d.alpha_zeta) => {
+            format!(", form: {:?}, covariance: {:?}, alpha_offset: {:?}, alpha_zeta: {:?}", c.form, c.covariance, c.alpha_offset, c.alpha_zeta)
+        }
+        Teacher::GoalGan(c) if (c.initial, c.initial_width) == (0.5, 1.0) => format!(", initial: {:?}, initial_width: {:?}", c.initial, c.initial_width),
+        _ => return text,
+    };
+    match text.strip_suffix(&format!("{added} }})")) {
+        Some(head) => format!("{head} }})"),
+        None => text,
+    }
+}
+
 fn wrong_format(h: Head) -> Error {
-    refuse(format!("The checkpoint has format {} but this saggriac ({}) reads formats 5 and {FORMAT}; it was written by saggriac {}.", h.format, env!("CARGO_PKG_VERSION"), h.version))
+    refuse(format!("The checkpoint has format {} but this saggriac ({}) reads formats 5 to {FORMAT}; it was written by saggriac {}.", h.format, env!("CARGO_PKG_VERSION"), h.version))
 }
 
 /// Which saggriac wrote a checkpoint, and which reads it: a checkpoint this one cannot use may
@@ -133,7 +160,7 @@ impl Learner {
         } else {
             decode::<State>(bytes)?
         };
-        if ![5, FORMAT].contains(&s.format) {
+        if ![5, 6, FORMAT].contains(&s.format) {
             return Err(wrong_format(Head { format: s.format, version: s.version }));
         }
         if s.config != config_text(&cfg, s.format) {
@@ -173,7 +200,7 @@ mod tests {
         }
         let old = postcard::to_stdvec(&Old { format: 4, version: "0.3.0".into(), rest: vec![7; 40] }).unwrap();
         let e = Learner::restore(small(), &old).err().unwrap().to_string();
-        assert!(e.contains("format 4") && e.contains("reads formats 5 and 6") && e.contains("saggriac 0.3.0"), "{e}");
+        assert!(e.contains("format 4") && e.contains("reads formats 5 to 7") && e.contains("saggriac 0.3.0"), "{e}");
         let e = Learner::restore(small(), b"\x00\x01garbage").err().unwrap().to_string();
         assert!(e.contains("damaged"), "{e}");
     }
@@ -211,6 +238,43 @@ mod tests {
             // Checkpointed again, it is of this format and resumes as itself.
             let again = Learner::restore(cfg, &l.checkpoint().unwrap()).unwrap();
             assert_eq!(again.steps(), l.steps());
+        }
+    }
+
+    /// Checkpoints of format 6 (saggriac 0.6.0 before #46, 164832d, by
+    /// tests/data/checkpoints_v6_teachers.py) of runs whose goals ADR, Goal GAN and SPDL choose
+    /// resume: ADR's and Goal GAN's runs evaluate what they did then, to the bit; SPDL's (whose
+    /// update changed) resumes and runs to its end.
+    #[test]
+    fn checkpoints_of_runs_with_teachers_before_46_resume() {
+        use crate::config::teachers::{AdrConfig, GoalGanConfig};
+        let files: [(Teacher, &[u8], &str); 3] = [
+            (Teacher::Adr(AdrConfig { step: 0.1, ..AdrConfig::default() }), include_bytes!("../tests/data/checkpoint_v6_adr.bin"), include_str!("../tests/data/checkpoint_v6_adr.next")),
+            (Teacher::GoalGan(GoalGanConfig { update_size: 10, gan_iterations: 5, hidden: 8, ..GoalGanConfig::default() }), include_bytes!("../tests/data/checkpoint_v6_goal_gan.bin"), include_str!("../tests/data/checkpoint_v6_goal_gan.next")),
+            (Teacher::Spdl(SpdlConfig { update_every: 20, warmup: 20, ..SpdlConfig::default() }), include_bytes!("../tests/data/checkpoint_v6_spdl.bin"), include_str!("../tests/data/checkpoint_v6_spdl.next")),
+        ];
+        for (teacher, bytes, next) in files {
+            let mut cfg = small();
+            cfg.eval.schedule = vec![0, 100, 200, 300];
+            cfg.teacher = Some(teacher.scaled_to_competences(cfg.competence.min_c, 0.0));
+            let mut l = Learner::restore(cfg.clone(), bytes).unwrap();
+            assert!(l.steps() >= 100 && l.steps() < 300);
+            assert!(l.run(&mut |_| true));
+            let bits: Vec<String> = l.metrics().iter().map(|m| format!("{} {}", m.reach_error.to_bits(), m.pred_error.to_bits())).collect();
+            if teacher.kind() != "spdl" {
+                assert_eq!(bits, next.lines().collect::<Vec<_>>(), "{}", teacher.kind());
+            }
+            // With a parameter of #46 away from its default it is another run's checkpoint.
+            let mut other = cfg.clone();
+            other.teacher = match cfg.teacher {
+                Some(Teacher::Spdl(c)) => Some(Teacher::Spdl(SpdlConfig { alpha_zeta: 0.5, ..c })),
+                Some(Teacher::GoalGan(c)) => Some(Teacher::GoalGan(GoalGanConfig { initial_width: 0.5, ..c })),
+                t => t,
+            };
+            if other.teacher != cfg.teacher {
+                let e = Learner::restore(other, bytes).err().unwrap().to_string();
+                assert!(e.contains("another configuration"), "{e}");
+            }
         }
     }
 

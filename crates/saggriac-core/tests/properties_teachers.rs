@@ -6,7 +6,7 @@ mod common;
 use proptest::prelude::*;
 
 use common::{cases, TestResult};
-use saggriac_core::config::teachers::{AdrConfig, GoalGanConfig, PlrConfig, PlrScore, PlrTies, RandomConfig, ReplaySchedule, SaggRiacConfig, SpdlConfig, Teacher, TsclConfig, TsclPolicy, TsclVariant};
+use saggriac_core::config::teachers::{AdrConfig, GoalGanConfig, PerDimension, PlrConfig, PlrScore, PlrTies, RandomConfig, ReplaySchedule, SaggRiacConfig, SpdlConfig, SpdlCovariance, SpdlForm, Teacher, TsclConfig, TsclPolicy, TsclVariant};
 use saggriac_core::high_level::ask_tell::AskTell;
 use saggriac_core::high_level::goal_selection::ModeProbabilities;
 use saggriac_core::high_level::interest::InterestDivisor;
@@ -67,16 +67,25 @@ fn spec() -> impl Strategy<Value = TeacherSpec> {
         ties,
     });
     // Updates often, so that the distribution moves (delta inside [-1, 0]) within a case.
-    let spdl = (0.0..=1.0f64, 0.01..0.5f64, 0.0..=1.0f64, 0.05..1.0f64, 0.01..0.5f64, -1.0..0.0f64, 5usize..=50, 0usize..=50).prop_map(|(init_mean, init_std, target_mean, target_std, epsilon, delta, update_every, warmup)| SpdlConfig {
-        init_mean,
-        init_std,
-        target_mean,
-        target_std,
-        epsilon,
-        delta,
-        update_every,
-        warmup,
-    });
+    let form = prop_oneof![Just(SpdlForm::Delta), Just(SpdlForm::Alpha)];
+    let covariance = prop_oneof![Just(SpdlCovariance::Diagonal), Just(SpdlCovariance::Full)];
+    let alpha = (form, covariance, 0usize..=3, 0.0..=2.0f64);
+    let spdl = (0.0..=1.0f64, 0.01..0.5f64, 0.0..=1.0f64, 0.05..1.0f64, 0.01..0.5f64, -1.0..0.0f64, 5usize..=50, 0usize..=50, alpha).prop_map(
+        |(init_mean, init_std, target_mean, target_std, epsilon, delta, update_every, warmup, (form, covariance, alpha_offset, alpha_zeta))| SpdlConfig {
+            init_mean,
+            init_std,
+            target_mean,
+            target_std,
+            epsilon,
+            delta,
+            update_every,
+            warmup,
+            form,
+            covariance,
+            alpha_offset,
+            alpha_zeta,
+        },
+    );
     // Small networks and trainings, so that a case trains the GAN a few times quickly.
     // [r_min, r_max] always holds a success rate k / n_rollouts (1/2 or 1/3), as the config requires.
     let goal_gan = (-1.0..0.0f64, 0.0..=0.3f64, 0.7..=1.0f64, 2usize..=3, 2usize..=30, 0usize..=10, 0.0..=1.0f64, 1usize..=4, 1usize..=8).prop_map(|(success_threshold, r_min, r_max, n_rollouts, update_size, gan_iterations, p_old, noise_dim, hidden)| GoalGanConfig {
@@ -117,7 +126,17 @@ fn spec() -> impl Strategy<Value = TeacherSpec> {
     ];
     (bounds, teacher, any::<u64>()).prop_map(|((low, high), teacher, seed)| {
         let (low, high) = if teacher.has_box() { (low, high) } else { (Vec::new(), Vec::new()) };
-        TeacherSpec { teacher, low, high, seed }
+        // Every other case gives a parameter per dimension (each within its rule).
+        let d = low.len();
+        let each = |name: &str, v: &dyn Fn(usize) -> f64| PerDimension(vec![(name.to_string(), (0..d).map(v).collect())]);
+        let dims = match teacher {
+            _ if seed % 2 == 1 => PerDimension::default(),
+            Teacher::Adr(c) => each("step", &|i| (c.step * (1.0 + i as f64)).min(1.0)),
+            Teacher::Spdl(c) => each("init_mean", &|i| (c.init_mean + 0.3 * i as f64) % 1.0),
+            Teacher::GoalGan(c) => each("initial_width", &|i| c.initial_width / (1.0 + i as f64)),
+            _ => PerDimension::default(),
+        };
+        TeacherSpec { teacher, low, high, seed, dims }
     })
 }
 

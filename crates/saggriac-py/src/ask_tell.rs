@@ -38,9 +38,11 @@ impl PyAskTell {
     fn new(py: Python<'_>, kind: &str, low: Vec<f64>, high: Vec<f64>, seed: u64, params: Option<Bound<'_, PyDict>>) -> PyResult<Self> {
         let default = wrap(py, Teacher::parse("GoalSelector", "kind", kind))?;
         let owner = default.class();
+        let d = if default.has_box() { low.len() } else { 0 };
+        let (params, dims) = crate::teachers::split_per_dimension(py, &default, params.as_ref(), d)?;
         let teacher = crate::teachers::teacher(py, default, params.as_ref(), owner, "params", "")?;
         let (low, high) = if teacher.has_box() { (low, high) } else { (Vec::new(), Vec::new()) };
-        Ok(PyAskTell { inner: wrap(py, named(AskTell::new(TeacherSpec { teacher, low, high, seed }), owner))? })
+        Ok(PyAskTell { inner: wrap(py, named(AskTell::new(TeacherSpec { teacher, low, high, seed, dims }), owner))? })
     }
 
     /// check_competences(lo, hi, whence): refuses thresholds no competence in [lo, hi] (told by
@@ -67,9 +69,10 @@ impl PyAskTell {
         self.inner.spec().kind()
     }
 
-    /// The teacher's parameters, by name (its kind's defaults for those not given).
+    /// The teacher's parameters, by name (its kind's defaults for those not given; a value given
+    /// per dimension as its list, a matrix as its rows).
     fn params<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        crate::teachers::params(py, &self.inner.spec().teacher)
+        crate::teachers::spec_params(py, self.inner.spec())
     }
 
     #[getter]

@@ -60,6 +60,14 @@ fn teacher_registry() -> Vec<(&'static str, &'static str, &'static str)> {
     saggriac_core::config::teachers::Teacher::all().iter().map(|t| (t.kind(), t.class(), if t.has_box() { "box" } else { "tasks" })).collect()
 }
 
+/// teacher_per_dimension() -> dict: for each teacher, the parameters it also takes per dimension
+/// of the box, by name: "vector" (a list, one value per dimension, in place of the number) or
+/// "matrix" (d x d, beside the numbers).
+#[pyfunction]
+fn teacher_per_dimension(py: Python<'_>) -> PyResult<Bound<'_, pyo3::types::PyDict>> {
+    teachers::per_dimension_names(py)
+}
+
 /// child_seed(parent, stream) -> int: the core's seed of one component (SplitMix64 mixing; stream
 /// 1 is the high level, 2 the low level's generator).
 #[pyfunction]
@@ -82,6 +90,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(teacher_defaults, m)?)?;
     m.add_function(wrap_pyfunction!(teacher_param_rule, m)?)?;
     m.add_function(wrap_pyfunction!(teacher_registry, m)?)?;
+    m.add_function(wrap_pyfunction!(teacher_per_dimension, m)?)?;
     m.add_function(wrap_pyfunction!(child_seed, m)?)?;
     m.add_function(wrap_pyfunction!(competence::competence, m)?)?;
     m.add_function(wrap_pyfunction!(chain::chain_forward, m)?)?;

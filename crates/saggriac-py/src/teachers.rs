@@ -4,10 +4,11 @@
 //! core's defaults, and the rules are the core's.
 
 use pyo3::prelude::*;
-use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyString};
+use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 use pythonize::{depythonize, pythonize};
-use saggriac_core::config::teachers::{Rule, Teacher};
+use saggriac_core::config::teachers::{PerDimension, Rule, Shape, Teacher};
 use saggriac_core::error::invalid;
+use saggriac_core::high_level::teachers::TeacherSpec;
 use saggriac_core::Error;
 
 use crate::errors::{to_py, wrap};
@@ -108,9 +109,14 @@ pub fn teacher(py: Python<'_>, default: Teacher, given: Option<&Bound<'_, PyDict
         };
         let shown = || v.repr().map(|r| r.to_string()).unwrap_or_else(|_| "?".into());
         if !right_type(&v, &d) {
-            // The parameter's rule, the text a value out of range is told.
+            // The parameter's rule, the text a value out of range is told. A list reaches here
+            // only by a route that takes single numbers (a run's): the class takes it.
             let rule = rule_text(py, &default, &key)?.unwrap_or_default();
-            return Err(to_py(py, invalid(owner, &format!("{prefix}{key}"), rule, shown())));
+            let mut got = shown();
+            if is_list(&v) && default.per_dimension().iter().any(|(n, _)| *n == key) {
+                got = format!("{got} (a value per dimension is taken by the teacher's class, such as saggriac.{}({key}=[...]), not by a run)", default.class());
+            }
+            return Err(to_py(py, invalid(owner, &format!("{prefix}{key}"), rule, got)));
         }
         place(&nested, &key, &v)?;
         // A value of the right type serde still refuses (a str naming no choice) is named here.
@@ -123,6 +129,82 @@ pub fn teacher(py: Python<'_>, default: Teacher, given: Option<&Bound<'_, PyDict
     let outer = PyDict::new(py);
     outer.set_item(kind, nested)?;
     depythonize::<Teacher>(&outer).map_err(|e| to_py(py, Error::InvalidInput(format!("{e}"))))
+}
+
+/// Every teacher's parameters taken per dimension, by name: "vector" or "matrix"
+/// (`_core.teacher_per_dimension()`).
+pub fn per_dimension_names(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
+    let out = PyDict::new(py);
+    for t in Teacher::all() {
+        let names = PyDict::new(py);
+        for (name, shape) in t.per_dimension() {
+            names.set_item(name, if *shape == Shape::Vector { "vector" } else { "matrix" })?;
+        }
+        out.set_item(t.kind(), names)?;
+    }
+    Ok(out)
+}
+
+/// A list or a tuple (a value per dimension, or a matrix's rows), not a str.
+fn is_list(v: &Bound<'_, PyAny>) -> bool {
+    v.is_instance_of::<PyList>() || v.is_instance_of::<PyTuple>()
+}
+
+/// The numbers of the list `v`, each of a float's type (`right_type`, the one type check), None
+/// if `v` is no list of them.
+fn floats(v: &Bound<'_, PyAny>) -> Option<Vec<f64>> {
+    let float = PyFloat::new(v.py(), 0.0).into_any();
+    if !is_list(v) {
+        return None;
+    }
+    v.try_iter().ok()?.map(|x| x.ok().filter(|x| right_type(x, &float)).and_then(|x| x.extract::<f64>().ok())).collect()
+}
+
+/// The parameters of `given` that `default`'s teacher takes per dimension and that are given so,
+/// apart: a list of numbers for a vector (a number stays in the dict returned, for `teacher`),
+/// `d` rows of `d` numbers for a matrix (None: not given). Each value's type is a single
+/// number's (`right_type`); a list of anything else is told the parameter's rule as a list
+/// states it. The lengths and each value's rule are the core's (`PerDimension::check`).
+pub fn split_per_dimension<'py>(py: Python<'py>, default: &Teacher, given: Option<&Bound<'py, PyDict>>, d: usize) -> PyResult<(Option<Bound<'py, PyDict>>, PerDimension)> {
+    let Some(given) = given else { return Ok((None, PerDimension::default())) };
+    let (rest, mut dims) = (PyDict::new(py), PerDimension::default());
+    let owner = default.class();
+    for (k, v) in given.iter() {
+        let shape = k.extract::<String>().ok().and_then(|key| default.per_dimension().iter().find(|(n, _)| *n == key).copied());
+        let shown = || v.repr().map(|r| r.to_string()).unwrap_or_else(|_| "?".into());
+        let values = match shape {
+            Some((name, Shape::Vector)) if is_list(&v) => {
+                let rule = default.rule(name).unwrap_or(Rule::Finite).per_dimension_text();
+                (name, floats(&v).ok_or_else(|| to_py(py, invalid(owner, name, rule, shown())))?)
+            }
+            Some((name, Shape::Matrix)) if !v.is_none() => {
+                let rows: Option<Vec<Vec<f64>>> = if is_list(&v) { v.try_iter()?.map(|r| r.ok().and_then(|r| floats(&r)).filter(|r| r.len() == d)).collect() } else { None };
+                let rows = rows.filter(|r| r.len() == d).ok_or_else(|| to_py(py, invalid(owner, name, PerDimension::matrix_rule(d), shown())))?;
+                (name, rows.concat())
+            }
+            Some((_, Shape::Matrix)) => continue,
+            _ => {
+                rest.set_item(k, v)?;
+                continue;
+            }
+        };
+        dims.0.push((values.0.to_string(), values.1));
+    }
+    Ok((Some(rest), dims))
+}
+
+/// A teacher's parameters as it was built: `params`, a value given per dimension in place of
+/// its number (a list; a matrix as its rows).
+pub fn spec_params<'py>(py: Python<'py>, spec: &TeacherSpec) -> PyResult<Bound<'py, PyDict>> {
+    let out = params(py, &spec.teacher)?;
+    let d = spec.low.len().max(1);
+    for (name, values) in &spec.dims.0 {
+        match spec.teacher.per_dimension().iter().find(|(n, _)| n == name) {
+            Some((_, Shape::Matrix)) => out.set_item(name, values.chunks(d).map(<[f64]>::to_vec).collect::<Vec<_>>())?,
+            _ => out.set_item(name, values.clone())?,
+        }
+    }
+    Ok(out)
 }
 
 /// Every teacher's default parameters, by name (`_core.teacher_defaults()`).

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
@@ -17,7 +18,10 @@ class AdrSelector(AskTellSelector):
 
     Goals are uniform in the current ranges [phi_L, phi_H] of every dimension, which start at an
     initial region: a single value (``initial_width=0``, the paper's) at ``initial`` of each
-    dimension's width from low (0.5: the box's centre). With probability ``boundary_prob`` one
+    dimension's width from low (0.5: the box's centre); ``initial_width > 0`` starts from a box
+    of that share of each width around it. ``initial``, ``initial_width`` and ``step`` take one
+    number for every dimension or a list, one per dimension (a start thin in one parameter and
+    wide in another, TeachMyAgent's expert knowledge). With probability ``boundary_prob`` one
     dimension, drawn uniformly, is set to its low or high bound; the competence told for such a
     goal joins that bound's buffer. Once ``buffer_size`` competences are there, their mean moves
     the bound by ``step`` of the dimension's width: outwards if >= ``t_high``, inwards if
@@ -36,7 +40,7 @@ class AdrSelector(AskTellSelector):
     reading = "adr"
     competence_range = (0.0, 1.0)
 
-    def __init__(self, low: Any, high: Any, seed: int = 0, *, boundary_prob: float = _ADR["boundary_prob"], buffer_size: int = _ADR["buffer_size"], t_low: float = _ADR["t_low"], t_high: float = _ADR["t_high"], step: float = _ADR["step"], initial: float = _ADR["initial"], initial_width: float = _ADR["initial_width"]) -> None:
+    def __init__(self, low: Any, high: Any, seed: int = 0, *, boundary_prob: float = _ADR["boundary_prob"], buffer_size: int = _ADR["buffer_size"], t_low: float = _ADR["t_low"], t_high: float = _ADR["t_high"], step: float | Sequence[float] = _ADR["step"], initial: float | Sequence[float] = _ADR["initial"], initial_width: float | Sequence[float] = _ADR["initial_width"]) -> None:
         super().__init__(low, high, seed, boundary_prob=boundary_prob, buffer_size=buffer_size, t_low=t_low, t_high=t_high, step=step, initial=initial, initial_width=initial_width)
 
     @property

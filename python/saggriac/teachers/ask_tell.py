@@ -80,7 +80,8 @@ class AskTellSelector:
         owner = type(self).__name__
         lo, hi = _vector("low", low), _vector("high", high)
         seed = _int_param(owner, "seed", seed, 0, 2**64)
-        # numpy scalars as the numbers they stand for; the core checks each value's type and rule
+        # numpy scalars and arrays as the numbers and lists they stand for; the core checks each
+        # value's type and rule, a list's values per dimension each against the single number's
         # (crates/saggriac-py/src/teachers.rs, config/rules.rs): one check, one message.
         self._inner = _core.AskTell(self._kind, lo.tolist(), hi.tolist(), seed, {k: plain(v) for k, v in params.items()})
         self.last_mode: str | None = None

@@ -57,7 +57,14 @@ impl Rule {
         }
     }
 
-    fn holds_float(&self, v: f64) -> bool {
+    /// The rule of a parameter also taken per dimension, as a message states it for a list:
+    /// each value meets the single number's rule.
+    pub fn per_dimension_text(&self) -> String {
+        format!("{}, or a list of such floats, one per dimension of the box", self.text())
+    }
+
+    /// Whether the float `v` meets the rule (never for a rule of ints, bools or choices).
+    pub fn holds_float(&self, v: f64) -> bool {
         match *self {
             Rule::Float { lo, lo_in, hi, hi_in, .. } => v.is_finite() && (v > lo || (lo_in && v == lo)) && (v < hi || (hi_in && v == hi)),
             Rule::Finite => v.is_finite() && v.abs() <= 1e100,

@@ -10,13 +10,15 @@ use crate::high_level::region_tree::RegionTreeConfig;
 use crate::config::teachers::{RandomConfig, SaggRiacConfig, Teacher};
 use crate::high_level::teachers::TeacherSpec;
 
-/// Bumped whenever the saved layout changes. Format 5: PLR's parameters end with `ties`.
-/// Formats 4 (saggriac 0.6, the teacher's parameters as the one `Teacher` enum beside the box
+/// Bumped whenever the saved layout changes. Format 6: the parameters given per dimension after
+/// the seed, SPDL's form, covariance and alpha parameters, Goal GAN's first goals' box. Formats 5
+/// (saggriac after 0.6.0, before #46's SPDL and Goal GAN parameters: PLR's parameters end with
+/// `ties`), 4 (saggriac 0.6, the teacher's parameters as the one `Teacher` enum beside the box
 /// and the seed; a PLR teacher read with the `Average` ties it ran), 3 (saggriac 0.5, each
 /// teacher's state in its own encoding), 2 (saggriac 0.3-0.4, one enum of every teacher's
 /// state) and 1 (saggriac <= 0.2, before SAGG-RIAC's tree had an eq.-2 divisor, read as the
 /// `Window` reading it ran) are still read.
-const FORMAT: u32 = 5;
+const FORMAT: u32 = 6;
 /// Told competences are bounded so that every teacher's sums, squares and mixtures of them stay
 /// finite (a mixture teacher squares differences of competences).
 pub const MAX_COMPETENCE: f64 = 1e100;
@@ -61,8 +63,9 @@ fn decode<T: serde::de::DeserializeOwned>(bytes: &[u8]) -> std::result::Result<T
 
 /// The layouts of formats 1 (saggriac <= 0.2: SAGG-RIAC's tree parameters without the divisor),
 /// 2 (saggriac 0.3-0.4, whose teachers' states were variants of one enum), 3 (saggriac 0.5,
-/// the parameters as one enum of teachers with their boxes and seeds) and 4 (saggriac 0.6,
-/// PLR's parameters without `ties`).
+/// the parameters as one enum of teachers with their boxes and seeds), 4 (saggriac 0.6, PLR's
+/// parameters without `ties`) and 5 (no parameters per dimension, SPDL's and Goal GAN's
+/// parameters as they were before #46).
 mod legacy;
 
 pub struct AskTell {
@@ -87,12 +90,12 @@ impl AskTell {
 
     /// SAGG-RIAC over the box [low, high] of any dimension.
     pub fn sagg_riac(low: &[f64], high: &[f64], tree: RegionTreeConfig, modes: ModeProbabilities, seed: u64) -> Result<Self> {
-        Self::new(TeacherSpec { teacher: Teacher::SaggRiac(SaggRiacConfig { tree, modes }), low: low.to_vec(), high: high.to_vec(), seed })
+        Self::new(TeacherSpec { teacher: Teacher::SaggRiac(SaggRiacConfig { tree, modes }), low: low.to_vec(), high: high.to_vec(), seed, dims: Default::default() })
     }
 
     /// Goals uniform in [low, high] (SAGG-Random's high level).
     pub fn random(low: &[f64], high: &[f64], seed: u64) -> Result<Self> {
-        Self::new(TeacherSpec { teacher: Teacher::Random(RandomConfig {}), low: low.to_vec(), high: high.to_vec(), seed })
+        Self::new(TeacherSpec { teacher: Teacher::Random(RandomConfig {}), low: low.to_vec(), high: high.to_vec(), seed, dims: Default::default() })
     }
 
     pub fn spec(&self) -> &TeacherSpec {
@@ -128,6 +131,7 @@ impl AskTell {
             2 => decode::<legacy::SavedV2>(bytes).map(legacy::upgrade),
             3 => decode::<legacy::SavedV3>(bytes).map(legacy::upgrade),
             4 => decode::<legacy::SavedV4>(bytes).map(legacy::upgrade),
+            5 => decode::<legacy::SavedV5>(bytes).map(legacy::upgrade),
             _ => decode::<Saved>(bytes),
         };
         let s = match decoded {
@@ -240,7 +244,7 @@ mod tests {
     /// the rule and both versions.
     #[test]
     fn a_saved_teacher_this_version_cannot_rebuild_names_its_writer() {
-        let spec = TeacherSpec { teacher: Teacher::Spdl(crate::config::teachers::SpdlConfig::default()), low: vec![0.0; 40], high: vec![1.0; 40], seed: 0 };
+        let spec = TeacherSpec { teacher: Teacher::Spdl(crate::config::teachers::SpdlConfig::default()), low: vec![0.0; 40], high: vec![1.0; 40], seed: 0, dims: Default::default() };
         let saved = Saved { format: FORMAT, version: "0.5.9".into(), spec, state: vec![], asked: vec![], asked_mode: vec![], asked_region: vec![], told: vec![], told_competence: vec![], told_region: vec![] };
         let bytes = postcard::to_stdvec_crc32(&saved, CHECKSUM.digest()).unwrap();
         let e = AskTell::restore(&bytes).err().unwrap().to_string();
@@ -274,6 +278,48 @@ mod tests {
         // Saved again, it is a teacher of this format that restores as itself.
         let again = AskTell::restore(&a.save().unwrap()).unwrap();
         assert_eq!(again.spec(), a.spec());
+    }
+
+    /// Teachers saved in format 4 (saggriac 0.6.0 before #46, 164832d, by
+    /// tests/data/teachers_v4.py) or 5 (saggriac after 0.6.0 with PLR's ties, 02d4afe, by
+    /// tests/data/teachers_v5.py) continue exactly: ADR and Goal GAN with their parameters of
+    /// then, SPDL of format 4 over its 20 goals before its next update (its update rule changed
+    /// in 10bb97b, its draws did not) and of format 5 through an update, the task-list teachers
+    /// as ever (format 4's PLR: `a_plr_teacher_saved_by_saggriac_0_6_restores_with_its_ties`).
+    #[test]
+    fn teachers_saved_before_per_dimension_parameters_continue_exactly() {
+        let files: [(&str, &[u8], &str); 9] = [
+            ("adr", include_bytes!("../../tests/data/teacher_v4_adr.bin"), include_str!("../../tests/data/teacher_v4_adr.next")),
+            ("spdl", include_bytes!("../../tests/data/teacher_v4_spdl.bin"), include_str!("../../tests/data/teacher_v4_spdl.next")),
+            ("goal_gan", include_bytes!("../../tests/data/teacher_v4_goal_gan.bin"), include_str!("../../tests/data/teacher_v4_goal_gan.next")),
+            ("tscl", include_bytes!("../../tests/data/teacher_v4_tscl.bin"), include_str!("../../tests/data/teacher_v4_tscl.next")),
+            ("adr", include_bytes!("../../tests/data/teacher_v5_adr.bin"), include_str!("../../tests/data/teacher_v5_adr.next")),
+            ("spdl", include_bytes!("../../tests/data/teacher_v5_spdl.bin"), include_str!("../../tests/data/teacher_v5_spdl.next")),
+            ("goal_gan", include_bytes!("../../tests/data/teacher_v5_goal_gan.bin"), include_str!("../../tests/data/teacher_v5_goal_gan.next")),
+            ("tscl", include_bytes!("../../tests/data/teacher_v5_tscl.bin"), include_str!("../../tests/data/teacher_v5_tscl.next")),
+            ("plr", include_bytes!("../../tests/data/teacher_v5_plr.bin"), include_str!("../../tests/data/teacher_v5_plr.next")),
+        ];
+        let told = |kind: &str, g: &[f64]| match kind {
+            "tscl" | "plr" => (g[0] + 1.0) / 6.0,
+            _ => f64::from(u8::from(g[0] + 0.5 * (g[1] + 1.0) + 0.25 * g[2] < 0.9)),
+        };
+        for (kind, bytes, next) in files {
+            let format = postcard::take_from_bytes::<u32>(bytes).unwrap().0;
+            assert!(format == 4 || format == 5, "{kind}: {format}");
+            let mut a = AskTell::restore(bytes).unwrap();
+            assert_eq!(a.spec().kind(), kind);
+            assert!(a.spec().dims.is_empty());
+            let mut again = AskTell::restore(&a.save().unwrap()).unwrap();
+            for line in next.lines() {
+                let bits: Vec<u64> = line.split(' ').map(|b| b.parse().unwrap()).collect();
+                let g = a.sample().goal;
+                assert_eq!(g.iter().map(|v| v.to_bits()).collect::<Vec<_>>(), bits, "{kind}");
+                a.update(&g, told(kind, &g)).unwrap();
+                let h = again.sample().goal;
+                assert_eq!(h, g, "{kind}");
+                again.update(&h, told(kind, &h)).unwrap();
+            }
+        }
     }
 
     /// A teacher of every kind saved by saggriac 0.4 (format 2, one enum of all states; written at

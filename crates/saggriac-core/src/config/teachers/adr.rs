@@ -2,7 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::config::teachers::{Registered, TeacherParams};
+use crate::config::teachers::{Registered, Shape, TeacherParams};
 use crate::config::rules::{check_fields, open_closed, COUNT, PROBABILITY, Rule};
 use crate::error::{invalid, Num, Result};
 
@@ -18,7 +18,8 @@ pub struct AdrConfig {
     pub t_low: f64,
     /// t_H: a mean competence at a bound >= t_high moves it outwards. Competence units.
     pub t_high: f64,
-    /// Delta: how far a bound moves, as a share of its dimension's width.
+    /// Delta: how far a bound moves, as a share of its dimension's width (the paper sets one
+    /// per randomized parameter: a list, one per dimension, is taken too).
     pub step: f64,
     /// Where the initial region sits in each dimension, as a share of its width from low: 0.5
     /// is the box's centre, 0 its low corner.
@@ -44,6 +45,8 @@ impl TeacherParams for AdrConfig {
         ("initial", PROBABILITY),
         ("initial_width", PROBABILITY),
     ];
+
+    const PER_DIMENSION: &'static [(&'static str, Shape)] = &[("initial", Shape::Vector), ("initial_width", Shape::Vector), ("step", Shape::Vector)];
 
     fn validate(&self) -> Result<()> {
         let (o, r) = (Self::CLASS, Self::RULES);

@@ -2,7 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::config::teachers::{Registered, TeacherParams};
+use crate::config::teachers::{Registered, Shape, TeacherParams};
 use crate::config::rules::{check_fields, open_closed, PROBABILITY, Rule};
 use crate::error::{invalid, Num, Result};
 
@@ -28,11 +28,17 @@ pub struct GoalGanConfig {
     pub hidden: usize,
     /// Adam's step size for both networks (0.001).
     pub learning_rate: f64,
+    /// Where the box of the first goals (those before the first training) sits in each
+    /// dimension, as a share of its width from low: 0.5, the box's centre.
+    pub initial: f64,
+    /// That box's width, as a share of each dimension's width: 1, the whole box (the first goals
+    /// uniform in it, as before the parameter existed).
+    pub initial_width: f64,
 }
 
 impl Default for GoalGanConfig {
     fn default() -> Self {
-        GoalGanConfig { success_threshold: 0.5, r_min: 0.1, r_max: 0.9, n_rollouts: 2, update_size: 100, gan_iterations: 250, p_old: 1.0 / 3.0, noise_dim: 4, hidden: 32, learning_rate: 0.001 }
+        GoalGanConfig { success_threshold: 0.5, r_min: 0.1, r_max: 0.9, n_rollouts: 2, update_size: 100, gan_iterations: 250, p_old: 1.0 / 3.0, noise_dim: 4, hidden: 32, learning_rate: 0.001, initial: 0.5, initial_width: 1.0 }
     }
 }
 
@@ -48,7 +54,11 @@ impl TeacherParams for GoalGanConfig {
         ("noise_dim", Rule::Int(1, 1024)),
         ("hidden", Rule::Int(1, 1024)),
         ("learning_rate", open_closed(0.0, 1.0)),
+        ("initial", PROBABILITY),
+        ("initial_width", PROBABILITY),
     ];
+
+    const PER_DIMENSION: &'static [(&'static str, Shape)] = &[("initial", Shape::Vector), ("initial_width", Shape::Vector)];
 
     fn validate(&self) -> Result<()> {
         let (o, r) = (Self::CLASS, Self::RULES);
@@ -63,7 +73,7 @@ impl TeacherParams for GoalGanConfig {
         if !(0..=self.n_rollouts).any(|k| (self.r_min..=self.r_max).contains(&(k as f64 / n))) {
             return Err(invalid(o, "r_max", format!("a float such that [r_min, r_max] holds a success rate k / n_rollouts (r_min = {}, n_rollouts = {})", Num(self.r_min), self.n_rollouts), Num(self.r_max)));
         }
-        check_fields!(o, r, self, int update_size, int gan_iterations, float p_old, int noise_dim, int hidden, float learning_rate);
+        check_fields!(o, r, self, int update_size, int gan_iterations, float p_old, int noise_dim, int hidden, float learning_rate, float initial, float initial_width);
         Ok(())
     }
 

@@ -13,6 +13,9 @@ use crate::error::{invalid, Result};
 
 pub use crate::config::rules::Rule;
 
+mod per_dimension;
+pub use per_dimension::{PerDimension, Shape};
+
 /// The registry: every teacher as `file: Variant(Parameters)`, in the order they are listed to
 /// users. `file` is the teacher's name (the Python classes, the CLI, `Config(teacher=...)` and
 /// saved teachers use it) and the name of its files under `config/teachers/` and
@@ -54,6 +57,11 @@ pub trait TeacherParams: Registered + Copy + Default + Serialize + DeserializeOw
     /// it) with its rule: `validate` checks each value against it, and a value of the wrong type
     /// is told its text.
     const RULES: &'static [(&'static str, Rule)];
+
+    /// The parameters also taken per dimension (`PerDimension`), by their serde names: a
+    /// `Shape::Vector` in place of the single number (each value meets the number's rule in
+    /// `RULES`), a `Shape::Matrix` beside the numbers (its rules are its teacher's).
+    const PER_DIMENSION: &'static [(&'static str, Shape)] = &[];
 
     /// The parameters' rules (the box is checked by the teacher).
     fn validate(&self) -> Result<()>;
@@ -135,6 +143,13 @@ macro_rules! declare_teachers {
                 crate::config::rules::rule_of(self.rules(), name)
             }
 
+            /// `TeacherParams::PER_DIMENSION` of the variant.
+            pub fn per_dimension(&self) -> &'static [(&'static str, Shape)] {
+                match self {
+                    $(Teacher::$variant(_) => <$params as TeacherParams>::PER_DIMENSION,)*
+                }
+            }
+
             /// The parameters' rules (the box is checked by the teacher).
             pub fn validate(&self) -> Result<()> {
                 match self {
@@ -202,6 +217,22 @@ mod tests {
             assert_eq!(ruled.len(), names.len(), "{}", t.kind());
             for n in &names {
                 assert!(ruled.contains(n), "{}: {n}", t.kind());
+            }
+        }
+    }
+
+    /// A parameter taken as a list, one value per dimension, is a float of the struct whose
+    /// rule each value meets; a matrix is no field of it (it has no single number).
+    #[test]
+    fn values_per_dimension_have_the_single_numbers_rule() {
+        use super::{Rule, Shape};
+        for t in Teacher::all() {
+            let names: Vec<String> = super::flat_params(&t).into_iter().map(|(k, _)| k).collect();
+            for (name, shape) in t.per_dimension() {
+                match shape {
+                    Shape::Vector => assert!(matches!(t.rule(name), Some(Rule::Float { .. } | Rule::Finite)), "{}: {name}", t.kind()),
+                    Shape::Matrix => assert!(t.rule(name).is_none() && !names.iter().any(|n| n == name), "{}: {name}", t.kind()),
+                }
             }
         }
     }

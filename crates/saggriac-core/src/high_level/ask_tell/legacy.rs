@@ -1,11 +1,12 @@
 //! The layouts of formats 1 (saggriac <= 0.2: SAGG-RIAC's tree parameters without the divisor),
 //! 2 (saggriac 0.3-0.4, whose teachers' states were variants of one enum), 3 (saggriac 0.5,
-//! the parameters as one enum of teachers with their boxes and seeds) and 4 (saggriac 0.6,
-//! PLR's parameters without `ties`).
+//! the parameters as one enum of teachers with their boxes and seeds), 4 (saggriac 0.6, PLR's
+//! parameters without `ties`) and 5 (PLR's with `ties`; before #46: no parameters per dimension,
+//! SPDL's and Goal GAN's parameters as they were).
 
 use super::*;
 use crate::config::high_level::InterestDivisor;
-use crate::config::teachers::{AdrConfig, GoalGanConfig, PlrConfig, PlrScore, PlrTies, RandomConfig, ReplaySchedule, SaggRiacConfig, SpdlConfig, Teacher, TsclConfig};
+use crate::config::teachers::{AdrConfig, GoalGanConfig, PlrConfig, PlrScore, PlrTies, RandomConfig, ReplaySchedule, SaggRiacConfig, SpdlConfig, SpdlCovariance, SpdlForm, Teacher, TsclConfig};
 use crate::high_level::teachers::alp_gmm::AlpGmmConfig;
 use crate::high_level::teachers::covar_gmm::CovarGmmConfig;
 use crate::high_level::teachers::discrete_lp::DiscreteLpConfig;
@@ -33,7 +34,7 @@ impl From<SpecV3> for TeacherSpec {
             SpecV3::AlpGmm { low, high, cfg, seed } => (Teacher::AlpGmm(cfg), low, high, seed),
             SpecV3::CovarGmm { low, high, cfg, seed } => (Teacher::CovarGmm(cfg), low, high, seed),
         };
-        TeacherSpec { teacher, low, high, seed }
+        TeacherSpec { teacher, low, high, seed, dims: Default::default() }
     }
 }
 
@@ -93,9 +94,67 @@ pub struct PlrConfigV4 {
     score: PlrScore,
 }
 
-/// `Teacher` as format 4 wrote it: the registry's variants in its order, PLR's without `ties`.
+impl From<PlrConfigV4> for PlrConfig {
+    /// Its ties shared their mean rank then: it keeps that rule.
+    fn from(c: PlrConfigV4) -> Self {
+        PlrConfig {
+            n_tasks: c.n_tasks,
+            temperature: c.temperature,
+            staleness_coef: c.staleness_coef,
+            replay_schedule: c.replay_schedule,
+            replay_prob: c.replay_prob,
+            score: c.score,
+            ties: PlrTies::Average,
+        }
+    }
+}
+
+/// SPDL's parameters as formats 4 and 5 wrote them: the delta form with diagonal Gaussians.
 #[derive(Deserialize)]
-pub enum TeacherV4 {
+pub struct SpdlConfigV5 {
+    init_mean: f64,
+    init_std: f64,
+    target_mean: f64,
+    target_std: f64,
+    epsilon: f64,
+    delta: f64,
+    update_every: usize,
+    warmup: usize,
+}
+
+impl From<SpdlConfigV5> for SpdlConfig {
+    fn from(c: SpdlConfigV5) -> Self {
+        let SpdlConfigV5 { init_mean, init_std, target_mean, target_std, epsilon, delta, update_every, warmup } = c;
+        SpdlConfig { init_mean, init_std, target_mean, target_std, epsilon, delta, update_every, warmup, form: SpdlForm::Delta, covariance: SpdlCovariance::Diagonal, ..SpdlConfig::default() }
+    }
+}
+
+/// Goal GAN's parameters as formats 4 and 5 wrote them: first goals uniform in the whole box.
+#[derive(Deserialize)]
+pub struct GoalGanConfigV5 {
+    success_threshold: f64,
+    r_min: f64,
+    r_max: f64,
+    n_rollouts: usize,
+    update_size: usize,
+    gan_iterations: usize,
+    p_old: f64,
+    noise_dim: usize,
+    hidden: usize,
+    learning_rate: f64,
+}
+
+impl From<GoalGanConfigV5> for GoalGanConfig {
+    fn from(c: GoalGanConfigV5) -> Self {
+        let GoalGanConfigV5 { success_threshold, r_min, r_max, n_rollouts, update_size, gan_iterations, p_old, noise_dim, hidden, learning_rate } = c;
+        GoalGanConfig { success_threshold, r_min, r_max, n_rollouts, update_size, gan_iterations, p_old, noise_dim, hidden, learning_rate, initial: 0.5, initial_width: 1.0 }
+    }
+}
+
+/// `Teacher` as formats 4 and 5 wrote it: the registry's variants in its order, SPDL's and Goal
+/// GAN's parameters before #46, and PLR's as `Plr` (format 4: without `ties`; 5: with).
+#[derive(Deserialize)]
+pub enum TeacherV5<Plr> {
     SaggRiac(SaggRiacConfig),
     Random(RandomConfig),
     Riac(RiacConfig),
@@ -103,45 +162,46 @@ pub enum TeacherV4 {
     AlpGmm(AlpGmmConfig),
     CovarGmm(CovarGmmConfig),
     Adr(AdrConfig),
-    Plr(PlrConfigV4),
-    Spdl(SpdlConfig),
-    GoalGan(GoalGanConfig),
+    Plr(Plr),
+    Spdl(SpdlConfigV5),
+    GoalGan(GoalGanConfigV5),
     Tscl(TsclConfig),
 }
 
-/// `TeacherSpec` as format 4 wrote it.
+/// `TeacherSpec` as formats 4 and 5 wrote it: no parameters per dimension.
 #[derive(Deserialize)]
-pub struct SpecV4 {
-    teacher: TeacherV4,
+pub struct SpecV5<Plr> {
+    teacher: TeacherV5<Plr>,
     low: Vec<f64>,
     high: Vec<f64>,
     seed: u64,
 }
 
-impl From<SpecV4> for TeacherSpec {
-    fn from(s: SpecV4) -> Self {
+impl<Plr: Into<PlrConfig>> From<SpecV5<Plr>> for TeacherSpec {
+    /// The parameters added since at the values the teachers of then ran with.
+    fn from(s: SpecV5<Plr>) -> Self {
         let teacher = match s.teacher {
-            TeacherV4::SaggRiac(c) => Teacher::SaggRiac(c),
-            TeacherV4::Random(c) => Teacher::Random(c),
-            TeacherV4::Riac(c) => Teacher::Riac(c),
-            TeacherV4::DiscreteLp(c) => Teacher::DiscreteLp(c),
-            TeacherV4::AlpGmm(c) => Teacher::AlpGmm(c),
-            TeacherV4::CovarGmm(c) => Teacher::CovarGmm(c),
-            TeacherV4::Adr(c) => Teacher::Adr(c),
-            // Its ties shared their mean rank then: it keeps that rule.
-            TeacherV4::Plr(c) => Teacher::Plr(PlrConfig { n_tasks: c.n_tasks, temperature: c.temperature, staleness_coef: c.staleness_coef, replay_schedule: c.replay_schedule, replay_prob: c.replay_prob, score: c.score, ties: PlrTies::Average }),
-            TeacherV4::Spdl(c) => Teacher::Spdl(c),
-            TeacherV4::GoalGan(c) => Teacher::GoalGan(c),
-            TeacherV4::Tscl(c) => Teacher::Tscl(c),
+            TeacherV5::SaggRiac(c) => Teacher::SaggRiac(c),
+            TeacherV5::Random(c) => Teacher::Random(c),
+            TeacherV5::Riac(c) => Teacher::Riac(c),
+            TeacherV5::DiscreteLp(c) => Teacher::DiscreteLp(c),
+            TeacherV5::AlpGmm(c) => Teacher::AlpGmm(c),
+            TeacherV5::CovarGmm(c) => Teacher::CovarGmm(c),
+            TeacherV5::Adr(c) => Teacher::Adr(c),
+            TeacherV5::Plr(c) => Teacher::Plr(c.into()),
+            TeacherV5::Spdl(c) => Teacher::Spdl(c.into()),
+            TeacherV5::GoalGan(c) => Teacher::GoalGan(c.into()),
+            TeacherV5::Tscl(c) => Teacher::Tscl(c),
         };
-        TeacherSpec { teacher, low: s.low, high: s.high, seed: s.seed }
+        TeacherSpec { teacher, low: s.low, high: s.high, seed: s.seed, dims: Default::default() }
     }
 }
 
-pub type SavedV4 = SavedAs<SpecV4, Vec<u8>>;
 pub type SavedV1 = SavedAs<SpecV1, StateV2>;
 pub type SavedV2 = SavedAs<SpecV3, StateV2>;
 pub type SavedV3 = SavedAs<SpecV3, Vec<u8>>;
+pub type SavedV4 = SavedAs<SpecV5<PlrConfigV4>, Vec<u8>>;
+pub type SavedV5 = SavedAs<SpecV5<PlrConfig>, Vec<u8>>;
 
 impl From<SpecV1> for TeacherSpec {
     fn from(s: SpecV1) -> Self {

@@ -28,6 +28,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::config::high_level::check_bounds;
 pub use crate::config::teachers::AdrConfig;
+use crate::config::teachers::PerDimension;
 use crate::error::Result;
 use crate::config::teachers::TeacherParams;
 use crate::high_level::goal_selection::{load_state, save_state, GoalChoice, GoalSelector, LeafRow, Mode};
@@ -61,24 +62,34 @@ pub struct Adr {
     cfg: AdrConfig,
     low: Vec<f64>,
     high: Vec<f64>,
+    /// Delta of each dimension, as a share of its width (`step`, or the values given per
+    /// dimension).
+    step: Vec<f64>,
     s: AdrState,
 }
 
 impl Adr {
     pub fn new(low: &[f64], high: &[f64], cfg: AdrConfig, seed: u64) -> Result<Self> {
+        Self::with_dims(low, high, cfg, &PerDimension::default(), seed)
+    }
+
+    /// ADR with `initial`, `initial_width` and `step` given per dimension where `dims` has them
+    /// (checked by `PerDimension::check`).
+    pub fn with_dims(low: &[f64], high: &[f64], cfg: AdrConfig, dims: &PerDimension, seed: u64) -> Result<Self> {
         check_bounds("AdrSelector", low, high)?;
         cfg.validate()?;
         let d = low.len();
+        let (initial, width) = (dims.vector("initial", cfg.initial, d), dims.vector("initial_width", cfg.initial_width, d));
         let (mut pl, mut ph) = (vec![0.0; d], vec![0.0; d]);
         for i in 0..d {
             let w = high[i] - low[i];
-            let c = low[i] + cfg.initial * w;
-            let half = 0.5 * cfg.initial_width * w;
+            let c = low[i] + initial[i] * w;
+            let half = 0.5 * width[i] * w;
             pl[i] = (c - half).max(low[i]);
             ph[i] = (c + half).min(high[i]);
         }
         let s = AdrState { rng: rng_from_seed(seed), phi_low: pl, phi_high: ph, buf_low: vec![Vec::new(); d], buf_high: vec![Vec::new(); d], pending: BTreeMap::new(), n_pending: 0, asked: 0, by_ask: BTreeMap::new() };
-        Ok(Adr { cfg, low: low.to_vec(), high: high.to_vec(), s })
+        Ok(Adr { cfg, low: low.to_vec(), high: high.to_vec(), step: dims.vector("step", cfg.step, d), s })
     }
 
     /// The current ranges [phi_L, phi_H] of every dimension.
@@ -113,7 +124,7 @@ impl Adr {
         }
         let mean = buf.iter().sum::<f64>() / buf.len() as f64;
         buf.clear();
-        let delta = self.cfg.step * (self.high[i] - self.low[i]);
+        let delta = self.step[i] * (self.high[i] - self.low[i]);
         let (pl, ph) = (&mut self.s.phi_low[i], &mut self.s.phi_high[i]);
         if mean >= self.cfg.t_high {
             if high_side {
@@ -213,7 +224,7 @@ impl GoalSelector for Adr {
     }
 }
 
-build_by_new!(AdrConfig => Adr, box);
+build_by_new!(AdrConfig => Adr, box, per_dimension);
 
 #[cfg(test)]
 mod tests {
@@ -290,6 +301,29 @@ mod tests {
         assert_eq!(u.update(&first[0], 1.0), None);
         assert!(u.update(&first[MAX_PENDING + 4], 1.0).is_some());
         assert_eq!((u.s.n_pending, u.s.by_ask.len()), (MAX_PENDING - 1, MAX_PENDING - 1));
+    }
+
+    #[test]
+    fn a_start_and_a_step_per_dimension_are_each_dimension_own() {
+        // A start thin in x (a point at 0.1) and wide in y ([0.25, 0.75] of [0, 2]); x moves by
+        // 2 % of its width, y by 20 %.
+        let dims = PerDimension(vec![("initial".into(), vec![0.1, 0.5]), ("initial_width".into(), vec![0.0, 0.5]), ("step".into(), vec![0.02, 0.2])]);
+        let mut t = Adr::with_dims(&[0.0, 0.0], &[1.0, 2.0], cfg(), &dims, 3).unwrap();
+        assert_eq!(t.bounds(), (&[0.1, 0.5][..], &[0.1, 1.5][..]));
+        run(&mut t, 60, |_| 1.0);
+        let (l, h) = t.bounds();
+        // Every move of x is 0.02, of y 0.4 (within the box).
+        for (v, from, by) in [(l[0], 0.1, 0.02), (h[0], 0.1, 0.02), (l[1], 0.5, 0.4), (h[1], 1.5, 0.4)] {
+            let k = ((v - from) / by).round();
+            assert!(((v - from) - k * by).abs() < 1e-9 || v == 0.0 || v == 2.0, "{v} {from} {by}");
+        }
+        assert!(h[0] - l[0] > 0.0 && h[0] - l[0] < 0.2 && h[1] - l[1] > 1.0, "{l:?} {h:?}");
+        // One value per dimension gives the same teacher as the single number.
+        let same = PerDimension(vec![("step".into(), vec![0.1, 0.1]), ("initial".into(), vec![0.5, 0.5])]);
+        let (mut a, mut b) = (Adr::new(&[0.0, 0.0], &[1.0, 2.0], cfg(), 9).unwrap(), Adr::with_dims(&[0.0, 0.0], &[1.0, 2.0], cfg(), &same, 9).unwrap());
+        run(&mut a, 500, |g| if g[0] < 0.7 { 1.0 } else { 0.0 });
+        run(&mut b, 500, |g| if g[0] < 0.7 { 1.0 } else { 0.0 });
+        assert_eq!(a.bounds(), b.bounds());
     }
 
     #[test]

@@ -10,7 +10,9 @@
 //! and generated goals -1, and the generator is trained toward a score of 0. Goals come from the
 //! generator (noise of dimension `noise_dim`, two hidden layers of `hidden` ReLU units), and with
 //! probability `p_old` from the goals labelled so far (replay). Until the first training, goals
-//! are uniform in the box. Inside the teacher the box is scaled to [-1, 1].
+//! are uniform in the first goals' box (`initial`, `initial_width`, per dimension if given: the
+//! whole box by default; the paper starts from goals its initial policy reaches). Inside the
+//! teacher the box is scaled to [-1, 1].
 
 use std::collections::VecDeque;
 
@@ -24,6 +26,7 @@ use crate::high_level::teachers::mlp::Mlp;
 use crate::rng::{child_seed, index, normal, rng_from_seed, unit, CoreRng};
 
 pub use crate::config::teachers::GoalGanConfig;
+use crate::config::teachers::PerDimension;
 
 /// Goals asked but not yet labelled: each with the successes told so far.
 #[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
@@ -51,6 +54,8 @@ pub struct GoalGan {
     cfg: GoalGanConfig,
     low: Vec<f64>,
     high: Vec<f64>,
+    /// The first goals' box in each dimension, as shares of its width from low: [from, to].
+    first: Vec<(f64, f64)>,
     st: GoalGanState,
 }
 
@@ -59,6 +64,12 @@ const MAX_PENDING: usize = 10_000;
 
 impl GoalGan {
     pub fn new(low: &[f64], high: &[f64], cfg: GoalGanConfig, seed: u64) -> Result<Self> {
+        Self::with_dims(low, high, cfg, &PerDimension::default(), seed)
+    }
+
+    /// Goal GAN with the first goals' box (`initial`, `initial_width`) given per dimension where
+    /// `dims` has them (checked by `PerDimension::check`).
+    pub fn with_dims(low: &[f64], high: &[f64], cfg: GoalGanConfig, dims: &PerDimension, seed: u64) -> Result<Self> {
         check_bounds("GoalGanSelector", low, high)?;
         cfg.validate()?;
         let d = low.len();
@@ -76,7 +87,9 @@ impl GoalGan {
             old_goals: Vec::new(),
             trainings: 0,
         };
-        Ok(GoalGan { cfg, low: low.to_vec(), high: high.to_vec(), st })
+        let (centre, width) = (dims.vector("initial", cfg.initial, d), dims.vector("initial_width", cfg.initial_width, d));
+        let first = centre.iter().zip(&width).map(|(c, w)| ((c - 0.5 * w).max(0.0), (c + 0.5 * w).min(1.0))).collect();
+        Ok(GoalGan { cfg, low: low.to_vec(), high: high.to_vec(), first, st })
     }
 
     fn gen_sizes(cfg: &GoalGanConfig, d: usize) -> Vec<usize> {
@@ -158,7 +171,9 @@ impl GoalSelector for GoalGan {
         let d = self.low.len();
         let n_old = self.st.old_goals.len() / d;
         let (scaled, mode) = if self.st.trainings == 0 {
-            ((0..d).map(|_| 2.0 * unit(&mut self.st.rng) - 1.0).collect::<Vec<f64>>(), 0u8)
+            // Uniform in the first goals' box ([0, 1] by default: 2 u - 1 over the whole box).
+            let first = &self.first;
+            ((0..d).map(|i| 2.0 * (first[i].0 + (first[i].1 - first[i].0) * unit(&mut self.st.rng)) - 1.0).collect::<Vec<f64>>(), 0u8)
         } else if n_old > 0 && unit(&mut self.st.rng) < self.cfg.p_old {
             let i = index(&mut self.st.rng, n_old);
             (self.st.old_goals[i * d..(i + 1) * d].to_vec(), 2)
@@ -216,7 +231,7 @@ impl GoalSelector for GoalGan {
     }
 }
 
-build_by_new!(GoalGanConfig => GoalGan, box);
+build_by_new!(GoalGanConfig => GoalGan, box, per_dimension);
 
 #[cfg(test)]
 mod tests {
@@ -257,6 +272,25 @@ mod tests {
         let mean: Vec<f64> = (0..2).map(|i| generated.iter().map(|g| g[i]).sum::<f64>() / 2000.0).collect();
         let radii: Vec<f64> = generated.iter().take(10).map(|g| (g[0].powi(2) + g[1].powi(2)).sqrt()).collect();
         assert!(share > 0.5 && share > 3.0 * base, "generated {share}, uniform {base}, radius {}, mean {mean:?} radii {radii:?}", disc.radius);
+    }
+
+    #[test]
+    fn the_first_goals_are_uniform_in_their_box_per_dimension() {
+        let cfg = GoalGanConfig { update_size: 10, gan_iterations: 5, hidden: 8, ..GoalGanConfig::default() };
+        let dims = PerDimension(vec![("initial".into(), vec![0.1, 0.5]), ("initial_width".into(), vec![0.2, 1.0])]);
+        let mut t = GoalGan::with_dims(&[0.0, -1.0], &[2.0, 1.0], cfg, &dims, 3).unwrap();
+        let goals: Vec<Vec<f64>> = (0..400).map(|_| t.sample().goal).collect();
+        assert_eq!(t.n_trainings(), 0);
+        // x in [0, 0.2] of [0, 2] = [0, 0.4]; y over all of [-1, 1].
+        assert!(goals.iter().all(|g| (0.0..=0.4).contains(&g[0])));
+        let (lo, hi) = goals.iter().fold((1.0f64, -1.0f64), |(a, b), g| (a.min(g[1]), b.max(g[1])));
+        assert!(lo < -0.9 && hi > 0.9, "{lo} {hi}");
+        // The default box is the whole box (benchmarks/bench_teacher_bits.py checks its goals
+        // against those before the parameters existed); given per dimension, the same.
+        let (mut a, mut b) = (GoalGan::new(&[0.0, -1.0], &[2.0, 1.0], cfg, 3).unwrap(), GoalGan::with_dims(&[0.0, -1.0], &[2.0, 1.0], cfg, &PerDimension(vec![("initial_width".into(), vec![1.0, 1.0])]), 3).unwrap());
+        for _ in 0..50 {
+            assert_eq!(a.sample().goal, b.sample().goal);
+        }
     }
 
     #[test]
