@@ -214,7 +214,7 @@ mod tests {
     }
 
     /// Checkpoints written by saggriac 0.5.0 (format 5, the arm's state inline; 4ffeabf, by
-    /// `_core.Learner(...).checkpoint()` stopped after step 100) resume, and the run evaluates
+    /// tests/data/saved_checkpoints.py 5: stopped after step 100) resume, and the run evaluates
     /// what 0.5.0's resumed run evaluated, to the bit.
     #[test]
     fn checkpoints_of_saggriac_0_5_resume_exactly() {
@@ -242,7 +242,7 @@ mod tests {
     }
 
     /// Checkpoints of format 6 (saggriac 0.6.0 before #46, 164832d, by
-    /// tests/data/checkpoints_v6_teachers.py) of runs whose goals ADR, Goal GAN and SPDL choose
+    /// tests/data/saved_checkpoints.py 6) of runs whose goals ADR, Goal GAN and SPDL choose
     /// resume: ADR's and Goal GAN's runs evaluate what they did then, to the bit; SPDL's (whose
     /// update changed) resumes and runs to its end.
     #[test]

@@ -16,7 +16,7 @@ import numpy as np
 
 from ..config import Config
 from ..seeding import selector_seed
-from .tasks import BenchTask, register
+from .tasks import TIERS, BenchTask, register
 from .teachers import TeacherError
 
 
@@ -78,50 +78,17 @@ class ArmTask(BenchTask):
         return [(int(s), -float(e)) for s, e in zip(m.step, m.reach_error)]
 
 
-@register
-class ArmEpisodic(ArmTask):
-    name, preset, unit = "arm-episodic", "explauto", "movements"
-    learner = "15-joint arm, episodic (explauto)"
-    budgets = {"quick": 2_000, "standard": 5_000, "full": 20_000}
-    measures = "helping a real learner: goals that teach the arm's inverse model most per movement; about a fifth of the box (its corners) is out of reach"
+#: The arm tasks: (name, preset, settings, unit, budgets by tier, learner, what it measures).
+#: Reachable shares measured on 20,000 uniform goals with saggriac.bodies.reachable.ReachableSet.
+ARMS = (
+    ("arm-episodic", "explauto", {}, "movements", (2_000, 5_000, 20_000), "15-joint arm, episodic (explauto)", "helping a real learner: goals that teach the arm's inverse model most per movement; about a fifth of the box (its corners) is out of reach"),
+    ("arm-exp1", "exp1", {}, "micro-actions", (20_000, 50_000, 50_000), "15-joint arm, micro-actions (exp1)", "the paper's own setting: few goals (one per movement of many micro-actions), each costly; about a fifth of the box (its corners) is out of reach"),
+    ("arm-exp2", "exp2", {}, "micro-actions", (20_000, 50_000, 200_000), "15-joint arm, micro-actions, exp2 box (exp2)", "the paper's experiment 2: a goal box of which 91 % is out of reach (the arm reaches 9 % of [0, 150] x [-150, 150]), so a teacher must find the reachable part and leave the rest alone"),
+    ("arm-3d", "arm3d", {}, "micro-actions", (20_000, 50_000, 100_000), "15-joint arm in 3-D space, micro-actions (arm3d)", "the same learner with a 3-D goal space: more room to spread goals over; the arm reaches about half (52 %) of the box"),
+    ("arm-100", "explauto", {"n_joints": 100}, "movements", (2_000, 5_000, 20_000), "100-joint arm, episodic (explauto)", "a very redundant body (100 joints for a 2-D goal): the inverse model is learnt in a 100-D motor space, where each movement teaches less about its neighbours; the arm reaches 78 % of the box"),
+    ("arm-pusher", "pusher", {}, "micro-actions", (20_000, 50_000, 100_000), "MuJoCo Pusher's 7-joint arm as a chain, 3-D goals (pusher)", "a robot arm modelled by others (Gymnasium's MuJoCo Pusher: its joint ranges and offsets, stepped as a chain without MuJoCo), in a 3-D goal box of which it reaches 19 %"),
+)
 
-
-@register
-class ArmExp1(ArmTask):
-    name, preset, unit = "arm-exp1", "exp1", "micro-actions"
-    learner = "15-joint arm, micro-actions (exp1)"
-    budgets = {"quick": 20_000, "standard": 50_000, "full": 50_000}
-    measures = "the paper's own setting: few goals (one per movement of many micro-actions), each costly; about a fifth of the box (its corners) is out of reach"
-
-
-@register
-class ArmExp2(ArmTask):
-    name, preset, unit = "arm-exp2", "exp2", "micro-actions"
-    learner = "15-joint arm, micro-actions, exp2 box (exp2)"
-    budgets = {"quick": 20_000, "standard": 50_000, "full": 200_000}
-    measures = "the paper's experiment 2: a goal box of which 91 % is out of reach (the arm reaches 9 % of [0, 150] x [-150, 150]), so a teacher must find the reachable part and leave the rest alone"
-
-
-@register
-class Arm3d(ArmTask):
-    name, preset, unit = "arm-3d", "arm3d", "micro-actions"
-    learner = "15-joint arm in 3-D space, micro-actions (arm3d)"
-    budgets = {"quick": 20_000, "standard": 50_000, "full": 100_000}
-    measures = "the same learner with a 3-D goal space: more room to spread goals over; the arm reaches about half (52 %) of the box"
-
-
-@register
-class Arm100(ArmTask):
-    name, preset, unit = "arm-100", "explauto", "movements"
-    settings = {"n_joints": 100}
-    learner = "100-joint arm, episodic (explauto)"
-    budgets = {"quick": 2_000, "standard": 5_000, "full": 20_000}
-    measures = "a very redundant body (100 joints for a 2-D goal): the inverse model is learnt in a 100-D motor space, where each movement teaches less about its neighbours; the arm reaches 78 % of the box"
-
-
-@register
-class ArmPusher(ArmTask):
-    name, preset, unit = "arm-pusher", "pusher", "micro-actions"
-    learner = "MuJoCo Pusher's 7-joint arm as a chain, 3-D goals (pusher)"
-    budgets = {"quick": 20_000, "standard": 50_000, "full": 100_000}
-    measures = "a robot arm modelled by others (Gymnasium's MuJoCo Pusher: its joint ranges and offsets, stepped as a chain without MuJoCo), in a 3-D goal box of which it reaches 19 %"
+for _name, _preset, _settings, _unit, _budgets, _learner, _measures in ARMS:
+    _attrs = dict(name=_name, preset=_preset, settings=_settings, unit=_unit, budgets=dict(zip(TIERS, _budgets)), learner=_learner, measures=_measures)
+    register(type("".join(p.capitalize() for p in _name.split("-")), (ArmTask,), _attrs))

@@ -281,8 +281,8 @@ mod tests {
     }
 
     /// Teachers saved in format 4 (saggriac 0.6.0 before #46, 164832d, by
-    /// tests/data/teachers_v4.py) or 5 (saggriac after 0.6.0 with PLR's ties, 02d4afe, by
-    /// tests/data/teachers_v5.py) continue exactly: ADR and Goal GAN with their parameters of
+    /// tests/data/saved_teachers.py 4) or 5 (saggriac after 0.6.0 with PLR's ties, 02d4afe, by
+    /// tests/data/saved_teachers.py 5) continue exactly: ADR and Goal GAN with their parameters of
     /// then, SPDL of format 4 over its 20 goals before its next update (its update rule changed
     /// in 10bb97b, its draws did not) and of format 5 through an update, the task-list teachers
     /// as ever (format 4's PLR: `a_plr_teacher_saved_by_saggriac_0_6_restores_with_its_ties`).
@@ -306,25 +306,32 @@ mod tests {
         for (kind, bytes, next) in files {
             let format = postcard::take_from_bytes::<u32>(bytes).unwrap().0;
             assert!(format == 4 || format == 5, "{kind}: {format}");
-            let mut a = AskTell::restore(bytes).unwrap();
-            assert_eq!(a.spec().kind(), kind);
+            let a = continues_exactly(kind, bytes, next, told);
             assert!(a.spec().dims.is_empty());
-            let mut again = AskTell::restore(&a.save().unwrap()).unwrap();
-            for line in next.lines() {
-                let bits: Vec<u64> = line.split(' ').map(|b| b.parse().unwrap()).collect();
-                let g = a.sample().goal;
-                assert_eq!(g.iter().map(|v| v.to_bits()).collect::<Vec<_>>(), bits, "{kind}");
-                a.update(&g, told(kind, &g)).unwrap();
-                let h = again.sample().goal;
-                assert_eq!(h, g, "{kind}");
-                again.update(&h, told(kind, &h)).unwrap();
-            }
         }
+    }
+
+    /// The saved teacher `bytes` of `kind` restores and asks the goals of `next` (one per line,
+    /// each coordinate's bits), told `told`; saved again in today's format, it asks the same.
+    fn continues_exactly(kind: &str, bytes: &[u8], next: &str, told: impl Fn(&str, &[f64]) -> f64) -> AskTell {
+        let mut a = AskTell::restore(bytes).unwrap();
+        assert_eq!(a.spec().kind(), kind);
+        let mut again = AskTell::restore(&a.save().unwrap()).unwrap();
+        for line in next.lines() {
+            let bits: Vec<u64> = line.split(' ').map(|b| b.parse().unwrap()).collect();
+            let g = a.sample().goal;
+            assert_eq!(g.iter().map(|v| v.to_bits()).collect::<Vec<_>>(), bits, "{kind}");
+            a.update(&g, told(kind, &g)).unwrap();
+            let h = again.sample().goal;
+            assert_eq!(h, g, "{kind}");
+            again.update(&h, told(kind, &h)).unwrap();
+        }
+        a
     }
 
     /// A teacher of every kind saved by saggriac 0.4 (format 2, one enum of all states; written at
     /// 4316e31) or 0.5 (format 3, one enum of teachers with their boxes; written at 4ffeabf by
-    /// tests/data/teachers_v3.py) restores into today's types and asks the 20 goals 0.4 or 0.5
+    /// tests/data/saved_teachers.py 3) restores into today's types and asks the 20 goals 0.4 or 0.5
     /// asked next, to the bit.
     #[test]
     fn teachers_saved_by_saggriac_0_4_and_0_5_continue_exactly() {
@@ -345,19 +352,7 @@ mod tests {
         // The competences the files were made with (tests/data was written by a script doing this).
         let told = |kind: &str, g: &[f64]| if kind == "discrete_lp" { (g[0] + 1.0) / 6.0 } else { -0.5 * g[0] - 0.25 * g[g.len() - 1] * g[g.len() - 1] };
         for (kind, bytes, next) in files {
-            let mut a = AskTell::restore(bytes).unwrap();
-            assert_eq!(a.spec().kind(), kind);
-            let mut again = AskTell::restore(&a.save().unwrap()).unwrap();
-            for line in next.lines() {
-                let bits: Vec<u64> = line.split(' ').map(|b| b.parse().unwrap()).collect();
-                let g = a.sample().goal;
-                assert_eq!(g.iter().map(|v| v.to_bits()).collect::<Vec<_>>(), bits, "{kind}");
-                a.update(&g, told(kind, &g)).unwrap();
-                // Saved again in this format, it continues the same.
-                let h = again.sample().goal;
-                assert_eq!(h, g, "{kind}");
-                again.update(&h, told(kind, &h)).unwrap();
-            }
+            continues_exactly(kind, bytes, next, told);
         }
     }
 
