@@ -7,9 +7,9 @@ reach_error and pred_error, one metric row per line).
 - 5: saggriac 0.5.0 (4ffeabf): a run of micro-actions and an episodic one.
 - 6: saggriac 0.6.0 (164832d): runs whose goals ADR, Goal GAN and SPDL choose.
 """
-import importlib.util
-import struct
 import sys
+
+from old_core import bits, load
 
 BASE = {"n_steps": 300, "n_test_goals": 5, "n_test_configs": 5, "eval_schedule": [0, 100, 200, 300]}
 RUNS = {
@@ -25,15 +25,9 @@ RUNS = {
 }
 
 
-def bits(v):
-    return struct.unpack("<Q", struct.pack("<d", float(v)))[0]
-
-
 def main():
     fmt, path, out = int(sys.argv[1]), sys.argv[2], sys.argv[3]
-    spec = importlib.util.spec_from_file_location("_core", path)
-    core = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(core)
+    core = load(path)
     print(core.__version__, core.GIT_COMMIT)
     for name, extra in RUNS[fmt].items():
         cfg = {**BASE, **extra}

@@ -14,9 +14,9 @@ commit that wrote that format: each teacher after some goals, and the 20 goals i
   parameters per dimension), ADR, SPDL, Goal GAN, TSCL, PLR, 290 goals. SPDL updates every 20
   goals here, so its next goals cross an update (at 300).
 """
-import importlib.util
-import struct
 import sys
+
+from old_core import bits, load
 
 LO, HI = [0.0, -1.0, 0.0], [1.0, 1.0, 2.0]
 GOALS = {3: 300, 4: 300, 5: 290}
@@ -62,15 +62,9 @@ def told(fmt, kind, g):
     return float(g[0] + 0.5 * (g[1] + 1) + 0.25 * g[2] < 0.9)
 
 
-def bits(v):
-    return struct.unpack("<Q", struct.pack("<d", float(v)))[0]
-
-
 def main():
     fmt, path, out = int(sys.argv[1]), sys.argv[2], sys.argv[3]
-    spec = importlib.util.spec_from_file_location("_core", path)
-    core = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(core)
+    core = load(path)
     for kind, make in makers(fmt, core).items():
         a = make()
         for _ in range(GOALS[fmt]):
