@@ -98,6 +98,7 @@ CALLS = {
     "saggriac.teachers.tscl.TsclSelector.__init__.absolute": lambda v, t: sg.TsclSelector(3, absolute=v),
     "saggriac.bench.suite.run_bench.rerun": lambda v, t: __import__("saggriac.bench.suite", fromlist=["x"]).run_bench(["random"], t / "b", tasks=["2d"], seeds=1, workers=1, rerun=v),
     "saggriac.bench.suite.run_bench.progress": lambda v, t: __import__("saggriac.bench.suite", fromlist=["x"]).run_bench(["random"], t / "b", tasks=["2d"], seeds=1, workers=1, progress=v),
+    "saggriac.bench.suite.run_bench.expert": lambda v, t: __import__("saggriac.bench.suite", fromlist=["x"]).run_bench(["random"], t / "b", tasks=["2d"], seeds=1, workers=1, expert=v),
     "saggriac.bench.runner.execute.progress": lambda v, t: __import__("saggriac.bench.runner", fromlist=["x"]).execute([], t / "b", 1, progress=v),
     "saggriac.bodies.mujoco_arm.MujocoArm.chain.at_origin": lambda v, t: _mujoco_arm().chain(at_origin=v),
     "saggriac.adapters.gym.goals.SelectorGoals.__init__.allow_copy": lambda v, t: _gym().SelectorGoals(_gym().GoalArmEnv(), _teacher(), allow_copy=v),

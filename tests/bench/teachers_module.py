@@ -80,6 +80,31 @@ class FirstTask:
 
     def update(self, goal, competence):
         pass
+
+
+class Around(Uniform):
+    """Uniform in a box about ``start`` (positions in [0, 1] of the box), ``width`` of it wide;
+    it takes expert knowledge: the easy region's centre and width."""
+
+    def __init__(self, low, high, seed=0, start=0.5, width=1.0):
+        super().__init__(low, high, seed)
+        span = self.high - self.low
+        centre = self.low + np.asarray(start, float) * span
+        half = np.asarray(width, float) * span / 2
+        self.lo, self.hi = np.maximum(self.low, centre - half), np.minimum(self.high, centre + half)
+
+    @staticmethod
+    def expert_params(knowledge):
+        return {"start": knowledge.position(knowledge.easy.centre), "width": knowledge.share(knowledge.easy.width)}
+
+    def sample(self):
+        return self.rng.uniform(self.lo, self.hi)
+
+
+class BadKnowledge(Uniform):
+    @staticmethod
+    def expert_params(knowledge):
+        raise ValueError("cannot read it")
 '''
 
 

@@ -12,6 +12,8 @@ def test_list_prints_every_task_with_its_budgets_and_every_teacher(capsys):
         line = next(ln for ln in out.splitlines() if ln.split() and ln.split()[0] == name)
         assert cls.space in line and all(("-" if b is None else f"{b:,}") in line.split(cls.learner)[1] for b in cls.budgets.values())
     assert all(t in out for t in available()) and "quick tier, one box teacher, all tasks: about" in out
+    # The teachers given expert knowledge, at TeachMyAgent's levels.
+    assert "with expert knowledge (box tasks, TeachMyAgent's levels; docs/bench.md): adr@low, adr@high, spdl@low, spdl@high, goal_gan@low, goal_gan@high" in out
 
 
 def test_a_wrong_teacher_or_parameter_is_named(capsys, tmp_path):

@@ -17,7 +17,7 @@ def module(tmp_path):
 
 def _bench(module, tmp_path, bad, **kw):
     with pytest.raises(BenchError) as info:
-        run_bench([f"{module}:Uniform", f"{module}:{bad}"], out=tmp_path / "out", tasks=["2d", "niches-0"], seeds=2, progress=False, **kw)
+        run_bench([f"{module}:Uniform", f"{module}:{bad}"], out=tmp_path / "out", tasks=["2d", "niches-0"], seeds=2, progress=False, expert=False, **kw)
     err = info.value
     board = err.result.board
     # The good teacher's runs are all there, the bad one's are not.

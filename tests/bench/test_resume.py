@@ -24,7 +24,7 @@ def module(tmp_path):
 
 
 def test_lost_and_damaged_runs_are_recomputed_to_the_same_numbers(module, tmp_path):
-    kw = dict(out=tmp_path / "out", tasks=["2d", "niches-4"], seeds=3, workers=1, progress=False)
+    kw = dict(out=tmp_path / "out", tasks=["2d", "niches-4"], seeds=3, workers=1, progress=False, expert=False)
     first = run_bench([f"{module}:Uniform"], **kw)
     files = sorted((tmp_path / "out" / "runs").rglob("seed*.json"))
     assert len(files) == 6
@@ -40,7 +40,7 @@ def test_lost_and_damaged_runs_are_recomputed_to_the_same_numbers(module, tmp_pa
 
 
 def test_a_killed_bench_resumes_to_the_same_numbers(module, tmp_path):
-    cmd = [sys.executable, "-m", "saggriac.cli", "bench", "--teacher", f"{module}:Slow", "--tasks", "rugged", "--seeds", "5", "--workers", "2", "--no-progress"]
+    cmd = [sys.executable, "-m", "saggriac.cli", "bench", "--teacher", f"{module}:Slow", "--tasks", "rugged", "--seeds", "5", "--workers", "2", "--no-progress", "--no-expert"]
     killed = subprocess.Popen([*cmd, "--out", "killed"], cwd=tmp_path, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
     runs = tmp_path / "killed" / "runs"
     deadline = time.monotonic() + 90

@@ -22,7 +22,9 @@ def module(tmp_path):
 
 
 def test_a_users_teacher_by_file_path_and_the_centre_teacher_are_placed(module, tmp_path):
-    res = run_bench([f"{module}:Uniform", f"{module}:Centre"], out=tmp_path / "out", tasks=FOCUS, seeds=3, workers=1, progress=False)
+    # expert=False: the built-in teachers given expert knowledge are left out (until the shipped
+    # results hold them they would be computed here too; tests/bench/test_expert.py runs them).
+    res = run_bench([f"{module}:Uniform", f"{module}:Centre"], out=tmp_path / "out", tasks=FOCUS, seeds=3, workers=1, progress=False, expert=False)
     board = res.board
     mine, centre = f"{module}:Uniform", f"{module}:Centre"
     for task in FOCUS:
@@ -42,7 +44,7 @@ def test_a_users_teacher_by_file_path_and_the_centre_teacher_are_placed(module, 
 
 
 def test_the_command_benches_a_module_of_the_current_folder_by_import_path(module, tmp_path):
-    cmd = [sys.executable, "-m", "saggriac.cli", "bench", "--teacher", "myteachers:Uniform", "--teacher-param", "spread=0.5", "--tasks", "2d", "--seeds", "2", "--workers", "2", "--out", "out", "--no-progress"]
+    cmd = [sys.executable, "-m", "saggriac.cli", "bench", "--teacher", "myteachers:Uniform", "--teacher-param", "spread=0.5", "--tasks", "2d", "--seeds", "2", "--workers", "2", "--out", "out", "--no-progress", "--no-expert"]
     done = subprocess.run(cmd, cwd=module.parent, capture_output=True, text=True, timeout=120)
     assert done.returncode == 0, done.stderr
     board = pd.read_csv(module.parent / "out" / "leaderboard.csv")

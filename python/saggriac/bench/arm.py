@@ -14,10 +14,41 @@ from typing import Any, Callable, ClassVar
 
 import numpy as np
 
+from .. import _core
+from ..bodies.environments import PlanarArm, SpatialArm
+from ..bodies.reachable import CHAIN_GRID, ReachableSet
 from ..config import Config
 from ..seeding import selector_seed
+from .expert import Knowledge
 from .tasks import TIERS, BenchTask, register
 from .teachers import TeacherError
+
+#: The easy region about the tip at rest: a box of this share of the reach on each side.
+EASY_REACH = 0.1
+
+
+def rest_tip(config: Config) -> np.ndarray:
+    """Where the tip of the arm of ``config`` is at rest (every joint at 0): straight along +x
+    for the built-in arms, the middle of every joint's range for a chain."""
+    if config.chain is not None:
+        n = len(_core.chain_link_lengths(list(config.chain)))
+        return np.asarray(_core.chain_forward(list(config.chain), np.zeros((1, n))), float)[0, : len(config.goal_low)]
+    body = SpatialArm if config.body == "spatial_arm" else PlanarArm
+    arm = body(n_joints=config.n_joints, arm_length=config.arm_length, link_lengths=config.link_lengths, joint_limit=config.joint_limit, max_joint_step=config.max_joint_step)
+    return arm.reset()[1]
+
+
+def reachable_box(config: Config) -> tuple[np.ndarray, np.ndarray]:
+    """The box that holds the test goals of ``config``: the ball of its reach about the base
+    within the goal box, or a chain's reachable set (the cells of saggriac.bodies.reachable's
+    grid that its sample reached)."""
+    low, high = np.asarray(config.goal_low, float), np.asarray(config.goal_high, float)
+    occupied = ReachableSet(config).occupied
+    if occupied is None:
+        return np.maximum(low, -config.reach), np.minimum(high, config.reach)
+    cells = np.argwhere(occupied)
+    step = (high - low) / CHAIN_GRID
+    return low + cells.min(axis=0) * step, low + (cells.max(axis=0) + 1) * step
 
 
 class _HighLevel:
@@ -61,6 +92,13 @@ class ArmTask(BenchTask):
         super().__init__(seed)
         self.config = Config.from_preset(self.preset, n_evals=self.evals, **self.settings)
         self.low, self.high = np.asarray(self.config.goal_low, float), np.asarray(self.config.goal_high, float)
+
+    def expert_knowledge(self) -> Knowledge:
+        """easy: the box of side a fifth of the reach about the tip at rest (kept in the goal
+        box: the 15 links' sum may pass 50 by a rounding), where goals need the smallest
+        movements; target: the box of the test goals (:func:`reachable_box`)."""
+        tip, half = np.clip(rest_tip(self.config), self.low, self.high), EASY_REACH * self.config.reach
+        return self.knowledge((tip - half, tip + half), reachable_box(self.config))
 
     def play(self, ask: Callable[[], Any], tell: Callable[[Any, float], None], budget: int) -> list[tuple[int, float]]:
         from ..runs.runner import run

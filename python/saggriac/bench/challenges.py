@@ -34,6 +34,12 @@ class MostlyTrivial(Hypercube):
         x, y = self.centre(self.oracle_cell())
         return np.array([STRIP + (1 - STRIP) * x, y])
 
+    def cell_box(self, cell: int) -> tuple[np.ndarray, np.ndarray]:
+        """The cell's box in the strip. The expert's start is the strip's first cell, the
+        easiest goal with something to learn (the trivial part is mastered from the start)."""
+        lo, hi = super().cell_box(cell)
+        return np.array([STRIP + (1 - STRIP) * lo[0], lo[1]]), np.array([STRIP + (1 - STRIP) * hi[0], hi[1]])
+
 
 @register
 class Forgetting(Hypercube):
@@ -111,6 +117,11 @@ class Rugged(Hypercube):
 
     def mastered(self) -> np.ndarray:
         return self.practice >= self.needs
+
+    def easy_cells(self) -> list[int]:
+        """Every cell is open from the start; an expert knows the easiest (TeachMyAgent's
+        rugged test maps its easy tasks into the shuffled space): the first of fewest tries."""
+        return [int(np.argmin(self.needs))]
 
     def oracle_cell(self) -> int:
         """The unmastered cell with the fewest tries left."""

@@ -14,14 +14,15 @@ from ..errors import ParameterError
 from ..teachers import available
 from . import shipped
 from .runner import BenchError
-from .suite import BenchResult, run_bench
+from .expert import BUILTIN, LEVELS
+from .suite import BenchResult, builtin_specs, run_bench, with_variants
 from .tasks import TASKS, TIERS, missing_extra
 from .teachers import CALL_TIMEOUT, parse_teacher
 
 
 def add_arguments(b: argparse.ArgumentParser) -> None:
     b.add_argument("--list", action="store_true", help="print the tasks (space, learner, budget per tier, expected time) and the built-in teachers, and stop")
-    b.add_argument("--teacher", action="append", default=[], metavar="NAME_OR_PATH", help="a built-in teacher's name, or a class by import path: pkg.mod:Class or path/file.py:Class (repeatable); every built-in teacher is on the board too")
+    b.add_argument("--teacher", action="append", default=[], metavar="NAME_OR_PATH", help="a built-in teacher's name, or a class by import path: pkg.mod:Class or path/file.py:Class (repeatable), with @low or @high for expert knowledge at that level; every built-in teacher is on the board too")
     b.add_argument("--teacher-param", action="append", default=[], metavar="KEY=VALUE", help="a keyword argument of the --teacher classes (values read as TOML: 3, 0.5, true, \"text\")")
     b.add_argument("--tier", default="quick", choices=list(TIERS), help="quick (5 seeds), standard (10) or full (20 seeds, the studies' budgets); default quick")
     b.add_argument("--out", help="output folder (default bench-TIER); rerunning the same command there resumes it")
@@ -32,6 +33,7 @@ def add_arguments(b: argparse.ArgumentParser) -> None:
     b.add_argument("--timeout", type=float, default=CALL_TIMEOUT, help=f"seconds one call of a teacher may take (default {CALL_TIMEOUT:g})")
     b.add_argument("--rerun", action="store_true", help="rerun the built-in teachers instead of reading the results shipped with the package, and say whether they differ")
     b.add_argument("--write-shipped", action="store_true", help="(maintainers) with --rerun: write the built-in teachers' runs as the package's shipped results of the tier")
+    b.add_argument("--no-expert", action="store_true", help="leave out the teachers given expert knowledge (adr@low, adr@high, ...; a NAME@LEVEL asked for by --teacher still runs)")
     b.add_argument("--no-progress", action="store_true", help="no progress bar")
 
 
@@ -56,10 +58,14 @@ def listing() -> str:
         rows.append(row)
     table = pd.DataFrame(rows).to_string(index=False)
     names = ", ".join(f"{n} ({'/'.join(c.spaces)})" for n, c in available().items())
+    variants = ", ".join(s.label for s in builtin_specs(True) if s.level)
+    expert = (f"\nwith expert knowledge (box tasks, TeachMyAgent's levels; docs/bench.md): {variants}\n"
+              f"  {', '.join(BUILTIN)} without a level: no knowledge (their defaults); @{LEVELS[0]}: a start drawn at random in the box, the whole box as target; "
+              f"@{LEVELS[1]}: the easy region and the target each task declares (--no-expert leaves them out)")
     total = sum(times["quick"].get(n, 0.0) for n, c in TASKS.items()) * TIERS["quick"]
     needs = [f"{n} needs {missing_extra(n)}" for n in TASKS if missing_extra(n) is not None]
     missing = f"\nnot installed: {'; '.join(needs)} (left out of the bench until it is)" if needs else ""
-    return f"{table}\n\n'-': not in that tier (deep RL is not in the quick tier)\nbuilt-in teachers: {names}\nquick tier, one box teacher, all tasks: about {total:.0f} s of CPU (the shipped runs' mean seconds per run x {TIERS['quick']} seeds){missing}"
+    return f"{table}\n\n'-': not in that tier (deep RL is not in the quick tier)\nbuilt-in teachers: {names}{expert}\nquick tier, one box teacher, all tasks: about {total:.0f} s of CPU (the shipped runs' mean seconds per run x {TIERS['quick']} seeds){missing}"
 
 
 def _teacher_params(pairs: list[str], parse_value: Any) -> dict[str, Any]:
@@ -90,17 +96,17 @@ def run_command(args: argparse.Namespace, parse_value: Any) -> int:
     tasks = None if args.tasks is None else [t.strip() for t in args.tasks.split(",")]
     out = Path(args.out or f"bench-{args.tier}")
     try:
-        result = run_bench(specs, out=out, tier=args.tier, seeds=args.seeds, tasks=tasks, workers=args.workers, timeout=args.timeout, rerun=args.rerun, progress=not args.no_progress, scheduler=args.scheduler)
+        result = run_bench(specs, out=out, tier=args.tier, seeds=args.seeds, tasks=tasks, workers=args.workers, timeout=args.timeout, rerun=args.rerun, progress=not args.no_progress, scheduler=args.scheduler, expert=not args.no_expert)
         rc = 0
     except BenchError as e:
         print(f"saggriac: error: {e}", file=sys.stderr)
         result, rc = e.result, 1  # type: ignore[attr-defined]
-    report(result, specs)
+    report(result, with_variants(specs, not args.no_expert))
     if args.write_shipped and rc == 0:
-        builtin = result.runs[result.runs.teacher.isin(list(available()))]
+        builtin = result.runs[result.runs.teacher.isin([s.label for s in builtin_specs(True)])]
         curves = result.curves.merge(builtin[["task", "teacher", "seed"]], on=["task", "teacher", "seed"])
         seeds = sorted(set(builtin.seed))
-        command = f"saggriac bench --tier {args.tier} --rerun --write-shipped" + (f" --seeds {args.seeds}" if args.seeds else "")
+        command = f"saggriac bench --tier {args.tier} --rerun --write-shipped" + (f" --seeds {args.seeds}" if args.seeds else "") + (" --no-expert" if args.no_expert else "")
         for p in shipped.write(args.tier, builtin, curves, seeds, command):
             print(f"shipped results: {p}")
     return rc

@@ -14,6 +14,9 @@ from typing import Any, Callable, ClassVar
 
 import numpy as np
 
+from ..bodies.environments import PlanarArm
+from .arm import EASY_REACH
+from .expert import Knowledge
 from .tasks import BenchTask, register
 
 #: The arm, fixed by the first study's protocol: reach 1, goals in [-2, 2]^2 (a fifth reachable).
@@ -141,6 +144,14 @@ class RlArm(BenchTask):
     def __init__(self, seed: int) -> None:
         super().__init__(seed)
         self.low, self.high = np.asarray(ARM["goal_low"], float), np.asarray(ARM["goal_high"], float)
+
+    def expert_knowledge(self) -> Knowledge:
+        """easy: the box of side a fifth of the reach about the tip at rest; target: the box of
+        the reachable disc, where the test goals are (:func:`test_goals`). The arm is
+        GoalArmEnv's (a PlanarArm), read here without Gymnasium."""
+        arm = PlanarArm(**{k: ARM[k] for k in ("n_joints", "arm_length", "joint_limit", "max_joint_step")})
+        tip, reach = arm.reset()[1], arm.reach
+        return self.knowledge((tip - EASY_REACH * reach, tip + EASY_REACH * reach), (np.maximum(self.low, -reach), np.minimum(self.high, reach)))
 
     def play(self, ask: Callable[[], Any], tell: Callable[[Any, float], None], budget: int) -> list[tuple[int, float]]:
         goals = test_goals(arm_reach())

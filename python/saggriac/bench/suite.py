@@ -1,5 +1,7 @@
 """``run_bench``: every teacher asked for, and every built-in teacher, on every task of a tier, into
-an output folder that holds the runs, the curves, the leaderboard and its figures. The built-in
+an output folder that holds the runs, the curves, the leaderboard and its figures. The teachers
+that take expert knowledge are also run with it, at each level, as entries of their own
+(``adr@low``, ``adr@high``; :mod:`saggriac.bench.expert`), unless ``expert=False``. The built-in
 teachers' runs come from the shipped results when they hold them (same task, seed and budget),
 unless ``rerun``; a run already in the folder is kept; the rest is computed."""
 
@@ -22,6 +24,17 @@ from . import report, shipped
 from .runner import BenchError, execute, failure_message, plan, read_done, timed
 from .tasks import TASKS, TIERS, in_tier, missing_extra
 from .teachers import CALL_TIMEOUT, REFERENCE, TeacherSpec, parse_teacher
+
+
+def with_variants(specs: Iterable[TeacherSpec], expert: bool) -> list[TeacherSpec]:
+    """``specs``, each followed by its expert variants if ``expert`` (a spec given a level is
+    itself only)."""
+    return [v for s in specs for v in [s, *(s.variants() if expert else [])]]
+
+
+def builtin_specs(expert: bool) -> list[TeacherSpec]:
+    """The built-in teachers, each followed by its expert variants if ``expert``."""
+    return with_variants([TeacherSpec(n) for n in available()], expert)
 
 
 @dataclass
@@ -60,12 +73,16 @@ def run_bench(
     rerun: bool = False,
     progress: bool = True,
     scheduler: Any = None,
+    expert: bool = True,
 ) -> BenchResult:
-    """Bench ``teachers`` (built-in names, import paths 'pkg.mod:Class' or TeacherSpec) among the
-    built-in teachers on the tasks of ``tier`` (seeds 0 .. ``seeds`` - 1; the tier's number by
-    default) into the folder ``out``; see :class:`BenchResult`. Raises :class:`BenchError` after
-    writing everything else if some runs failed."""
+    """Bench ``teachers`` (built-in names, import paths 'pkg.mod:Class' or TeacherSpec; 'NAME@low'
+    or 'NAME@high' given expert knowledge at that level) among the built-in teachers on the tasks
+    of ``tier`` (seeds 0 .. ``seeds`` - 1; the tier's number by default) into the folder ``out``;
+    see :class:`BenchResult`. With ``expert`` (default), every teacher that takes expert knowledge
+    is also run at each level. Raises :class:`BenchError` after writing everything else if some
+    runs failed."""
     rerun, progress = check_flag(rerun, "rerun", "run_bench"), check_flag(progress, "progress", "run_bench")
+    expert = check_flag(expert, "expert", "run_bench")
     if tier not in TIERS:
         raise ParameterError(f"The 'tier' parameter of run_bench must be one of {', '.join(TIERS)}. Got {tier!r} instead.", "tier", repr(tier))
     n_seeds = TIERS[tier] if seeds is None else _check_int("seeds", seeds, 1)
@@ -87,9 +104,11 @@ def run_bench(
             raise ParameterError(f"The bench task {t!r} is not in the tier {tier!r} (it is in {', '.join(x for x in TIERS if in_tier(t, x))}). Give another tier, or leave the task out.", "tasks", repr(t))
         if missing_extra(t) is not None:
             raise ParameterError(f"The bench task {t!r} needs {missing_extra(t)}.", "tasks", repr(t))
-    specs = [t if isinstance(t, TeacherSpec) else parse_teacher(t) for t in teachers]
-    builtins = [TeacherSpec(n) for n in available()]
-    everyone = builtins + [s for s in specs if s not in builtins]
+    specs = with_variants([t if isinstance(t, TeacherSpec) else parse_teacher(t) for t in teachers], expert)
+    # Every built-in spec whose runs may ship (the expert variants too); those on the board.
+    builtins = builtin_specs(True)
+    board_builtins = builtin_specs(expert)
+    everyone = board_builtins + [s for s in specs if s not in board_builtins]
     folder = as_path(out, "out", "run_bench")
     try:
         folder.mkdir(parents=True, exist_ok=True)

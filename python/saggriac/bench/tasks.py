@@ -7,7 +7,8 @@ a space (a box ``low``/``high``, or a list of ``n_tasks`` tasks whose goals are 
 maps it into each teacher's ``competence_range``). ``score()`` is the learner's skill now;
 ``oracle()`` is the goal a perfect teacher (one that sees the learner's state) would ask next,
 which the tests use as a known answer. A task whose learner runs a loop of its own (the arm)
-overrides ``play`` instead.
+overrides ``play`` instead. ``expert_knowledge()`` is what an expert could tell a teacher about
+a box task (the easy start and the target; :mod:`saggriac.bench.expert`).
 """
 
 from __future__ import annotations
@@ -18,6 +19,7 @@ import numpy as np
 
 from ..errors import ParameterError
 from ..teachers.progress_niches import ProgressNiches
+from .expert import Knowledge, Region
 
 #: The tiers: seeds per task (0 .. N-1) and which budget each task takes. ``quick`` is every task
 #: with few seeds; ``full`` has the sizes of the studies the toy tasks came from.
@@ -87,6 +89,25 @@ class BenchTask:
 
     def oracle(self) -> Any:
         raise NotImplementedError
+
+    def expert_knowledge(self) -> Knowledge | None:
+        """What an expert could tell a teacher about this box task, for the bench's expert
+        levels (``TEACHER@high``): ``self.knowledge(easy, target)``, with ``easy`` the box where
+        the learner can make progress from the start (TeachMyAgent's initial distribution of
+        easy tasks) and ``target`` the box that holds the goals the score is measured on (its
+        target distribution), each ``(low, high)`` in the task's own coordinates. Called on the
+        task as built for a run, before its first goal. None (this default): the task declares
+        nothing, and the bench runs no teacher with expert knowledge on it."""
+        return None
+
+    def knowledge(self, easy: tuple[Any, Any], target: tuple[Any, Any]) -> Knowledge:
+        """The Knowledge of this task's box with the regions ``easy`` and ``target``."""
+        return Knowledge(np.asarray(self.low, float).copy(), np.asarray(self.high, float).copy(), Region.of(*easy), Region.of(*target))
+
+    @classmethod
+    def declares_knowledge(cls) -> bool:
+        """Whether the task's class declares expert knowledge (overrides expert_knowledge)."""
+        return cls.expert_knowledge is not BenchTask.expert_knowledge
 
     def play(self, ask: Callable[[], Any], tell: Callable[[Any, float], None], budget: int) -> list[tuple[int, float]]:
         """Run ``budget`` goals: ``ask()`` a goal, attempt it, ``tell(goal, competence)``. The
@@ -165,6 +186,25 @@ class Hypercube(BenchTask):
 
     def oracle(self) -> Any:
         return self.centre(self.oracle_cell())
+
+    def cell_box(self, cell: int) -> tuple[np.ndarray, np.ndarray]:
+        """The box of the goals in ``cell`` (the irrelevant dimensions whole)."""
+        lo = np.concatenate([self.index[cell] / self.bins, np.zeros(self.irrelevant)])
+        return lo, np.concatenate([(self.index[cell] + 1) / self.bins, np.ones(self.irrelevant)])
+
+    def cells_box(self, cells: Any) -> tuple[np.ndarray, np.ndarray]:
+        """The smallest box that holds every cell of ``cells``."""
+        boxes = [self.cell_box(int(c)) for c in cells]
+        return np.min([b[0] for b in boxes], axis=0), np.max([b[1] for b in boxes], axis=0)
+
+    def easy_cells(self) -> list[int]:
+        """The cells an expert starts from: the one at the origin, open from the start."""
+        return [0]
+
+    def expert_knowledge(self) -> Knowledge:
+        """easy: :meth:`easy_cells`; target: the cells the score counts (those that can be
+        mastered), as the box that holds them."""
+        return self.knowledge(self.cells_box(self.easy_cells()), self.cells_box(np.flatnonzero(self.possible)))
 
 
 class HypercubeCells(Hypercube):
@@ -247,6 +287,19 @@ class Niches(BenchTask):
     def oracle(self) -> Any:
         j, i = self.env.niche_cells[self.oracle_niche()]
         return self.env.centre(j * self.env.nx + i)
+
+    def niche_box(self, k: int) -> tuple[np.ndarray, np.ndarray]:
+        """The box of niche ``k``'s cell (the distractor dimensions whole)."""
+        j, i = self.env.niche_cells[k]
+        lo, hi = np.zeros(self.env.dim), np.ones(self.env.dim)
+        lo[:2], hi[:2] = (i / self.env.nx, j / self.env.ny), ((i + 1) / self.env.nx, (j + 1) / self.env.ny)
+        return lo, hi
+
+    def expert_knowledge(self) -> Knowledge:
+        """easy: the first niche, open from the start; target: the niches (the score is their
+        mean skill), as the box that holds them."""
+        boxes = [self.niche_box(k) for k in range(len(self.env.niche_cells))]
+        return self.knowledge(boxes[0], (np.min([b[0] for b in boxes], axis=0), np.max([b[1] for b in boxes], axis=0)))
 
 
 @register

@@ -4,11 +4,12 @@ into the range the teacher takes.
 
 A teacher is a built-in one by name (``saggriac.teachers.available()``, read at each call, so a
 new built-in teacher is benched with no edit here) or a user's class by import path,
-``pkg.mod:Class`` or ``path/to/file.py:Class``. The class follows saggriac's teacher protocol:
-``Class(low, high, seed=s, **params)`` for a box or ``Class(n_tasks, seed=s, **params)`` for a
-task list, ``sample()`` and ``update(goal, competence)``; its ``spaces`` class attribute says which
-spaces it takes (("box",) if it has none), and its ``competence_range`` the competences it expects
-((0, 1) if it has none).
+``pkg.mod:Class`` or ``path/to/file.py:Class``; ``NAME@low`` or ``NAME@high`` is that teacher
+given expert knowledge of each task at that level (:mod:`saggriac.bench.expert`). The class
+follows saggriac's teacher protocol: ``Class(low, high, seed=s, **params)`` for a box or
+``Class(n_tasks, seed=s, **params)`` for a task list, ``sample()`` and ``update(goal,
+competence)``; its ``spaces`` class attribute says which spaces it takes (("box",) if it has
+none), and its ``competence_range`` the competences it expects ((0, 1) if it has none).
 """
 
 from __future__ import annotations
@@ -30,6 +31,7 @@ import numpy as np
 
 from ..errors import ParameterError, SaggriacError
 from ..teachers import RandomSelector, available
+from . import expert
 
 #: The teacher every other one is compared with (paired by seed).
 REFERENCE = "random"
@@ -50,11 +52,13 @@ class _Hang(BaseException):
 
 @dataclass(frozen=True)
 class TeacherSpec:
-    """A teacher as the bench names it: ``ref`` (a built-in name or an import path) and the
-    keyword parameters it is built with."""
+    """A teacher as the bench names it: ``ref`` (a built-in name or an import path), the
+    keyword parameters it is built with, and the expert knowledge it is given of each task
+    (``level``: "" for none, or one of ``expert.LEVELS``)."""
 
     ref: str
     params: tuple[tuple[str, Any], ...] = ()
+    level: str = ""
 
     @property
     def builtin(self) -> bool:
@@ -62,19 +66,31 @@ class TeacherSpec:
 
     @property
     def label(self) -> str:
-        """The name on the leaderboard: the ref, and the parameters if any."""
-        if not self.params:
-            return self.ref
-        return f"{self.ref}[{','.join(f'{k}={v!r}' for k, v in self.params)}]"
+        """The name on the leaderboard: the ref, the parameters if any, and ``@level`` if given
+        expert knowledge (a plain teacher's label is the one it had before levels existed)."""
+        plain = self.ref if not self.params else f"{self.ref}[{','.join(f'{k}={v!r}' for k, v in self.params)}]"
+        return f"{plain}@{self.level}" if self.level else plain
 
     @property
     def slug(self) -> str:
         """A folder name for the teacher's runs: the label in plain characters, and a digest
-        when that changed it or it is long."""
-        plain = re.sub(r"[^A-Za-z0-9_.=+-]+", "_", self.label)
-        if plain == self.label and len(plain) <= 60:
-            return plain
-        return f"{plain[:40]}-{hashlib.sha256(self.label.encode()).hexdigest()[:10]}"
+        when that changed it or it is long; ``@level`` after it."""
+        base = TeacherSpec(self.ref, self.params).label
+        plain = re.sub(r"[^A-Za-z0-9_.=+-]+", "_", base)
+        if plain != base or len(plain) > 60:
+            plain = f"{plain[:40]}-{hashlib.sha256(base.encode()).hexdigest()[:10]}"
+        return f"{plain}@{self.level}" if self.level else plain
+
+    def expert_function(self) -> Callable[[expert.Knowledge], dict[str, Any]] | None:
+        """How this teacher takes expert knowledge (``expert.BUILTIN`` for a built-in teacher,
+        its class's ``expert_params`` for a user's), or None if it takes none."""
+        return expert.params_function(self.load(), self.ref, self.builtin)
+
+    def variants(self) -> list["TeacherSpec"]:
+        """This teacher at each expert level, if it takes expert knowledge (else none)."""
+        if self.level or self.expert_function() is None:
+            return []
+        return [TeacherSpec(self.ref, self.params, level) for level in expert.LEVELS]
 
     def load(self) -> type:
         """The teacher's class."""
@@ -114,17 +130,22 @@ class TeacherSpec:
 
     def takes(self, space: str) -> bool:
         """Whether the bench runs this teacher on a task of ``space`` (the reference, random,
-        runs on task lists too: uniform over the tasks)."""
+        runs on task lists too: uniform over the tasks; expert knowledge is of box tasks)."""
+        if self.level:
+            return space == "box" and space in self.spaces()
         return space in self.spaces() or (self.ref == REFERENCE and not self.params)
 
 
 def parse_teacher(text: str, params: dict[str, Any] | None = None) -> TeacherSpec:
     """The spec of ``--teacher TEXT``: a built-in name, ``pkg.mod:Class`` or ``file.py:Class`` (made
-    absolute, so that workers elsewhere in the tree find it). Its class is loaded here, so that a
-    wrong name fails before anything runs."""
+    absolute, so that workers elsewhere in the tree find it), with ``@low`` or ``@high`` for that
+    teacher given expert knowledge at the level. Its class is loaded here, so that a wrong name
+    fails before anything runs."""
     if not isinstance(text, str) or not text.strip():
         raise ParameterError(f"The '--teacher' parameter of saggriac bench must be a built-in teacher's name ({', '.join(available())}) or an import path 'pkg.mod:Class'. Got {text!r} instead.", "teacher", repr(text))
-    text = text.strip()
+    text, level = expert.split_level(text.strip())
+    if level and level not in expert.LEVELS:
+        raise ParameterError(f"The '--teacher' parameter of saggriac bench takes an expert level after '@': {' or '.join(expert.LEVELS)}. Got {level!r} in {text + '@' + level!r}.", "teacher", f"{text}@{level}")
     if ":" in text:
         module, _, name = text.rpartition(":")
         if not module or not name.isidentifier():
@@ -137,8 +158,11 @@ def parse_teacher(text: str, params: dict[str, Any] | None = None) -> TeacherSpe
     elif text not in available():
         raise ParameterError(f"The '--teacher' parameter of saggriac bench must be a built-in teacher's name ({', '.join(available())}) or an import path 'pkg.mod:Class'. Got {text!r} instead.", "teacher", text)
     items = tuple(sorted((params or {}).items()))
-    spec = TeacherSpec(text, items)
+    spec = TeacherSpec(text, items, level)
     spec.spaces()  # imports the class: a wrong path fails here
+    if level and spec.expert_function() is None:
+        takers = ", ".join(expert.BUILTIN)
+        raise ParameterError(f"The teacher {text} of saggriac bench takes no expert knowledge, so it has no '@{level}': the built-in ones that do are {takers}, and a class of yours does by an expert_params(knowledge) static method (docs/bench.md).", "teacher", f"{text}@{level}")
     return spec
 
 
@@ -168,6 +192,10 @@ class Guarded:
         cls = spec.load()
         self.tell_map = competence_map(cls, spec.label)
         params = dict(spec.params)
+        if spec.level:
+            # Expert knowledge of the task at the level, as the teacher's own parameters.
+            known = self._call("was given expert knowledge", lambda: self._expert_params(spec, task, seed if run_seed is None else run_seed))
+            params.update(known)
         if task.space == "box":
             make: Callable[[], Any] = lambda: cls(task.low.copy(), task.high.copy(), seed=seed, **params)
         elif task.space in spec.spaces():
@@ -178,6 +206,19 @@ class Guarded:
             self.to_task = lambda g: min(int(np.asarray(g, float).reshape(-1)[0]), n - 1)
             self.tell_map = lambda c: c - 1.0
         self.teacher = self._call("was built", make)
+
+    @staticmethod
+    def _expert_params(spec: TeacherSpec, task: Any, run_seed: int) -> dict[str, Any]:
+        fn = spec.expert_function()
+        if fn is None:
+            raise TypeError("it takes no expert knowledge")
+        known = fn(expert.knowledge(task, spec.level, run_seed))
+        if not isinstance(known, dict):
+            raise TypeError(f"its expert_params gave {known!r}, not a dict of keyword parameters")
+        clash = sorted(set(known) & {k for k, _ in spec.params})
+        if clash:
+            raise TypeError(f"the parameters {clash} are given both by --teacher-param and by the expert knowledge")
+        return known
 
     def _call(self, what: str, work: Callable[[], Any]) -> Any:
         bounded = signal.getsignal(signal.SIGALRM) is _alarm if hasattr(signal, "setitimer") else False
