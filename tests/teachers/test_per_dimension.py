@@ -107,6 +107,10 @@ def test_a_run_takes_single_numbers_and_says_where_lists_go():
     # The single number's rule (a run's), and where a list goes.
     with pytest.raises(sg.ParameterError, match=r"^The 'teacher_params\.init_mean' parameter of Config must be a float in \[0, 1\] \(a position in the box scaled to \[0, 1\]\)\. Got \[0\.1, 0\.5\] \(a value per dimension is taken by the teacher's class, such as saggriac\.SpdlSelector\(init_mean=\[\.\.\.\]\), not by a run\) instead\.$"):
         sg.Config(teacher="spdl", teacher_params={"init_mean": [0.1, 0.5]})
+    # A covariance has no single-number form: it is named as the class's, not as unknown.
+    for name in ("init_cov", "target_cov"):
+        with pytest.raises(sg.ParameterError, match=rf"^The 'teacher_params\.{name}' parameter of Config must be given to the teacher's class, such as saggriac\.SpdlSelector\({name}=\.\.\.\), not to a run, which takes single numbers\. Got \[\[0\.1, 0\.0\], \[0\.0, 0\.1\]\] instead\.$"):
+            sg.Config(teacher="spdl", teacher_params={name: [[0.1, 0.0], [0.0, 0.1]]})
     # The alpha form weighs KL by the mean competence clipped at 0: a run's are <= 0.
     with pytest.raises(sg.ParameterError, match=r"^The 'teacher_params\.form' parameter of Config must be 'delta' \(the competences a run tells \(min_c to 0\) lie in \[-1, 0\]; the alpha form weighs KL\(p \|\| mu\) by zeta times the mean competence clipped at 0, so with competences <= 0 it never moves p toward the target\)\. Got 'alpha' instead\.$"):
         sg.Config(teacher="spdl", teacher_params={"form": "alpha"}).validate()

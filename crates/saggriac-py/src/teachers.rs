@@ -102,12 +102,17 @@ pub fn teacher(py: Python<'_>, default: Teacher, given: Option<&Bound<'_, PyDict
     let nested = nested(py, &default)?;
     for (k, v) in given.iter() {
         let key: String = k.extract().map_err(|_| to_py(py, invalid(owner, what, "a dict with str keys", "a key that is not a str")))?;
+        let shown = || v.repr().map(|r| r.to_string()).unwrap_or_else(|_| "?".into());
         let Some(d) = flat.get_item(&key)? else {
+            if default.per_dimension().iter().any(|(n, _)| *n == key) {
+                // A matrix (a covariance) has no single-number form a run could take.
+                let rule = format!("given to the teacher's class, such as saggriac.{}({key}=...), not to a run, which takes single numbers", default.class());
+                return Err(to_py(py, invalid(owner, &format!("{prefix}{key}"), rule, shown())));
+            }
             let names: Vec<String> = flat.keys().iter().map(|k| k.to_string()).collect();
             let rule = format!("a dict of the '{kind}' teacher's parameters (those of saggriac.{}: {})", default.class(), names.join(", "));
             return Err(to_py(py, invalid(owner, what, rule, format!("a dict with key '{key}'"))));
         };
-        let shown = || v.repr().map(|r| r.to_string()).unwrap_or_else(|_| "?".into());
         if !right_type(&v, &d) {
             // The parameter's rule, the text a value out of range is told. A list reaches here
             // only by a route that takes single numbers (a run's): the class takes it.
