@@ -239,16 +239,32 @@ def flattening(curves: pd.DataFrame, reward: str, seeds: list[int]) -> dict | No
     return dict(step=earlier, budget=budget, **paired(w[budget].to_numpy(), w[earlier].to_numpy()))
 
 
-def status(curves: pd.DataFrame) -> list[str]:
-    """Which runs of the protocol are done and which remain."""
+def design(out: Path) -> dict[str, dict]:
+    """The report runs of the study in ``out``: per reward, its seeds and teachers. A study of
+    its own (a replication) registers them in ``out/protocol.json`` before its runs; without
+    one, the second study's (REPORT_SEEDS, every teacher)."""
+    path = out / "protocol.json"
+    if path.exists():
+        import json
+
+        given = json.loads(path.read_text())
+        return {r: {"seeds": seeds_arg(v["seeds"]), "teachers": list(v["teachers"])} for r, v in given["report"].items()}
+    return {r: {"seeds": REPORT_SEEDS[r], "teachers": None} for r in REWARDS}
+
+
+def status(curves: pd.DataFrame, plan: dict[str, dict] | None = None) -> list[str]:
+    """Which runs of the protocol (``plan``, from :func:`design`) are done and which remain."""
     lines = []
     known = len(teacher_names())
-    for reward in REWARDS:
+    plan = plan or {r: {"seeds": REPORT_SEEDS[r], "teachers": None} for r in REWARDS}
+    for reward, want_runs in plan.items():
         c = curves[curves["reward"] == reward] if len(curves) else curves
         done = c.drop_duplicates(KEY) if len(c) else c
-        report = done[done["seed"].isin(REPORT_SEEDS[reward])] if len(done) else done
-        want = EXPECTED_TEACHERS * len(REPORT_SEEDS[reward])
-        lines.append(f"- {reward}: {len(report)} of the protocol's {want} runs done ({EXPECTED_TEACHERS} teachers x seeds {REPORT_SEEDS[reward][0]}-{REPORT_SEEDS[reward][-1]}; {known} teachers exist in this checkout)")
+        seeds = want_runs["seeds"]
+        report = done[done["seed"].isin(seeds)] if len(done) else done
+        n_teachers = EXPECTED_TEACHERS if want_runs["teachers"] is None else len(want_runs["teachers"])
+        named = f"{n_teachers} teachers" if want_runs["teachers"] is None else ", ".join(want_runs["teachers"])
+        lines.append(f"- {reward}: {len(report)} of the protocol's {n_teachers * len(seeds)} runs done ({named} x seeds {seeds[0]}-{seeds[-1]}; {known} teachers exist in this checkout)")
     return lines
 
 
@@ -283,7 +299,8 @@ def analyse(out: Path) -> str:
     curves = read_table(out / "curves.csv")
     runs = runs_table(curves)
     write_file(out / "runs.csv", lambda tmp: runs.to_csv(tmp, index=False), what="the runs table", overwrite=True)
-    lines = ["# RL curriculum: results recomputed from curves.csv", "", "Status of the protocol's report runs:", "", *status(curves), ""]
+    plan = design(out)
+    lines = ["# RL curriculum: results recomputed from curves.csv", "", "Status of the protocol's report runs:", "", *status(curves, plan), ""]
     all_tables = []
     for reward in REWARDS:
         if not (runs["reward"] == reward).any():
@@ -291,7 +308,8 @@ def analyse(out: Path) -> str:
         table, teachers, info = analyse_reward(runs, reward)
         r = runs[(runs["reward"] == reward) & runs["seed"].isin(info["seeds"])]
         seeds = info["seeds"]
-        complete = len(teachers) >= EXPECTED_TEACHERS and set(REPORT_SEEDS[reward]) <= set(seeds)
+        want = plan.get(reward, {"seeds": REPORT_SEEDS[reward], "teachers": None})
+        complete = (len(teachers) >= EXPECTED_TEACHERS if want["teachers"] is None else set(want["teachers"]) <= set(teachers)) and set(want["seeds"]) <= set(seeds)
         budget = int(r["budget"].iloc[0]) if len(r) else 0
         head = f"## {reward} reward: {len(seeds)} complete seeds ({', '.join(map(str, seeds[:3]))}{', ...' if len(seeds) > 3 else ''}), {len(teachers)} teachers, {budget} steps"
         lines += [head, ""]
@@ -418,7 +436,7 @@ def main(argv: list[str] | None = None) -> None:
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--out", type=Path, default=OUT, help=f"where curves.csv and the tables are (default: {OUT.relative_to(REPO)})")
     p.add_argument("--reward", choices=REWARDS, default="dense", help="the student's reward: dense (minus the distance) or sparse (-1 until reached)")
-    p.add_argument("--seeds", type=seeds_arg, default=None, help="default: the protocol's report seeds of the variant (dense 500-523, sparse 600-611); tuning seeds: 100-114")
+    p.add_argument("--seeds", type=seeds_arg, default=None, help="default: the protocol's report seeds of the variant (--out/protocol.json's, else dense 500-523, sparse 600-611); tuning seeds: 100-114")
     p.add_argument("--steps", type=int, default=BUDGET, help=f"environment steps per run (default: the protocol's budget, {BUDGET})")
     p.add_argument("--every", type=int, default=None, help=f"steps between scorings (default: steps / {SCORINGS})")
     p.add_argument("--teachers", nargs="+", default=["all"], help="teacher names, or 'all' (every box teacher of saggriac and the oracle)")
@@ -448,7 +466,7 @@ def main(argv: list[str] | None = None) -> None:
         p.error(f"--every must divide --steps and be a multiple of {N_ENVS}; got --steps {a.steps} --every {every}")
     if a.workers < 1:
         p.error(f"--workers must be an int >= 1; got {a.workers}")
-    seeds = a.seeds if a.seeds is not None else REPORT_SEEDS[a.reward]
+    seeds = a.seeds if a.seeds is not None else design(a.out).get(a.reward, {"seeds": REPORT_SEEDS[a.reward]})["seeds"]
     threshold = THRESHOLDS[a.reward]
     a.out.mkdir(parents=True, exist_ok=True)
     curves = load_curves(a.out)
