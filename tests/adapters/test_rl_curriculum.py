@@ -151,3 +151,20 @@ def test_the_committed_tables_and_the_pages_tables_recompute_from_curves(tmp_pat
     assert len(quoted) == 16
     absent = [q for q in quoted if f"| {q[0]} | {q[1]} |" not in text]
     assert not absent, f"gains in docs/choosing_a_teacher.md that --analyse does not give: {absent}"
+
+
+def test_a_study_of_its_own_registers_its_seeds_and_teachers_in_protocol_json(tmp_path):
+    """A replication's report runs are data (protocol.json): --analyse counts them and marks the
+    numbers interim until they are all done."""
+    import json
+
+    root = Path(__file__).resolve().parents[2]
+    curves = pd.read_csv(root / "docs" / "figures" / "rl_curriculum" / "curves.csv", dtype={"commit": str})
+    mine = curves[(curves.reward == "dense") & curves.seed.isin([500, 501]) & curves.teacher.isin(["random", "spdl", "alp_gmm"])]
+    mine.to_csv(tmp_path / "curves.csv", index=False)
+    for seeds, interim in (("500-501", False), ("500-502", True)):
+        (tmp_path / "protocol.json").write_text(json.dumps({"report": {"dense": {"seeds": seeds, "teachers": ["random", "spdl", "alp_gmm"]}}}))
+        text = bench().analyse(tmp_path)
+        want = 3 * (len(range(int(seeds[:3]), int(seeds[-3:]) + 1)))
+        assert f"- dense: 6 of the protocol's {want} runs done (random, spdl, alp_gmm x seeds {seeds}" in text
+        assert ("**Interim" in text) == interim
