@@ -135,13 +135,20 @@ def test_the_board_holds_every_level_and_high_knowledge_lets_adr_and_spdl_learn_
     mine = f"{module}:Around"
     with_level = {f"{t}@{lv}" for t in [*expert.BUILTIN, mine] for lv in expert.LEVELS}
     assert {t for t in board.index if "@" in t} == with_level and {*expert.BUILTIN, mine} <= set(board.index)
-    # The plain teachers' runs are the shipped ones (same labels); the variants are computed.
+    # The built-in teachers' runs, plain and with a level, are the shipped ones (same labels);
+    # the user's teacher's variants are computed.
     source = res.runs.groupby("teacher").source.first()
-    assert all(source[t] == "shipped" for t in expert.BUILTIN) and all(source[t] == "computed" for t in with_level)
+    builtin_levels = {f"{t}@{lv}" for t in expert.BUILTIN for lv in expert.LEVELS}
+    assert all(source[t] == "shipped" for t in [*expert.BUILTIN, *builtin_levels])
+    assert all(source[t] == "computed" for t in with_level - builtin_levels)
     # From the box's centre, a locked cell, ADR and SPDL learn nothing; from the origin's cell
     # (high) they follow the frontier, on every seed.
     runs = res.runs.set_index(["teacher", "seed"])
     for t in ("adr", "spdl"):
         assert board.loc[t, "area"] == 0.0 < board.loc[f"{t}@high", "area"]
         assert all(runs.loc[(f"{t}@high", s), "final"] > 0.3 for s in (0, 1))
-    assert (tmp_path / "out" / "runs" / "quick" / "adr@high" / "2d" / "seed0.json").is_file()
+    # A computed variant's run has its own folder, the level after the teacher's name.
+    from saggriac.bench import parse_teacher
+
+    mine_high = parse_teacher(f"{mine}@high")
+    assert (tmp_path / "out" / "runs" / "quick" / mine_high.slug / "2d" / "seed0.json").is_file() and mine_high.slug.endswith("@high")
