@@ -117,5 +117,17 @@ def test_seeds_are_children_of_the_runs_root_seed():
 def test_the_same_job_gives_the_same_bits():
     job = Job("niches-4", "quick", TeacherSpec("sagg_riac"), 2)
     one, two = run_one(job), run_one(job)
-    one["row"].pop("seconds"), two["row"].pop("seconds")
+    for timed in ("seconds", "teacher_seconds"):
+        one["row"].pop(timed), two["row"].pop(timed)
     assert one == two
+
+
+def test_a_run_times_its_teacher_apart_from_the_task():
+    """The row's teacher_seconds is the time inside the teacher's sample and update: part of the
+    run's, and on the board as microseconds per goal beside the run's total."""
+    from saggriac.bench.report import leaderboard
+
+    rows = [run_one(Job("2d", "quick", TeacherSpec(t), 0))["row"] for t in ("random", "covar_gmm")]
+    assert all(0 < r["teacher_seconds"] < r["seconds"] for r in rows)
+    board = leaderboard(__import__("pandas").DataFrame(rows)).set_index("teacher")
+    assert (board.teacher_us_per_goal > 0).all() and (board.teacher_us_per_goal < board.us_per_goal).all()

@@ -17,7 +17,7 @@ from .teachers import REFERENCE
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-COLUMNS = ["task", "teacher", "seeds", "area", "area_sd", "final", "final_sd", "diff_area", "ci_low", "ci_high", "p_holm", "diff_final", "rank", "us_per_goal"]
+COLUMNS = ["task", "teacher", "seeds", "area", "area_sd", "final", "final_sd", "diff_area", "ci_low", "ci_high", "p_holm", "diff_final", "rank", "us_per_goal", "teacher_us_per_goal"]
 
 
 def leaderboard(runs: pd.DataFrame) -> pd.DataFrame:
@@ -25,7 +25,8 @@ def leaderboard(runs: pd.DataFrame) -> pd.DataFrame:
     the final score (both higher is better), the paired difference of the area to ``random`` on
     the seeds both have (mean, 95 % CI) with its paired t-test's p-value Holm-adjusted over every
     row of the board, the same difference for the final score, the rank on the task by area (1 is
-    best; ties share the best rank), and the microseconds per goal (teacher and task together)."""
+    best; ties share the best rank), the microseconds per goal (teacher and task together) and
+    those spent in the teacher's own sample and update (NaN for runs made before they were timed)."""
     rows = []
     for task in [t for t in TASKS if t in set(runs.task)] + sorted(set(runs.task) - set(TASKS)):
         sub = runs[runs.task == task]
@@ -33,7 +34,8 @@ def leaderboard(runs: pd.DataFrame) -> pd.DataFrame:
         for teacher, r in sub.groupby("teacher", sort=False):
             r = r.set_index("seed")
             row = dict(task=task, teacher=teacher, seeds=len(r), area=r.area.mean(), area_sd=r.area.std(), final=r.final.mean(), final_sd=r.final.std(),
-                       diff_area=np.nan, ci_low=np.nan, ci_high=np.nan, p_value=np.nan, diff_final=np.nan, us_per_goal=1e6 * (r.seconds / r.goals).mean())
+                       diff_area=np.nan, ci_low=np.nan, ci_high=np.nan, p_value=np.nan, diff_final=np.nan, us_per_goal=1e6 * (r.seconds / r.goals).mean(),
+                       teacher_us_per_goal=1e6 * (r.teacher_seconds / r.goals).mean() if "teacher_seconds" in r else np.nan)
             both = r.index.intersection(ref.index)
             if teacher != REFERENCE and len(both) >= 2:
                 d = paired(r.area.loc[both].to_numpy(), ref.area.loc[both].to_numpy())
@@ -70,11 +72,12 @@ def markdown(board: pd.DataFrame, header: list[str]) -> str:
     for task, sub in board.groupby("task", sort=False):
         cls = TASKS.get(str(task))
         lines += [f"## {task}" + (f" ({cls.space}: {cls.learner})" if cls else ""), ""]
-        lines += ["| rank | teacher | seeds | area | final | area - random [95 % CI] | Holm p | final - random | µs/goal |", "|---|---|---|---|---|---|---|---|---|"]
+        lines += ["| rank | teacher | seeds | area | final | area - random [95 % CI] | Holm p | final - random | µs/goal | teacher µs/goal |", "|---|---|---|---|---|---|---|---|---|---|"]
         for r in sub.itertuples():
             diff = "" if np.isnan(r.diff_area) else f"{r.diff_area:+.3f} [{r.ci_low:+.3f}, {r.ci_high:+.3f}]"
             final_diff = "" if np.isnan(r.diff_final) else f"{r.diff_final:+.3f}"
-            lines.append(f"| {r.rank} | {r.teacher} | {r.seeds} | {r.area:.3f} ± {r.area_sd:.3f} | {r.final:.3f} ± {r.final_sd:.3f} | {diff} | {_p(r.p_holm)} | {final_diff} | {r.us_per_goal:.0f} |")
+            teacher_us = "" if np.isnan(r.teacher_us_per_goal) else f"{r.teacher_us_per_goal:.0f}"
+            lines.append(f"| {r.rank} | {r.teacher} | {r.seeds} | {r.area:.3f} ± {r.area_sd:.3f} | {r.final:.3f} ± {r.final_sd:.3f} | {diff} | {_p(r.p_holm)} | {final_diff} | {r.us_per_goal:.0f} | {teacher_us} |")
         lines.append("")
     return "\n".join(lines)
 

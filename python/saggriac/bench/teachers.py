@@ -22,6 +22,7 @@ import re
 import signal
 import sys
 import threading
+import time
 from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
@@ -188,6 +189,8 @@ class Guarded:
         # Messages name the run's seed (the bench's), not the teacher's child of it.
         self.where = f"teacher {spec.label} on task {task.name!r}, seed {seed if run_seed is None else run_seed}"
         self.calls = 0
+        #: Seconds spent inside the teacher's sample and update (the board's teacher_us_per_goal).
+        self.teacher_seconds = 0.0
         self.to_task: Callable[[Any], Any] | None = None
         cls = spec.load()
         self.tell_map = competence_map(cls, spec.label)
@@ -238,7 +241,9 @@ class Guarded:
     def ask(self) -> Any:
         """The next goal, checked: an array in the box, or a task's index."""
         self.calls += 1
+        start = time.perf_counter()
         raw = self._call("was asked a goal (sample)", self.teacher.sample)
+        self.teacher_seconds += time.perf_counter() - start
         self.last_raw = raw
         return self.to_task(raw) if self.to_task is not None else self._checked(raw)
 
@@ -246,7 +251,9 @@ class Guarded:
         """Tell the competence in [0, 1] reached at ``goal``, mapped into the teacher's range. A
         task list's teacher is told the goal as it gave it (an index, or ``[index]``)."""
         told = self.last_raw if self.task.space == "tasks" else goal
+        start = time.perf_counter()
         self._call("was told a competence (update)", lambda: self.teacher.update(told, self.tell_map(competence)))
+        self.teacher_seconds += time.perf_counter() - start
 
     def _checked(self, raw: Any) -> Any:
         task = self.task
