@@ -41,3 +41,23 @@ def test_a_rerun_says_whether_it_differs_and_which_versions_made_what():
     moved = ship.assign(area=0.25)
     (note,) = compare_with_shipped(moved, ship, {"version": "0.0.1"})
     assert note.startswith("Rerun: 1 of 1 shipped runs differ (riac; largest area change 0.25)") and f"made by saggriac 0.0.1, these by saggriac {_core.__version__}" in note
+
+
+def test_the_guides_bench_numbers_are_the_shipped_results():
+    """docs/choosing_a_teacher.md quotes the bench's shipped quick results for TSCL: each number
+    as the leaderboard of the shipped runs gives it, so the two cannot drift apart."""
+    from pathlib import Path
+
+    from saggriac.bench.report import leaderboard
+
+    # Compared with the lines' wrapping taken out.
+    guide = " ".join((Path(__file__).resolve().parents[2] / "docs" / "choosing_a_teacher.md").read_text().split())
+    board = leaderboard(SHIP[0]).set_index(["task", "teacher"])
+    area = lambda task, teacher: board.loc[(task, teacher), "area"]  # noqa: E731
+    sd = lambda task, teacher: board.loc[(task, teacher), "area_sd"]  # noqa: E731
+    quoted = [
+        f"`2d-cells` area {area('2d-cells', 'tscl'):.3f} ± {sd('2d-cells', 'tscl'):.3f} against PLR's {area('2d-cells', 'plr'):.3f} and random's {area('2d-cells', 'random'):.3f}",
+        f"`niches-cells` area {area('niches-cells', 'tscl'):.3f} ± {sd('niches-cells', 'tscl'):.3f} against random's {area('niches-cells', 'random'):.3f} and discrete LP's {area('niches-cells', 'discrete_lp'):.3f}",
+    ]
+    missing = [q for q in quoted if q not in guide]
+    assert not missing, missing
