@@ -82,6 +82,16 @@ def train(reward: str, threshold: float, teacher: Any, seed: int, steps: int, ev
     ``threshold``, with ``teacher`` choosing its goals (through
     :class:`saggriac.adapters.sb3.TeacherCallback`), seeded from ``seed`` (:func:`run_seeds`);
     ``on_score(step, model, callback)`` at step 0 and every ``every`` steps, the last at ``steps``."""
+    reach = arm_reach()
+    train_ppo(lambda: make_env(reward, threshold), lambda info: max(0.0, 1.0 - info["distance"] / reach), teacher, seed, steps, every, on_score)
+
+
+def train_ppo(make: Callable[[], Any], competence: Callable[[dict], float], teacher: Any, seed: int, steps: int, every: int, on_score: Callable[[int, Any, Any], None]) -> None:
+    """PPO with its defaults trained for ``steps`` environment steps on N_ENVS environments
+    ``make()`` in one process, with ``teacher`` choosing their goals and told
+    ``competence(final info)`` (through :class:`saggriac.adapters.sb3.TeacherCallback`), seeded
+    from ``seed`` (:func:`run_seeds`); ``on_score(step, model, callback)`` at step 0 and every
+    ``every`` steps, the last at ``steps``. The goal arm's and PointMaze's tasks."""
     import torch
     from stable_baselines3 import PPO
     from stable_baselines3.common.callbacks import BaseCallback, CallbackList
@@ -92,12 +102,11 @@ def train(reward: str, threshold: float, teacher: Any, seed: int, steps: int, ev
 
     torch.set_num_threads(1)
     model_seed, env_seed, _ = run_seeds(seed)
-    env = DummyVecEnv([lambda: make_env(reward, threshold)] * N_ENVS)
+    env = DummyVecEnv([make] * N_ENVS)
     env.seed(env_seed)
     model = PPO("MultiInputPolicy", env, seed=model_seed, device="cpu", verbose=0)
     model.set_logger(Logger(folder=None, output_formats=[]))  # else SB3 leaves a folder in /tmp per run
-    reach = float(env.envs[0].unwrapped.reach)
-    callback = TeacherCallback(teacher, competence=lambda info: max(0.0, 1.0 - info["distance"] / reach))
+    callback = TeacherCallback(teacher, competence=competence)
 
     class Score(BaseCallback):
         def _on_step(self) -> bool:
