@@ -24,6 +24,7 @@ distance to the test goals and the share of the teacher's goals in the reachable
 
 from __future__ import annotations
 
+import time
 from typing import Any, Callable, ClassVar
 
 import numpy as np
@@ -137,7 +138,9 @@ def evaluate(model: Any, name: str, goals: np.ndarray) -> tuple[np.ndarray, np.n
     a time (one batched forward pass per step), test goal k's episode reset with the seed
     TEST_SEED + k: whether each goal is reached (within SUCCESS) at the episode's end, and the
     final distances."""
-    envs = _EVAL_ENVS.setdefault(name, [make_env(name) for _ in range(EVAL_BATCH)])
+    if name not in _EVAL_ENVS:
+        _EVAL_ENVS[name] = [make_env(name) for _ in range(EVAL_BATCH)]
+    envs = _EVAL_ENVS[name]
     success, distance = np.zeros(len(goals), bool), np.zeros(len(goals))
     for first in range(0, len(goals), EVAL_BATCH):
         batch = list(range(first, min(first + EVAL_BATCH, len(goals))))
@@ -216,12 +219,15 @@ class MazeTask(BenchTask):
         teacher = _AskTell(ask, tell, self.low, self.high)
         curve: list[tuple[int, float]] = []
         distances: list[float] = []
+        scoring = [0.0]
 
         def score(step: int, model: Any, _callback: Any) -> None:
             if step > 0:
+                cpu = time.process_time()
                 success, distance = evaluate(model, self.maze, goals)
                 curve.append((step, float(success.mean())))
                 distances.append(float(distance.mean()))
+                scoring[0] += time.process_time() - cpu
 
         train_ppo(lambda: make_env(self.maze), self.competence, teacher, self.seed, budget, max(1, budget // self.points), score)
         asked = np.array(teacher.goals).reshape(-1, 2)
@@ -231,13 +237,14 @@ class MazeTask(BenchTask):
             "goals_asked": float(len(asked)),
             "goals_reachable": float(inside.mean()) if len(asked) else float("nan"),
             "goals_reachable_last": float(inside[-LAST_GOALS:].mean()) if len(asked) else float("nan"),
+            "scoring_cpu_seconds": scoring[0],
         }
         return curve
 
     def run_measures(self) -> dict[str, float]:
         """The task's own measures of the run that ``play`` just made: the mean final distance to
         the test goals at the end, the goals the teacher was asked for, and the share of them
-        (of all; of the last LAST_GOALS) in the reachable set."""
+        (of all; of the last LAST_GOALS) in the reachable set, and the CPU seconds spent scoring."""
         return dict(self._measures)
 
 
