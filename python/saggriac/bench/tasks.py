@@ -110,6 +110,11 @@ class BenchTask:
         """Whether the task's class declares expert knowledge (overrides expert_knowledge)."""
         return cls.expert_knowledge is not BenchTask.expert_knowledge
 
+    def run_measures(self) -> dict[str, float]:
+        """The task's own measures of the run ``play`` has just made (a study's extra columns,
+        such as the share of the teacher's goals that could be reached); none by default."""
+        return {}
+
     def play(self, ask: Callable[[], Any], tell: Callable[[Any, float], None], budget: int) -> list[tuple[int, float]]:
         """Run ``budget`` goals: ``ask()`` a goal, attempt it, ``tell(goal, competence)``. The
         score curve: (goals so far, score) at every budget // points goals."""
