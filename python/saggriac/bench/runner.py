@@ -59,7 +59,8 @@ def child_seeds(seed: int) -> tuple[int, int]:
 
 def run_one(job: Job) -> dict[str, Any]:
     """Run ``job``; its row (task, teacher, seed, goals, area, final, seconds, and the seconds spent
-    in the teacher's own sample and update) and its score curve.
+    in the teacher's own sample and update), its score curve and the goals asked (thinned,
+    :class:`saggriac.bench.goals.GoalLog`).
     A failing teacher raises TeacherError naming the teacher, the task and the seed."""
     cls = TASKS[job.task]
     budget = cls.budgets[job.tier]
@@ -72,7 +73,7 @@ def run_one(job: Job) -> dict[str, Any]:
     seconds = time.perf_counter() - start
     scores = [s for _, s in curve]
     row = dict(task=job.task, teacher=job.teacher.label, seed=job.seed, goals=budget, area=float(np.mean(scores)), final=float(scores[-1]), seconds=seconds, teacher_seconds=guard.teacher_seconds, version=_core.__version__)
-    return {"row": row, "curve": [[int(t), float(s)] for t, s in curve]}
+    return {"row": row, "curve": [[int(t), float(s)] for t, s in curve], "asked": guard.log.thinned()}
 
 
 def _write(path: Path, record: dict[str, Any]) -> None:

@@ -33,6 +33,7 @@ import numpy as np
 from ..errors import ParameterError, SaggriacError
 from ..teachers import RandomSelector, available
 from . import expert
+from .goals import GoalLog
 
 #: The teacher every other one is compared with (paired by seed).
 REFERENCE = "random"
@@ -191,6 +192,8 @@ class Guarded:
         self.calls = 0
         #: Seconds spent inside the teacher's sample and update (the board's teacher_us_per_goal).
         self.teacher_seconds = 0.0
+        #: The goals asked, as the task gets them (the figures of goals over time).
+        self.log = GoalLog()
         self.to_task: Callable[[Any], Any] | None = None
         cls = spec.load()
         self.tell_map = competence_map(cls, spec.label)
@@ -245,7 +248,9 @@ class Guarded:
         raw = self._call("was asked a goal (sample)", self.teacher.sample)
         self.teacher_seconds += time.perf_counter() - start
         self.last_raw = raw
-        return self.to_task(raw) if self.to_task is not None else self._checked(raw)
+        goal = self.to_task(raw) if self.to_task is not None else self._checked(raw)
+        self.log.add(goal)
+        return goal
 
     def tell(self, goal: Any, competence: float) -> None:
         """Tell the competence in [0, 1] reached at ``goal``, mapped into the teacher's range. A
