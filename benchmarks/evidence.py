@@ -310,7 +310,7 @@ def analyse(p: dict[str, Any], out: Path, pilot: bool = False) -> str:
     comparisons = pd.concat(tables, ignore_index=True) if tables else pd.DataFrame()
     write_table(out / "comparisons.csv", comparisons, "the comparisons")
     if pilot:
-        lines += pilot_lines(runs, p)
+        lines += pilot_lines(runs, p, read_table(out / "curves.csv"))
     text = "\n".join(lines) + "\n"
     from saggriac.files import write_file
 
@@ -319,11 +319,30 @@ def analyse(p: dict[str, Any], out: Path, pilot: bool = False) -> str:
     return text
 
 
-def pilot_lines(runs: pd.DataFrame, p: dict[str, Any]) -> list[str]:
-    """The pilot's cost and spread, per task: what a protocol's pilot rule reads."""
+def pilot_lines(runs: pd.DataFrame, p: dict[str, Any], curves: pd.DataFrame | None = None) -> list[str]:
+    """The pilot's cost and spread, per task, and the protocol's pilot rules applied (its
+    ``pilot.rules``, if any): ``budget`` (the largest multiple of ``step`` in [min, max] whose
+    ``runs`` runs fit ``cpu_seconds`` at the pilot's mean CPU seconds per unit) and ``learns``
+    (the first scoring of ``task`` where the mean ``start`` minus the mean ``measure`` reaches
+    ``min_drop``, and whether the budget reaches it)."""
     lines = ["## The pilot's cost and spread", "", "| task | runs | CPU s per 1,000 units | wall s per 1,000 units | final: mean | final: sd |", "|---|---|---|---|---|---|"]
     for task, r in runs.groupby("task", sort=False):
         lines.append(f"| {task} | {len(r)} | {(r['cpu_seconds'] / r['budget'] * 1000).mean():.3f} | {(r['seconds'] / r['budget'] * 1000).mean():.3f} | {fmt(r['final'].mean())} | {fmt(r['final'].std(ddof=1))} |")
+    rules = p["pilot"].get("rules", {})
+    budget = None
+    if "budget" in rules:
+        b = rules["budget"]
+        t = float((runs["cpu_seconds"] / runs["budget"]).mean())
+        fits = [x for x in range(int(b["min"]), int(b["max"]) + 1, int(b["step"])) if b["runs"] * t * x <= b["cpu_seconds"]]
+        budget = max(fits) if fits else int(b["min"])
+        lines += ["", f"Rule budget: {b['runs']} runs x {t * 1000:.3f} CPU s per 1,000 x B / 1,000 <= {b['cpu_seconds']} s -> B = {budget} ({b['runs'] * t * budget / 3600:.2f} CPU hours projected)" + ("" if fits else f"; even {b['min']} does not fit")]
+    if "learns" in rules and curves is not None and not curves.empty:
+        r = rules["learns"]
+        c = curves[curves["task"] == r["task"]]
+        drop = (c.groupby("step")[r["start"]].mean() - c.groupby("step")[r["measure"]].mean()).sort_index()
+        first = next((int(st) for st, v in drop.items() if v >= r["min_drop"]), None)
+        at = float(drop.get(budget, math.nan)) if budget is not None else math.nan
+        lines += ["", f"Rule learns ({r['task']}): mean {r['start']} - mean {r['measure']} by scoring: " + ", ".join(f"{int(st)}: {v:+.3f}" for st, v in drop.items()), f"first scoring with a drop >= {r['min_drop']}: {first}; at B = {budget}: {fmt(at, sign=True)} -> " + ("holds" if at >= r["min_drop"] else "does not hold")]
     return lines + [""]
 
 

@@ -104,7 +104,8 @@ def test_a_tiny_study_runs_its_seeds_resumes_after_a_kill_and_reanalyses(tmp_pat
 
 
 def test_the_pilot_runs_its_own_seeds_in_its_own_folder(tmp_path):
-    out = write(tmp_path, protocol(budget={"niches-0": None, "niches-cells": None}, pilot={"seeds": "100-101", "teachers": ["random"], "budget": {"niches-0": 200, "niches-cells": 200}}))
+    rules = {"budget": {"runs": 10, "cpu_seconds": 1e9, "step": 100, "min": 100, "max": 500}}
+    out = write(tmp_path, protocol(budget={"niches-0": None, "niches-cells": None}, pilot={"seeds": "100-101", "teachers": ["random"], "budget": {"niches-0": 200, "niches-cells": 200}, "rules": rules}))
     refused = run(tmp_path)
     assert refused.returncode == 2 and "no budget for 'niches-0' yet (null): the pilot fixes it" in refused.stderr
     done = run(tmp_path, "--pilot")
@@ -112,7 +113,12 @@ def test_the_pilot_runs_its_own_seeds_in_its_own_folder(tmp_path):
     runs = pd.read_csv(out / "pilot" / "runs.csv")
     assert sorted(zip(runs["task"], runs["seed"])) == [("niches-0", 100), ("niches-0", 101), ("niches-cells", 100), ("niches-cells", 101)]
     assert set(runs["teacher"]) == {"random"} and not (out / "runs.csv").exists()
-    assert "CPU s per 1,000 units" in (out / "pilot" / "results.md").read_text()
+    text = (out / "pilot" / "results.md").read_text()
+    assert "CPU s per 1,000 units" in text and "-> B = 500" in text  # all the compute in the world: the largest budget
+    rules["budget"]["cpu_seconds"] = 0.0
+    write(tmp_path, protocol(budget={"niches-0": None, "niches-cells": None}, pilot={"seeds": "100-101", "teachers": ["random"], "budget": {"niches-0": 200, "niches-cells": 200}, "rules": rules}))
+    none = run(tmp_path, "--pilot", "--analyse")
+    assert none.returncode == 0 and "-> B = 100" in none.stdout and "even 100 does not fit" in none.stdout
 
 
 @pytest.mark.parametrize(
