@@ -10,10 +10,12 @@ A study is ``docs/figures/evidence/NAME/protocol.json``, committed before its re
 prose is ``docs/evidence/NAME.md``): the bench tasks it runs (any registered task, box or task
 list), the teachers (the bench's names, built-in or ``pkg.mod:Class``, and ``oracle``, the task's
 own oracle: ``BenchTask.oracle_teacher``), the budget per task, the scorings per run, the pilot's
-and the report's seeds, and the decision rule. A run is (task, teacher, seed): the bench's task
-class built for the root seed, the bench's guarded teacher (seeds derived as the bench derives
-them, :func:`saggriac.bench.runner.play_run`), with the protocol's budget and seeds rather than the
-bench's tier (which runs seeds 0..N-1 only). Each finished run is written at once to
+and the report's seeds (and its rules, ``pilot.rules``), the decision rule, and optionally the
+verdicts of an earlier study the results are set against (``earlier``).
+
+A run is (task, teacher, seed): the bench's task class built for the root seed, the bench's
+guarded teacher (seeds derived as the bench derives them, :func:`saggriac.bench.runner.play_run`),
+with the protocol's budget and seeds rather than the bench's tier (which runs seeds 0..N-1 only). Each finished run is written at once to
 ``curves.csv`` (every scoring, with the task's own measures) and ``runs.csv`` (one row: task,
 learner, teacher, seed, budget, final, area, the task's own measures at the end, seconds,
 cpu_seconds, teacher_seconds, commit); a run already in runs.csv is not run again, so a killed
@@ -258,6 +260,11 @@ def compare(runs: pd.DataFrame, p: dict[str, Any], task: str) -> pd.DataFrame:
         cis = [bootstrap_ci(wide[a].to_numpy() - wide[b].to_numpy(), int(boot.get("seed", 0)), int(boot.get("resamples", BOOTSTRAP))) for a, b in pairs]
         t["boot_low"], t["boot_high"] = [c[0] for c in cis], [c[1] for c in cis]
         t["verdict"] = [verdict(g, q, float(rule["alpha"])) for g, q in zip(t["gain"], t["p_holm"])]
+        if family == "against the baseline":
+            # The verdicts an earlier study gave (protocol's "earlier"), and whether each holds.
+            earlier = p.get("earlier", {}).get("verdicts", {}).get(task, {})
+            t["earlier"] = [earlier.get(a, "") for a in t["a"]]
+            t["holds"] = [("" if not e else "yes" if e == v else "no") for e, v in zip(t["earlier"], t["verdict"])]
         tables.append(t)
     return pd.concat(tables, ignore_index=True).assign(task=task, seeds=len(seeds)) if tables else pd.DataFrame()
 
@@ -303,9 +310,13 @@ def analyse(p: dict[str, Any], out: Path, pilot: bool = False) -> str:
         if len(table):
             tables.append(table)
             lines += ["", f"Paired on {int(table['seeds'].iloc[0])} complete seeds; gain = the teacher's final score minus the other's (positive: the teacher's learner ends better); Holm within each family; verdict at alpha {p['rule']['alpha']}.", ""]
-            lines += ["| family | teacher | against | gain | 95 % CI (t) | 95 % CI (bootstrap) | p | p (Holm) | d_z | verdict |", "|---|---|---|---|---|---|---|---|---|---|"]
+            source = p.get("earlier", {}).get("source")
+            if source:
+                lines += [f"Earlier verdicts: {source}.", ""]
+            lines += ["| family | teacher | against | gain | 95 % CI (t) | 95 % CI (bootstrap) | p | p (Holm) | d_z | verdict | earlier | holds |", "|---|---|---|---|---|---|---|---|---|---|---|---|"]
             for _, x in table.iterrows():
-                lines.append(f"| {x['family']} | {x['a']} | {x['b']} | {fmt(x['gain'], sign=True)} | [{fmt(x['ci_low'], sign=True)}, {fmt(x['ci_high'], sign=True)}] | [{fmt(x['boot_low'], sign=True)}, {fmt(x['boot_high'], sign=True)}] | {x['p_value']:.3g} | {x['p_holm']:.3g} | {fmt(x['d_z'], 2)} | {x['verdict']} |")
+                was, holds = (x.get("earlier"), x.get("holds")) if isinstance(x.get("earlier"), str) else ("", "")
+                lines.append(f"| {x['family']} | {x['a']} | {x['b']} | {fmt(x['gain'], sign=True)} | [{fmt(x['ci_low'], sign=True)}, {fmt(x['ci_high'], sign=True)}] | [{fmt(x['boot_low'], sign=True)}, {fmt(x['boot_high'], sign=True)}] | {x['p_value']:.3g} | {x['p_holm']:.3g} | {fmt(x['d_z'], 2)} | {x['verdict']} | {was} | {holds} |")
         lines.append("")
     comparisons = pd.concat(tables, ignore_index=True) if tables else pd.DataFrame()
     write_table(out / "comparisons.csv", comparisons, "the comparisons")

@@ -144,7 +144,7 @@ def test_the_analysis_is_the_hand_computation_on_a_small_table(tmp_path):
     """Three teachers on four seeds of one task, made-up finals: each gain, t interval, p, Holm
     adjustment and verdict as computed by hand; an incomplete seed is left out of the pairing."""
     ev = benchmark_scripts.load("evidence")
-    p = protocol(tasks=["niches-0"], budget={"niches-0": 400}, report={"niches-0": "900-904"})
+    p = protocol(tasks=["niches-0"], budget={"niches-0": 400}, report={"niches-0": "900-904"}, earlier={"source": "a made-up study", "verdicts": {"niches-0": {"oracle": "helps", "riac": "hurts"}}})
     finals = {"random": [0.10, 0.20, 0.15, 0.30], "oracle": [0.50, 0.62, 0.55, 0.71], "riac": [0.12, 0.18, 0.20, 0.29]}
     rows = [dict(task="niches-0", learner="x", teacher=t, seed=900 + i, budget=400, final=v, area=v / 2, seconds=1.0, cpu_seconds=1.0, teacher_seconds=0.1, commit="abc") for t, vs in finals.items() for i, v in enumerate(vs)]
     rows.append(dict(rows[0], seed=904))  # random alone on seed 904: not a complete seed
@@ -169,6 +169,9 @@ def test_the_analysis_is_the_hand_computation_on_a_small_table(tmp_path):
     assert base.loc["oracle", "p_holm"] == pytest.approx(holm[po]) and base.loc["riac", "p_holm"] == pytest.approx(holm[pr])
     assert base.loc["oracle", "verdict"] == ("helps" if holm[po] < 0.05 else "no difference shown")
     assert base.loc["riac", "verdict"] == "no difference shown"
+    # Set against the earlier study's verdicts: RIAC's "hurts" does not hold.
+    assert base.loc["riac", "earlier"] == "hurts" and base.loc["riac", "holds"] == "no"
+    assert base.loc["oracle", "holds"] == ("yes" if base.loc["oracle", "verdict"] == "helps" else "no") and "Earlier verdicts: a made-up study." in text
     # The bootstrap interval holds the mean and lies within the differences' range.
     d = np.array(finals["oracle"]) - np.array(finals["random"])
     assert d.min() <= base.loc["oracle", "boot_low"] <= go <= base.loc["oracle", "boot_high"] <= d.max()
