@@ -3,7 +3,7 @@
 Gymnasium-Robotics' PointMaze (after D4RL's maze2d; Fu et al. 2020) is a ball of radius 0.1
 pushed by a force in a maze of unit cells. The teacher chooses the goal of every training
 episode of Stable-Baselines3's PPO (its defaults, 4 environments in one process, one torch
-thread, the code of :func:`saggriac.bench.rl.train_ppo`) in the goal box spanned by the centres
+thread, the code of :func:`saggriac.bench.rl.train_goals`) in the goal box spanned by the centres
 of the maze's free cells. Part of that box is wall: a goal deep in a wall can be asked and never
 reached, and the reachable set (the free cells, less the ball's radius along the walls) is not
 convex. The episode starts in a fixed cell (the map's ``"r"``), with PointMaze's noise of a
