@@ -39,7 +39,7 @@ def one_run(task_name: str, teacher: str, seed: int, budget: int) -> tuple[dict,
     cls = TASKS[task_name]
     teacher_seed, task_seed = cls.child_seeds(seed)
     task = cls(task_seed)
-    if teacher == "oracle":
+    if teacher == "oracle":  # the task's oracle(): the same goals as its oracle_teacher(teacher seed)
         ask, tell = task.oracle, (lambda goal, competence: None)
     else:
         guard = Guarded(TeacherSpec(teacher), task, teacher_seed, run_seed=seed)
@@ -48,7 +48,9 @@ def one_run(task_name: str, teacher: str, seed: int, budget: int) -> tuple[dict,
     curve = task.play(ask, tell, budget)
     wall, cpu = time.perf_counter() - wall, time.process_time() - cpu
     scores = [s for _, s in curve]
-    row = dict(task=task_name, learner=cls.learner, teacher=teacher, seed=seed, budget=budget, final=scores[-1], area=float(np.mean(scores)), **task.run_measures(), seconds=wall, cpu_seconds=cpu, commit=commit())
+    own = task.own_measures()[-1]
+    measures = dict(final_distance=own["distance"], goals_asked=own["goals_asked"], goals_reachable=own["goals_reachable"], goals_reachable_last=own["reachable_share"], scoring_cpu_seconds=own["scoring_cpu_seconds"])
+    row = dict(task=task_name, learner=cls.learner, teacher=teacher, seed=seed, budget=budget, final=scores[-1], area=float(np.mean(scores)), **measures, seconds=wall, cpu_seconds=cpu, commit=commit())
     return row, [dict(task=task_name, teacher=teacher, seed=seed, step=t, score=s) for t, s in curve]
 
 

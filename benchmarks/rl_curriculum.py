@@ -15,7 +15,7 @@ the reachable disc. A teacher chooses the goal of every training episode through
 ``max(0, 1 - final distance / reach)``. ``--teachers`` takes the names of saggriac's teachers
 of a continuous box (every class of ``saggriac.teachers`` built from ``(low, high, seed)``, by
 its kind: random, sagg_riac, riac, alp_gmm, covar_gmm, ...) and ``oracle``, uniform over the
-goals the body reaches (:class:`OracleTeacher`).
+goals the body reaches (:class:`saggriac.bench.oracle.OracleTeacher`).
 
 Seed s gives PPO's seed, the environments' seeds and the teacher's seed (children of
 SeedSequence(s)); every teacher runs with the same s, so runs are paired by seed. A run is
@@ -39,7 +39,8 @@ import numpy as np
 import pandas as pd
 from tqdm import tqdm
 
-from saggriac.bench.rl import ARM, N_ENVS, THRESHOLDS, arm_reach, evaluate, make_env, run_seeds, test_goals, train  # noqa: F401 (make_env: the study's environment, for its tests)
+from saggriac.bench.oracle import OracleTeacher
+from saggriac.bench.rl import ARM, FOLD_TIP, N_ENVS, THRESHOLDS, arm_config, arm_reach, evaluate, folded, make_env, run_seeds, test_goals, train  # noqa: F401 (make_env: the study's environment, for its tests; FOLD_TIP and folded: the fold, shared with the evidence runner)
 
 REPO = Path(__file__).resolve().parents[1]
 OUT = REPO / "docs" / "figures" / "rl_curriculum"
@@ -80,41 +81,9 @@ def teacher_names() -> list[str]:
     return ["random", "oracle", *sorted(k for k in box_teachers() if k != "random")]
 
 
-def task_config():
-    """The arm as a saggriac Config, for its reachable set."""
-    import saggriac as sg
-
-    return sg.Config(body="planar_arm", **{k: TASK[k] for k in ("n_joints", "arm_length", "joint_limit", "goal_low", "goal_high")})
-
-
-class OracleTeacher:
-    """Goals uniform over what the body reaches: uniform in the goal box of ``config``, kept if
-    saggriac's reachable set of the body (:class:`saggriac.bodies.reachable.ReachableSet`) holds them.
-    It is told competences and ignores them: the curriculum of pure focus."""
-
-    def __init__(self, config, seed: int) -> None:
-        from saggriac.bodies.reachable import ReachableSet
-
-        self.low, self.high = np.asarray(config.goal_low, float), np.asarray(config.goal_high, float)
-        self._contains = ReachableSet(config).contains
-        self._rng = np.random.default_rng(seed)
-        if not self._contains(self._rng.uniform(self.low, self.high, (100_000, len(self.low)))).any():
-            raise ValueError(f"OracleTeacher: the body of {config!r} reaches none of 100,000 points of its goal box; there is nothing to draw from.")
-
-    def sample(self) -> np.ndarray:
-        while True:
-            batch = self._rng.uniform(self.low, self.high, (64, len(self.low)))
-            inside = np.flatnonzero(self._contains(batch))
-            if inside.size:
-                return batch[inside[0]].copy()
-
-    def update(self, goal, competence) -> None:
-        return None
-
-
 def make_teacher(name: str, seed: int):
     if name == "oracle":
-        return OracleTeacher(task_config(), seed)
+        return OracleTeacher(arm_config(), seed)
     return box_teachers()[name](list(TASK["goal_low"]), list(TASK["goal_high"]), seed=seed)
 
 
@@ -272,18 +241,6 @@ def fmt(x: float, digits: int = 3, sign: bool = False) -> str:
     if x is None or (isinstance(x, float) and math.isnan(x)):
         return "-"
     return f"{x:+.{digits}f}" if sign else f"{x:.{digits}f}"
-
-
-#: Where a policy that drives every joint to its limit (+-pi) leaves the tip, whatever the goal:
-#: with links of a third of the arm, out along pi, back along 2 pi, out again along 3 pi.
-FOLD_TIP = (-TASK["arm_length"] / 3, 0.0)
-
-
-def folded(runs: pd.DataFrame) -> pd.Series:
-    """Whether each run's final policy is the fold: its mean final distance to the test goals is
-    that of the tip held at FOLD_TIP (to 1e-9), which no policy that moves with the goal gives."""
-    fold = float(np.mean(np.linalg.norm(test_goals(arm_reach()) - np.array(FOLD_TIP), axis=1)))
-    return (runs["final_distance"] - fold).abs() < 1e-9
 
 
 def fold_line(runs: pd.DataFrame, teachers: list[str]) -> str:

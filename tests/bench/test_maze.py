@@ -15,7 +15,7 @@ if os.environ.get("SAGGRIAC_REQUIRE_EXTRAS") != "1":
     pytest.importorskip("stable_baselines3", reason='the SB3 extra is not installed (pip install "saggriac[sb3]")')
 
 from saggriac.bench import TASKS, maze  # noqa: E402
-from saggriac.bench.rl import train_ppo  # noqa: E402
+from saggriac.bench.rl import train_goals  # noqa: E402
 from saggriac.errors import ConformanceError  # noqa: E402
 
 MAPS = {"rl-pointmaze-umaze": "umaze", "rl-pointmaze-medium": "medium"}
@@ -118,7 +118,7 @@ def test_pointmaze_ignores_options_goal_and_training_refuses_it(name):
             raise AssertionError("told a competence for a goal never pursued")
 
     with pytest.raises(ConformanceError, match="does not take goals that way"):
-        train_ppo(lambda: maze.make_env(name, goal_via="options"), lambda info: 0.0, Fixed(), 0, 4 * maze.EPISODE_STEPS[name] + 40, 10**9, lambda *a: None)
+        train_goals(lambda: maze.make_env(name, goal_via="options"), lambda info: 0.0, Fixed(), 0, 4 * maze.EPISODE_STEPS[name] + 40, 10**9, lambda *a: None)
     assert asked
 
 
@@ -216,9 +216,30 @@ def test_a_short_run_gives_the_curve_the_teacher_and_the_measures_it_says(monkey
         # Every environment ended its first teacher's episode: 4 told, each a goal asked.
         assert len(told) == 4 and all(any(np.array_equal(g, a) for a in asked) for g, _ in told)
         assert all(0.0 <= c < 1.0 for _, c in told)
-        rows[who] = task.run_measures()
-        assert rows[who]["goals_asked"] == len(asked)
-    assert rows["wall"]["goals_reachable"] == 0.0 and rows["oracle"]["goals_reachable"] == 1.0
+        own = task.own_measures()
+        assert len(own) == len(curve) and own[-1]["goals_asked"] == len(asked)
+        assert [m["goals_asked"] for m in own] == sorted(m["goals_asked"] for m in own)
+        rows[who] = own[-1]
+    assert rows["wall"]["goals_reachable"] == rows["wall"]["reachable_share"] == 0.0
+    assert rows["oracle"]["goals_reachable"] == rows["oracle"]["reachable_share"] == 1.0
+
+
+def test_the_evidence_runner_runs_the_task_and_its_oracle(monkeypatch):
+    """benchmarks/evidence.py's run of the task (the bench's guarded teachers, the oracle through
+    GuardedOracle): the oracle's goals are the task's oracle() of the same seed, and the row
+    carries the task's own measures."""
+    from saggriac.bench.teachers import GuardedOracle
+    from tests import benchmark_scripts
+
+    name = "rl-pointmaze-umaze"
+    guard = GuardedOracle(TASKS[name](7), TASKS[name].child_seeds(7)[0])
+    task = TASKS[name](7)
+    np.testing.assert_array_equal([guard.ask() for _ in range(20)], [task.oracle() for _ in range(20)])
+    monkeypatch.setattr(maze, "N_TEST", 5)
+    evidence = benchmark_scripts.load("evidence")
+    curves, row = evidence.one_run((name, "oracle", 7, 1_200, 10, 30.0, "test"))
+    assert len(curves) == 10 and row["budget"] == 1_200 and row["final"] == curves[-1]["score"]
+    assert row["final_reachable_share"] == 1.0 and row["final_goals_asked"] == 12 and row["final_distance"] == curves[-1]["distance"]
 
 
 def test_the_tasks_are_listed_by_the_bench():

@@ -3,7 +3,7 @@
 Gymnasium-Robotics' PointMaze (after D4RL's maze2d; Fu et al. 2020) is a ball of radius 0.1
 pushed by a force in a maze of unit cells. The teacher chooses the goal of every training
 episode of Stable-Baselines3's PPO (its defaults, 4 environments in one process, one torch
-thread, the code of :func:`saggriac.bench.rl.train_ppo`) in the goal box spanned by the centres
+thread, the code of :func:`saggriac.bench.rl.train_goals`) in the goal box spanned by the centres
 of the maze's free cells. Part of that box is wall: a goal deep in a wall can be asked and never
 reached, and the reachable set (the free cells, less the ball's radius along the walls) is not
 convex. The episode starts in a fixed cell (the map's ``"r"``), with PointMaze's noise of a
@@ -18,8 +18,10 @@ PointMaze ignores ``reset(options={"goal": ...})``; the teacher's goal reaches t
 
 The score (higher is better) is the share of ``N_TEST`` held-back test goals, uniform over the
 reachable set (one fixed set), that the deterministic policy ends within 0.45 of, every budget /
-10 steps. :meth:`MazeTask.run_measures` gives a finished run's own measures: the mean final
-distance to the test goals and the share of the teacher's goals in the reachable set.
+10 steps. :meth:`MazeTask.own_measures` gives the run's own measures at each scoring: the mean
+final distance to the test goals, the goals asked so far and the share of them (all; the last
+200) in the reachable set. The oracle (:class:`MazeOracle`) asks goals uniform over the
+reachable set.
 """
 
 from __future__ import annotations
@@ -30,7 +32,7 @@ from typing import Any, Callable, ClassVar
 import numpy as np
 
 from .expert import Knowledge
-from .rl import N_ENVS, run_seeds, train_ppo
+from .rl import run_seeds, train_goals
 from .tasks import BenchTask, register
 
 #: The maps: Gymnasium-Robotics' U_MAZE and MEDIUM_MAZE (1 a wall, 0 free) with the start cell
@@ -108,6 +110,22 @@ class Maze:
         """The share of the goal box the ball can be in (Monte Carlo)."""
         g = np.random.default_rng(seed).uniform(self.low, self.high, size=(n, 2))
         return float(self.reachable(g).mean())
+
+
+class MazeOracle:
+    """Goals uniform over the maze's reachable set within the goal box, drawn from ``seed``; told
+    competences, it ignores them: the curriculum of pure focus, every goal possible and none
+    preferred."""
+
+    def __init__(self, geometry: Maze, seed: int) -> None:
+        self.geometry, self.low, self.high = geometry, geometry.low.copy(), geometry.high.copy()
+        self._rng = np.random.default_rng(seed)
+
+    def sample(self) -> np.ndarray:
+        return self.geometry.uniform_reachable(self._rng, 1)[0]
+
+    def update(self, goal: Any, competence: float) -> None:
+        return None
 
 
 def make_env(name: str, goal_via: str = "observation") -> Any:
@@ -194,13 +212,18 @@ class MazeTask(BenchTask):
         self.geometry = Maze(self.maze)
         self.low, self.high = self.geometry.low.copy(), self.geometry.high.copy()
         self.scale = float(np.linalg.norm(self.high - self.low))
-        self._oracle_rng = np.random.default_rng(run_seeds(seed)[2])
-        self._measures: dict[str, float] = {}
+        self._oracle: MazeOracle | None = None
+        self._measures: list[dict[str, float]] = []
+
+    def oracle_teacher(self, seed: int) -> MazeOracle:
+        """The oracle as a teacher drawing from ``seed`` (the run's teacher seed)."""
+        return MazeOracle(self.geometry, seed)
 
     def oracle(self) -> Any:
-        """A goal uniform over the reachable set (the teacher of pure focus: every goal
-        possible, none preferred), from the teacher's seed of the run."""
-        return self.geometry.uniform_reachable(self._oracle_rng, 1)[0]
+        """A goal of :meth:`oracle_teacher` seeded with this run's teacher seed."""
+        if self._oracle is None:
+            self._oracle = self.oracle_teacher(self.child_seeds(self.seed)[0])
+        return self._oracle.sample()
 
     def expert_knowledge(self) -> Knowledge:
         """easy: the start cell less the ball's radius (a box of side 0.8 about its centre),
@@ -218,34 +241,37 @@ class MazeTask(BenchTask):
         goals = test_goals(self.geometry)
         teacher = _AskTell(ask, tell, self.low, self.high)
         curve: list[tuple[int, float]] = []
-        distances: list[float] = []
-        scoring = [0.0]
+        self._measures = []
+        scoring = 0.0
 
         def score(step: int, model: Any, _callback: Any) -> None:
-            if step > 0:
-                cpu = time.process_time()
-                success, distance = evaluate(model, self.maze, goals)
-                curve.append((step, float(success.mean())))
-                distances.append(float(distance.mean()))
-                scoring[0] += time.process_time() - cpu
+            nonlocal scoring
+            if step == 0:
+                return
+            cpu = time.process_time()
+            success, distance = evaluate(model, self.maze, goals)
+            scoring += time.process_time() - cpu
+            curve.append((step, float(success.mean())))
+            asked = np.array(teacher.goals).reshape(-1, 2)
+            inside = self.geometry.reachable(asked) if len(asked) else np.zeros(0, bool)
+            self._measures.append(
+                dict(
+                    distance=float(distance.mean()),
+                    goals_asked=float(len(asked)),
+                    goals_reachable=float(inside.mean()) if len(asked) else float("nan"),
+                    reachable_share=float(inside[-LAST_GOALS:].mean()) if len(asked) else float("nan"),
+                    scoring_cpu_seconds=scoring,
+                )
+            )
 
-        train_ppo(lambda: make_env(self.maze), self.competence, teacher, self.seed, budget, max(1, budget // self.points), score)
-        asked = np.array(teacher.goals).reshape(-1, 2)
-        inside = self.geometry.reachable(asked) if len(asked) else np.zeros(0, bool)
-        self._measures = {
-            "final_distance": distances[-1],
-            "goals_asked": float(len(asked)),
-            "goals_reachable": float(inside.mean()) if len(asked) else float("nan"),
-            "goals_reachable_last": float(inside[-LAST_GOALS:].mean()) if len(asked) else float("nan"),
-            "scoring_cpu_seconds": scoring[0],
-        }
+        train_goals(lambda: make_env(self.maze), self.competence, teacher, self.seed, budget, max(1, budget // self.points), score)
         return curve
 
-    def run_measures(self) -> dict[str, float]:
-        """The task's own measures of the run that ``play`` just made: the mean final distance to
-        the test goals at the end, the goals the teacher was asked for, and the share of them
-        (of all; of the last LAST_GOALS) in the reachable set, and the CPU seconds spent scoring."""
-        return dict(self._measures)
+    def own_measures(self) -> list[dict[str, float]]:
+        """At each scoring: the mean final distance to the test goals, the goals the teacher was
+        asked so far, the share of them in the reachable set (all; the last LAST_GOALS:
+        reachable_share, as the deep-RL arm's), and the CPU seconds spent scoring so far."""
+        return list(self._measures)
 
 
 @register

@@ -21,6 +21,8 @@ from ..files import as_path, check_flag
 from ..study.backends import default_workers
 from ..teachers import available
 from . import report, shipped
+from .goals import COLUMNS as GOAL_COLUMNS
+from .goals import goals_figures, goals_table
 from .runner import BenchError, execute, failure_message, plan, read_done, timed
 from .tasks import TASKS, TIERS, in_tier, missing_extra
 from .teachers import CALL_TIMEOUT, REFERENCE, TeacherSpec, parse_teacher
@@ -50,6 +52,9 @@ class BenchResult:
     workers: int
     written: dict[str, Path] = field(default_factory=dict)
     notes: list[str] = field(default_factory=list)
+    #: The goals asked (:func:`saggriac.bench.goals.goals_table`): every computed or kept run's,
+    #: and the shipped runs' on each task's first seed.
+    goals: pd.DataFrame = field(default_factory=lambda: pd.DataFrame(columns=GOAL_COLUMNS))
 
     def cpu_seconds(self, teacher: str) -> float:
         """The seconds of all of ``teacher``'s runs (each run timed in its own process)."""
@@ -122,17 +127,21 @@ def run_bench(
     todo = []
     ship_rows: dict[tuple[str, str, int, int], dict[str, Any]] = {}
     ship_curves: dict[tuple[str, str, int], list[list[float]]] = {}
+    ship_goals: dict[tuple[str, str, int], list[list[float]]] = {}
     if ship is not None:
         s_runs, s_curves, meta = ship
         ship_rows = {(r["task"], r["teacher"], int(r["seed"]), int(r["goals"])): r for r in s_runs.to_dict("records")}
         for key, c in s_curves.groupby(["task", "teacher", "seed"], sort=False):
             ship_curves[(key[0], key[1], int(key[2]))] = c[["step", "score"]].to_numpy().tolist()
+        for key, g in shipped.load_goals(tier).groupby(["task", "teacher", "seed"], sort=False):
+            wide = g.pivot(index="call", columns="dim", values="value").sort_index()
+            ship_goals[(key[0], key[1], int(key[2]))] = np.column_stack([wide.index.to_numpy(float), wide.to_numpy(float)]).tolist()
         if meta.get("version") != _core.__version__:
             notes.append(f"The shipped results of the tier {tier!r} were made by saggriac {meta.get('version')}; this is saggriac {_core.__version__}. Pass --rerun to compute the built-in teachers with this version.")
     for job in jobs:
         key4 = (*job.key, TASKS[job.task].budgets[tier])
         if not rerun and job.teacher in builtins and key4 in ship_rows:
-            records.append({"row": {**ship_rows[key4], "source": "shipped"}, "curve": ship_curves[job.key]})
+            records.append({"row": {**ship_rows[key4], "source": "shipped"}, "curve": ship_curves[job.key], "asked": ship_goals.get(job.key, [])})
             from_ship += 1
             continue
         saved = read_done(job, folder)
@@ -152,9 +161,10 @@ def run_bench(
     curves = pd.DataFrame([dict(task=r["row"]["task"], teacher=r["row"]["teacher"], seed=r["row"]["seed"], step=int(s), score=float(v)) for r in records for s, v in r["curve"]])
     if rerun and ship is not None and not runs.empty:
         notes += compare_with_shipped(runs[runs.source == "computed"], ship[0], ship[2])
-    written = write_outputs(folder, runs, curves, tier, n_seeds, notes)
+    goals = goals_table(records)
+    written = write_outputs(folder, runs, curves, goals, tier, n_seeds, notes)
     board = pd.read_csv(written["leaderboard_csv"]) if "leaderboard_csv" in written else pd.DataFrame(columns=report.COLUMNS)
-    result = BenchResult(folder, runs, curves, board, len(new), kept, from_ship, wall, n_workers, written, notes)
+    result = BenchResult(folder, runs, curves, board, len(new), kept, from_ship, wall, n_workers, written, notes, goals)
     if failures:
         errors = pd.DataFrame([dict(task=k[0], teacher=k[1], seed=k[2], error=m) for k, m in failures.items()])
         errors.to_csv(folder / "errors.csv", index=False)
@@ -180,8 +190,9 @@ def compare_with_shipped(runs: pd.DataFrame, ship_runs: pd.DataFrame, meta: dict
             f"The shipped ones were made by saggriac {meta.get('version')}, these by saggriac {_core.__version__}."]
 
 
-def write_outputs(folder: Path, runs: pd.DataFrame, curves: pd.DataFrame, tier: str, n_seeds: int, notes: Iterable[str]) -> dict[str, Path]:
-    """runs.parquet, curves.parquet, leaderboard.csv and .md and the figures, into ``folder``."""
+def write_outputs(folder: Path, runs: pd.DataFrame, curves: pd.DataFrame, goals: pd.DataFrame, tier: str, n_seeds: int, notes: Iterable[str]) -> dict[str, Path]:
+    """runs.parquet, curves.parquet, goals.parquet, leaderboard.csv and .md and the figures
+    (curves.png, ranks.png, goals/<task>.png), into ``folder``."""
     written: dict[str, Path] = {}
     if runs.empty:
         return written
@@ -190,6 +201,7 @@ def write_outputs(folder: Path, runs: pd.DataFrame, curves: pd.DataFrame, tier: 
     try:
         runs.to_parquet(folder / "runs.parquet", index=False)
         curves.to_parquet(folder / "curves.parquet", index=False)
+        goals.to_parquet(folder / "goals.parquet", index=False)
         board = report.leaderboard(runs)
         board.to_csv(folder / "leaderboard.csv", index=False)
         sources = runs.groupby("source").size().to_dict()
@@ -200,7 +212,10 @@ def write_outputs(folder: Path, runs: pd.DataFrame, curves: pd.DataFrame, tier: 
         (folder / "leaderboard.md").write_text(report.markdown(board, header))
     except OSError as e:
         raise StorageError(f"Cannot write the bench's results to {folder}: {e.strerror or e}.") from None
-    written.update(runs=folder / "runs.parquet", curves=folder / "curves.parquet", leaderboard_csv=folder / "leaderboard.csv", leaderboard_md=folder / "leaderboard.md")
+    written.update(runs=folder / "runs.parquet", curves=folder / "curves.parquet", goals=folder / "goals.parquet", leaderboard_csv=folder / "leaderboard.csv", leaderboard_md=folder / "leaderboard.md")
     written["curves_png"] = report.curves_figure(curves, folder / "curves.png")
     written["ranks_png"] = report.rank_figure(board, folder / "ranks.png")
+    if not goals.empty:
+        written["goals_png"] = folder / "goals"
+        goals_figures(goals, folder / "goals")
     return written

@@ -33,9 +33,12 @@ import numpy as np
 from ..errors import ParameterError, SaggriacError
 from ..teachers import RandomSelector, available
 from . import expert
+from .goals import GoalLog
 
 #: The teacher every other one is compared with (paired by seed).
 REFERENCE = "random"
+#: The name of a task's own oracle as a teacher (:class:`GuardedOracle`; the evidence runner's).
+ORACLE = "oracle"
 #: Seconds one call of a teacher (sample or update) may take before the run is stopped.
 CALL_TIMEOUT = 30.0
 SPACES = ("box", "tasks")
@@ -185,13 +188,7 @@ class Guarded:
     """A teacher built for one task and seed, every call bounded and checked."""
 
     def __init__(self, spec: TeacherSpec, task: Any, seed: int, timeout: float = CALL_TIMEOUT, run_seed: int | None = None) -> None:
-        self.spec, self.task, self.seed, self.timeout = spec, task, seed, timeout
-        # Messages name the run's seed (the bench's), not the teacher's child of it.
-        self.where = f"teacher {spec.label} on task {task.name!r}, seed {seed if run_seed is None else run_seed}"
-        self.calls = 0
-        #: Seconds spent inside the teacher's sample and update (the board's teacher_us_per_goal).
-        self.teacher_seconds = 0.0
-        self.to_task: Callable[[Any], Any] | None = None
+        self._setup(spec, task, seed, timeout, run_seed)
         cls = spec.load()
         self.tell_map = competence_map(cls, spec.label)
         params = dict(spec.params)
@@ -209,6 +206,18 @@ class Guarded:
             self.to_task = lambda g: min(int(np.asarray(g, float).reshape(-1)[0]), n - 1)
             self.tell_map = lambda c: c - 1.0
         self.teacher = self._call("was built", make)
+
+    def _setup(self, spec: TeacherSpec, task: Any, seed: int, timeout: float, run_seed: int | None) -> None:
+        self.spec, self.task, self.seed, self.timeout = spec, task, seed, timeout
+        # Messages name the run's seed (the bench's), not the teacher's child of it.
+        self.where = f"teacher {spec.label} on task {task.name!r}, seed {seed if run_seed is None else run_seed}"
+        self.calls = 0
+        #: Seconds spent inside the teacher's sample and update (the board's teacher_us_per_goal).
+        self.teacher_seconds = 0.0
+        #: The goals asked, as the task gets them (the figures of goals over time).
+        self.log = GoalLog()
+        self.to_task: Callable[[Any], Any] | None = None
+        self.tell_map: Callable[[float], float] = float
 
     @staticmethod
     def _expert_params(spec: TeacherSpec, task: Any, run_seed: int) -> dict[str, Any]:
@@ -245,7 +254,9 @@ class Guarded:
         raw = self._call("was asked a goal (sample)", self.teacher.sample)
         self.teacher_seconds += time.perf_counter() - start
         self.last_raw = raw
-        return self.to_task(raw) if self.to_task is not None else self._checked(raw)
+        goal = self.to_task(raw) if self.to_task is not None else self._checked(raw)
+        self.log.add(goal)
+        return goal
 
     def tell(self, goal: Any, competence: float) -> None:
         """Tell the competence in [0, 1] reached at ``goal``, mapped into the teacher's range. A
@@ -271,6 +282,18 @@ class Guarded:
         if g.shape != task.low.shape or not np.all(np.isfinite(g)) or np.any(g < task.low) or np.any(g > task.high):
             raise TeacherError(f"The {self.where} asked the goal {raw!r} (call {self.calls}), which is outside the space: the goals are {task.low.size} floats in the box low={task.low.tolist()}, high={task.high.tolist()}.")
         return g
+
+
+class GuardedOracle(Guarded):
+    """The task's own oracle (``task.oracle_teacher(seed)``, :class:`saggriac.bench.tasks.BenchTask`)
+    as the teacher named :data:`ORACLE`, every call bounded and its goals checked as any teacher's.
+    Told competences in [0, 1], as the task gives them."""
+
+    def __init__(self, task: Any, seed: int, timeout: float = CALL_TIMEOUT, run_seed: int | None = None) -> None:
+        self._setup(TeacherSpec(ORACLE), task, seed, timeout, run_seed)
+        if not task.has_oracle():
+            raise TeacherError(f"The {self.where}: the task {task.name!r} has no oracle (its class overrides neither oracle nor oracle_teacher).")
+        self.teacher = self._call("was built", lambda: task.oracle_teacher(seed))
 
 
 @contextmanager
