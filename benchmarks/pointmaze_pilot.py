@@ -23,7 +23,7 @@ import numpy as np
 
 REPO = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(REPO / "benchmarks"))
-from rl_curriculum import commit, power  # noqa: E402  (the first study's commit stamp and power)
+from rl_curriculum import commit, power, seeds_arg  # noqa: E402  (the first study's commit stamp, power, seed ranges)
 
 from saggriac.bench import TASKS, TeacherSpec  # noqa: E402
 from saggriac.bench.teachers import Guarded  # noqa: E402
@@ -73,11 +73,11 @@ def read(path: Path) -> list[dict]:
 
 def run(pilot: dict, out: Path) -> None:
     done = {(r["task"], r["teacher"], int(r["seed"])) for r in read(out / "runs.csv")}
-    jobs = [(task, teacher, seed) for seed in pilot["seeds"] for task in pilot["tasks"] for teacher in pilot["teachers"]]
+    jobs = [(task, teacher, seed) for seed in seeds_arg(str(pilot["seeds"])) for task in pilot["tasks"] for teacher in pilot["teachers"]]
     for k, (task, teacher, seed) in enumerate(jobs, 1):
         if (task, teacher, seed) in done:
             continue
-        row, curve = one_run(task, teacher, seed, pilot["budget"])
+        row, curve = one_run(task, teacher, seed, pilot["budget"][task])
         append(out / "curves.csv", curve, ["task", "teacher", "seed", "step", "score"])
         append(out / "runs.csv", [row], RUN_COLUMNS)
         print(f"[{k}/{len(jobs)}] {task} {teacher} seed {seed}: final success {row['final']:.3f}, {row['cpu_seconds']:.0f} CPU s", flush=True)
@@ -100,38 +100,40 @@ def browne_sd(values_by_teacher: list[list[float]], confidence: float) -> tuple[
 def rules(out: Path, protocol: dict) -> str:
     """The pilot's rules (docs/evidence/pointmaze.md), applied to the pilot's rows."""
     p, r = protocol["pilot"], protocol["pilot_rules"]
+    seeds = seeds_arg(str(p["seeds"]))
     runs, curves = read(out / "runs.csv"), read(out / "curves.csv")
     family = len(protocol["teachers"]) - 1
     alpha = protocol["rule"]["alpha"] / family  # Holm's first step
-    delta = protocol["rule"]["meaningful_effect"]
-    lines = [f"Pilot: {len(runs)} runs, seeds {p['seeds']}, budget {p['budget']:,}; family of {family} comparisons, Holm's first step alpha = {alpha:.5f}; meaningful effect {delta} in final success.", ""]
+    delta = protocol["rule"]["meaningful"]["success"]
+    lines = [f"Pilot: {len(runs)} runs, seeds {p['seeds']}, budgets {p['budget']}; family of {family} comparisons, Holm's first step alpha = {alpha:.5f}; meaningful effect {delta} in final success.", ""]
     choice: dict[str, dict] = {}
     for task in p["tasks"]:
         mine = [x for x in runs if x["task"] == task]
-        if len(mine) < len(p["seeds"]) * len(p["teachers"]):
-            lines.append(f"{task}: {len(mine)} of {len(p['seeds']) * len(p['teachers'])} runs; incomplete.")
+        if len(mine) < len(seeds) * len(p["teachers"]):
+            lines.append(f"{task}: {len(mine)} of {len(seeds) * len(p['teachers'])} runs; incomplete.")
             continue
+        pilot_budget = p["budget"][task]
         cpu = float(np.mean([float(x["cpu_seconds"]) for x in mine]))
         scoring = float(np.mean([float(x["scoring_cpu_seconds"]) for x in mine]))
         random_final = float(np.mean([float(x["final"]) for x in mine if x["teacher"] == "random"]))
         lines.append(f"## {task}")
-        lines.append(f"CPU s per run at {p['budget']:,}: {cpu:.1f} (of which scoring {scoring:.1f}); random's mean final success {random_final:.3f}; the oracle's {np.mean([float(x['final']) for x in mine if x['teacher'] == 'oracle']):.3f}.")
+        lines.append(f"CPU s per run at {pilot_budget:,}: {cpu:.1f} (of which scoring {scoring:.1f}); random's mean final success {random_final:.3f}; the oracle's {np.mean([float(x['final']) for x in mine if x['teacher'] == 'oracle']):.3f}.")
         lines += ["", "| B | sd (pooled) | sd, upper 80 % | d_z of the effect | seeds for 80 % power | seeds that fit | CPU h at that size |", "|---|---|---|---|---|---|---|"]
         best = None
-        for b in range(p["budget"], r["min_budget"] - 1, -r["budget_step"]):
+        for b in range(pilot_budget, r["min_budget"] - 1, -r["budget_step"]):
             at = [[float(c["score"]) for c in curves if c["task"] == task and c["teacher"] == t and int(c["step"]) == b] for t in p["teachers"]]
             sd, upper, df = browne_sd(at, r["sd_confidence"])
             upper = max(upper, r["sd_floor"])
             dz = delta / (math.sqrt(2) * upper)
             need = next((n for n in range(r["min_seeds"], r["max_seeds"] + 1) if power(n, dz, alpha) >= r["power"]), None)
-            cost = scoring + (cpu - scoring) * b / p["budget"]
+            cost = scoring + (cpu - scoring) * b / pilot_budget
             fit = min(int(r["cpu_seconds"] // (len(protocol["teachers"]) * cost)), r["max_seeds"])
             size = need if need is not None and need <= fit else fit
             lines.append(f"| {b:,} | {sd:.3f} | {upper:.3f} | {dz:.2f} | {need if need is not None else '> ' + str(r['max_seeds'])} | {fit} | {len(protocol['teachers']) * size * cost / 3600:.2f} |")
             if best is None and need is not None and need <= fit:
                 best = dict(budget=b, seeds=need, dz=dz, cost=cost, powered=True)
         if best is None:
-            b = p["budget"]
+            b = pilot_budget
             at = [[float(c["score"]) for c in curves if c["task"] == task and c["teacher"] == t and int(c["step"]) == b] for t in p["teachers"]]
             upper = max(browne_sd(at, r["sd_confidence"])[1], r["sd_floor"])
             fit = min(int(r["cpu_seconds"] // (len(protocol["teachers"]) * cpu)), r["max_seeds"])
