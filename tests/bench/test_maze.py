@@ -248,3 +248,22 @@ def test_the_tasks_are_listed_by_the_bench():
     text = listing()
     assert all(name in text for name in MAPS)
     assert all(TASKS[n].budgets["quick"] is None and TASKS[n].budgets["standard"] for n in MAPS)
+
+
+def test_the_pilots_rules_on_its_committed_rows_give_what_the_protocol_holds():
+    """docs/evidence/pointmaze.md's pilot numbers recompute from the committed rows: the rules
+    give the map, budget and report seeds protocol.json holds (a changed row or rule breaks it)."""
+    import json
+
+    from tests import benchmark_scripts
+
+    pilot = benchmark_scripts.load("pointmaze_pilot")
+    protocol = json.loads(pilot.PROTOCOL.read_text())
+    text = pilot.rules(pilot.OUT, protocol)
+    choice = json.loads(text.strip().splitlines()[-1])
+    task = protocol["tasks"][0]
+    assert protocol["tasks"] == [choice["task"]] and protocol["budget"] == {task: choice["budget"]}
+    first = choice["first_seed"]
+    assert protocol["report"] == {task: f"{first}-{first + choice['seeds'] - 1}"} and protocol["pilot_fixed"]["seeds"] == choice["seeds"]
+    assert TASKS[task].budgets["full"] == choice["budget"]
+    assert "| 120,000 | 0.036 | 0.077 | 0.92 | 19 | 31 | 4.31 |" in text
