@@ -110,3 +110,23 @@ def test_a_teacher_without_a_box_giving_a_wrong_goal_is_named():
     w = SelectorGoals(GoalArmEnv(), Loose())
     with pytest.raises(ConformanceError, match="sample\\(\\) gave"):
         w.reset(seed=0)
+
+
+def test_goalslot_observation_route_takes_the_next_goal_and_names_its_parameters():
+    slot = GoalSlot(gymnasium.make(MAZE), goal_via="observation", success=0.45)
+    own = slot.reset(seed=0)[0]["desired_goal"]  # no next goal: the environment's own
+    np.testing.assert_array_equal(own, slot.unwrapped.goal)
+    slot.set_next_goal(np.array([0.5, -0.5]))
+    obs, info = slot.reset(seed=0)
+    np.testing.assert_array_equal(obs["desired_goal"], [0.5, -0.5])
+    assert info["distance"] == pytest.approx(np.linalg.norm(obs["achieved_goal"] - [0.5, -0.5]))
+    obs, reward, *_ = slot.step(np.zeros(2))
+    assert reward == slot.unwrapped.compute_reward(obs["achieved_goal"], np.array([0.5, -0.5]), {})
+    with pytest.raises(ParameterError, match="'goal_via' parameter of GoalSlot"):
+        GoalSlot(gymnasium.make(MAZE), goal_via="obs")
+    with pytest.raises(ParameterError, match="'success' parameter of GoalSlot"):
+        GoalSlot(gymnasium.make(MAZE), goal_via="observation", success=-1.0)
+    slot = GoalSlot(gymnasium.make(MAZE), goal_via="observation")
+    slot.set_next_goal(np.array([0.5, -0.5]))
+    with pytest.raises(ConformanceError, match="success=the distance"):
+        slot.reset(seed=0)

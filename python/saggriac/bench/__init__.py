@@ -14,7 +14,7 @@ learner), ``rl`` (deep RL, the sb3 extra), ``oracle`` (goals uniform over what a
 that ship with the package) and ``suite`` (``run_bench``).
 """
 
-from . import arm, challenges, rl  # noqa: F401 (register the arm's tasks, the challenges and deep RL)
+from . import arm, challenges, maze, rl  # noqa: F401 (register the arm's tasks, the challenges, deep RL and PointMaze)
 from .runner import BenchError, Job, run_one
 from .suite import BenchResult, run_bench
 from .tasks import TASKS, TIERS, BenchTask, register

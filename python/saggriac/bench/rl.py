@@ -162,11 +162,20 @@ def check_replay_goals(model: Any, callback: Any) -> int:
 
 def train(reward: str, threshold: float, teacher: Any, seed: int, steps: int, every: int, on_score: Callable[[int, Any, Any], None], learner: str = "ppo", joints: str = "limited") -> None:
     """``learner`` (:data:`LEARNERS`) trained for ``steps`` environment steps on the arm with
-    ``reward`` and success ``threshold``, with ``teacher`` choosing its goals (through
-    :class:`saggriac.adapters.sb3.TeacherCallback`), seeded from ``seed`` (:func:`run_seeds`);
-    ``on_score(step, model, callback)`` at step 0 and every ``every`` steps, the last at ``steps``.
-    An off-policy learner's replay buffer is checked at the end (:func:`check_replay_goals`).
-    ``joints``: :func:`make_env`'s."""
+    ``reward`` and success ``threshold`` (``joints``: :func:`make_env`'s), with ``teacher``
+    choosing its goals, told the closeness ``max(0, 1 - final distance / reach)``: the studies'
+    arm through :func:`train_learner`."""
+    reach = arm_reach()
+    train_learner(lambda: make_env(reward, threshold, joints), lambda info: max(0.0, 1.0 - info["distance"] / reach), teacher, seed, steps, every, on_score, learner)
+
+
+def train_learner(make: Callable[[], Any], competence: Callable[[dict], float], teacher: Any, seed: int, steps: int, every: int, on_score: Callable[[int, Any, Any], None], learner: str = "ppo") -> None:
+    """SB3's ``learner`` (:data:`LEARNERS`) with its defaults trained for ``steps`` environment
+    steps on N_ENVS environments ``make()`` in one process, with ``teacher`` choosing their goals
+    and told ``competence(final info)`` (through :class:`saggriac.adapters.sb3.TeacherCallback`),
+    seeded from ``seed`` (:func:`run_seeds`); ``on_score(step, model, callback)`` at step 0 and
+    every ``every`` steps, the last at ``steps``. An off-policy learner's replay buffer is checked
+    at the end (:func:`check_replay_goals`). The goal arm's and PointMaze's tasks."""
     import torch
     from stable_baselines3.common.callbacks import BaseCallback, CallbackList
     from stable_baselines3.common.vec_env import DummyVecEnv
@@ -177,11 +186,10 @@ def train(reward: str, threshold: float, teacher: Any, seed: int, steps: int, ev
         raise ParameterError(f"The 'learner' parameter of train must be one of {', '.join(map(repr, LEARNERS))}. Got {learner!r} instead.", "learner", repr(learner))
     torch.set_num_threads(1)
     model_seed, env_seed, _ = run_seeds(seed)
-    env = DummyVecEnv([lambda: make_env(reward, threshold, joints)] * N_ENVS)
+    env = DummyVecEnv([make] * N_ENVS)
     env.seed(env_seed)
     model = make_model(learner, env, model_seed)
-    reach = float(env.envs[0].unwrapped.reach)
-    callback = TeacherCallback(teacher, competence=lambda info: max(0.0, 1.0 - info["distance"] / reach))
+    callback = TeacherCallback(teacher, competence=competence)
 
     class Score(BaseCallback):
         def _on_step(self) -> bool:

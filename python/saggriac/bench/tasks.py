@@ -51,7 +51,8 @@ def missing_extra(name: str) -> str | None:
     import importlib.util
 
     requires = TASKS[name].requires
-    if requires and importlib.util.find_spec(requires[0]) is None:
+    modules = (requires[0],) if requires and isinstance(requires[0], str) else requires[0] if requires else ()
+    if any(importlib.util.find_spec(m) is None for m in modules):
         return requires[1]
     return None
 
@@ -67,9 +68,9 @@ class BenchTask:
     measures: ClassVar[str] = ""
     #: Goals per run, by tier; None where the task is not in the tier.
     budgets: ClassVar[dict[str, int | None]] = {}
-    #: (module, what to install) where the task needs an optional extra; the bench leaves the
-    #: task out, and says so, when the module is missing.
-    requires: ClassVar[tuple[str, str] | tuple[()]] = ()
+    #: (module or tuple of modules, what to install) where the task needs an optional extra;
+    #: the bench leaves the task out, and says so, when a module is missing.
+    requires: ClassVar[tuple[str | tuple[str, ...], str] | tuple[()]] = ()
     #: Points on the score curve (the score after every budget // points goals).
     points: ClassVar[int] = 20
     #: What the curve's x axis counts.

@@ -15,6 +15,16 @@ An episode cut short by a reset is not told. The environment must have a dict ob
   and tells in batches (``sample_batch``/``update_batch``) and hands each sub-environment its next
   goal through ``set_attr("next_goal", ...)``: saggriac's environments read it on reset; wrap
   others in :class:`GoalSlot`.
+* :class:`GoalSlot` gives any goal environment a ``next_goal`` read on reset, passed on through
+  ``options={"goal": g}`` or, with ``goal_via="observation"``, put in the observations (the
+  route of an environment that ignores ``options["goal"]``, such as Gymnasium-Robotics'
+  PointMaze), so that SB3's :class:`saggriac.adapters.sb3.TeacherCallback` can choose its goals.
+
+On the observation route the environment still pursues its own goal inside: the wrapper replaces
+``desired_goal``, recomputes the reward (and the end, where the environment has
+``compute_terminated``) with the environment's ``compute_reward`` for the teacher's goal, moves
+the environment's success flags and ``distance`` for its own goal to ``"<key>_env_goal"`` and
+puts the teacher's goal's in their place (``info["distance"]``: from ``achieved_goal`` to it).
 """
 
 from __future__ import annotations
@@ -123,12 +133,13 @@ def _success_for_teacher(info: dict[str, Any], rule: Any, achieved: np.ndarray, 
     competence="success") reads them as the teacher's goal's, and ``info["is_success"]`` (and
     the environment's own key) says whether the teacher's goal is reached."""
     own = [k for k in SUCCESS_KEYS if k in info]
-    if not own and (rule is None or rule is False):
-        return info
     info = dict(info)
+    if "distance" in info:
+        info["distance_env_goal"] = info.pop("distance")
+    info["distance"] = float(np.linalg.norm(np.asarray(achieved, dtype=np.float64) - goal))
     for k in own:
         info[f"{k}_env_goal"] = info.pop(k)
-    if rule is False:
+    if rule is False or (not own and rule is None):
         return info
     if rule is None:
         raise ConformanceError(
@@ -140,6 +151,26 @@ def _success_for_teacher(info: dict[str, Any], rule: Any, achieved: np.ndarray, 
     for k in dict.fromkeys(["is_success", *own]):
         info[k] = ok
     return info
+
+
+def _goal_in_observation(obs: dict[str, Any], goal: np.ndarray, space: Any) -> dict[str, Any]:
+    """goal_via="observation": the observation with the teacher's goal as its desired_goal."""
+    obs = dict(obs)
+    obs["desired_goal"] = goal.astype(space.dtype, copy=True)
+    return obs
+
+
+def _step_for_goal(env: gymnasium.Env, goal: np.ndarray, rule: Any, owner: str, obs: dict[str, Any], reward: Any, terminated: bool, info: dict[str, Any]) -> tuple[dict[str, Any], float, bool, dict[str, Any]]:
+    """goal_via="observation": a step of ``env`` as it would be for ``goal``. The environment's
+    own reward and end test used its own goal: both are recomputed for the teacher's goal
+    (compute_terminated where the environment has it)."""
+    obs = _goal_in_observation(obs, goal, env.observation_space["desired_goal"])
+    base = env.unwrapped
+    reward = float(base.compute_reward(obs["achieved_goal"], obs["desired_goal"], info))
+    if callable(getattr(base, "compute_terminated", None)):
+        terminated = bool(base.compute_terminated(obs["achieved_goal"], obs["desired_goal"], info))
+    info = _success_for_teacher(info, rule, np.asarray(obs["achieved_goal"], dtype=np.float64), goal, owner)
+    return obs, reward, terminated, info
 
 
 def sample_batch(selector: Any, n: int) -> np.ndarray:
@@ -182,12 +213,6 @@ class SelectorGoals(gymnasium.Wrapper):
         self._start: np.ndarray | None = None
         self._open = False
 
-    def _with_goal(self, obs: dict[str, Any]) -> dict[str, Any]:
-        if self.goal_via == "observation":
-            obs = dict(obs)
-            obs["desired_goal"] = self._goal.astype(self.observation_space["desired_goal"].dtype, copy=True)
-        return obs
-
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None) -> tuple[Any, dict[str, Any]]:
         ownership.claim(self.selector, "SelectorGoals", self.allow_copy)
         self._goal = check_goal_shape(np.asarray(self.selector.sample(), dtype=np.float64), self.observation_space["desired_goal"], "SelectorGoals")
@@ -200,19 +225,13 @@ class SelectorGoals(gymnasium.Wrapper):
         self._open = True
         if self.goal_via == "observation":
             info = _success_for_teacher(info, self._success, self._start, self._goal, "SelectorGoals")
-        return self._with_goal(obs), info
+            obs = _goal_in_observation(obs, self._goal, self.observation_space["desired_goal"])
+        return obs, info
 
     def step(self, action: Any) -> tuple[Any, Any, bool, bool, dict[str, Any]]:
         obs, reward, terminated, truncated, info = self.env.step(action)
-        obs = self._with_goal(obs)
         if self.goal_via == "observation":
-            # The environment's own reward and end test used its own goal: both are recomputed
-            # for the goal the teacher chose (compute_terminated where the environment has it).
-            base = self.env.unwrapped
-            reward = float(base.compute_reward(obs["achieved_goal"], obs["desired_goal"], info))
-            if callable(getattr(base, "compute_terminated", None)):
-                terminated = bool(base.compute_terminated(obs["achieved_goal"], obs["desired_goal"], info))
-            info = _success_for_teacher(info, self._success, np.asarray(obs["achieved_goal"], dtype=np.float64), self._goal, "SelectorGoals")
+            obs, reward, terminated, info = _step_for_goal(self.env, self._goal, self._success, "SelectorGoals", obs, reward, terminated, info)
         if (terminated or truncated) and self._open:
             c = self._score(self._goal, np.asarray(obs["achieved_goal"], dtype=np.float64), self._start)
             self.selector.update(self._goal, c)
@@ -222,22 +241,47 @@ class SelectorGoals(gymnasium.Wrapper):
 
 
 class GoalSlot(gymnasium.Wrapper):
-    """Gives a goal environment whose ``reset`` reads ``options["goal"]`` a ``next_goal``
-    attribute, read (and cleared) on reset: what :class:`VectorSelectorGoals` sets."""
+    """Gives a goal environment a ``next_goal`` attribute, read (and cleared) on reset: what
+    :class:`VectorSelectorGoals` sets and :class:`saggriac.adapters.sb3.TeacherCallback` hands
+    out. With ``goal_via="options"`` the environment's ``reset`` gets it as ``options["goal"]``;
+    with ``goal_via="observation"`` it is put in the observations until the next reset, and the
+    reward, the end and ``info["is_success"]`` (by ``success``, as in :class:`SelectorGoals`) and
+    ``info["distance"]`` follow it (see the module's text). A reset without a next goal keeps the
+    environment's own."""
 
-    def __init__(self, env: gymnasium.Env) -> None:
+    def __init__(self, env: gymnasium.Env, *, goal_via: str = "options", success: Any = None) -> None:
         super().__init__(env)
+        if goal_via not in GOAL_VIA:
+            raise ParameterError(f"The 'goal_via' parameter of GoalSlot must be one of {', '.join(map(repr, GOAL_VIA))}. Got {goal_via!r} instead.", "goal_via", repr(goal_via))
+        self.goal_via = goal_via
         self.next_goal: np.ndarray | None = None
+        self._goal: np.ndarray | None = None
+        if goal_via == "observation":
+            _check_goal_space(env.observation_space, "GoalSlot")
+            self._success = _success_rule(success, env, "GoalSlot")
 
     def set_next_goal(self, goal: Any) -> None:
         """Set ``next_goal`` (what ``env_method("set_next_goal", g)`` calls through wrappers)."""
         self.next_goal = goal
 
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None) -> tuple[Any, dict[str, Any]]:
-        if self.next_goal is not None:
-            options = {**(options or {}), "goal": self.next_goal}
-            self.next_goal = None
-        return self.env.reset(seed=seed, options=options)
+        goal, self.next_goal = self.next_goal, None
+        if self.goal_via == "options":
+            if goal is not None:
+                options = {**(options or {}), "goal": goal}
+            return self.env.reset(seed=seed, options=options)
+        obs, info = self.env.reset(seed=seed, options=options)
+        self._goal = None if goal is None else check_goal_shape(np.asarray(goal, dtype=np.float64), self.observation_space["desired_goal"], "GoalSlot")
+        if self._goal is None:
+            return obs, info
+        info = _success_for_teacher(info, self._success, np.asarray(obs["achieved_goal"], dtype=np.float64), self._goal, "GoalSlot")
+        return _goal_in_observation(obs, self._goal, self.observation_space["desired_goal"]), info
+
+    def step(self, action: Any) -> tuple[Any, Any, bool, bool, dict[str, Any]]:
+        obs, reward, terminated, truncated, info = self.env.step(action)
+        if self._goal is not None:
+            obs, reward, terminated, info = _step_for_goal(self.env, self._goal, self._success, "GoalSlot", obs, reward, terminated, info)
+        return obs, reward, terminated, truncated, info
 
 
 class VectorSelectorGoals(gymnasium.vector.VectorWrapper):
