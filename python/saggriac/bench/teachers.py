@@ -197,6 +197,12 @@ class Guarded:
         self.to_task: Callable[[Any], Any] | None = None
         cls = spec.load()
         self.tell_map = competence_map(cls, spec.label)
+        #: What the teacher is told: "competence" (the default), or a score only some tasks'
+        #: learners have (their ``tells``; saggriac.bench.value_loss).
+        self.told = getattr(cls, "told", "competence")
+        tells = getattr(task, "tells", ("competence",))
+        if self.told not in tells:
+            raise TeacherError(f"The {self.where} asks to be told {self.told!r} (its class's 'told'), and the task tells only {', '.join(map(repr, tells))}.")
         params = dict(spec.params)
         if spec.level:
             # Expert knowledge of the task at the level, as the teacher's own parameters.
