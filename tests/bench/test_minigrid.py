@@ -27,7 +27,7 @@ def task():
 
 def test_the_task_is_on_the_bench_list_as_a_task_list():
     row = next(line for line in listing().splitlines() if line.strip().startswith("rl-minigrid"))
-    assert "tasks" in row and "200,000 environment steps" in row
+    assert "tasks" in row and "160,000 environment steps" in row
     assert TASKS["rl-minigrid"].space == "tasks" and TASKS["rl-minigrid"].budgets["quick"] is None
 
 
@@ -152,3 +152,13 @@ def test_the_score_draws_its_own_actions_and_leaves_torch_alone(task):
     assert torch.equal(torch.random.get_rng_state(), state)
     assert M.evaluate(model, some) == first
     assert 0.0 <= first[0] <= 1.0 and 0.0 <= first[1] <= 1.0
+
+
+def test_grades_at_bar_counts_the_grades_the_student_passes_whatever_the_teacher():
+    t = M.RlMiniGrid(0)
+    assert t.grades_at_bar() == 0
+    for g in (0, 2):
+        level = int(np.flatnonzero(t.grade_of == g)[0])
+        for _ in range(M.ORACLE_WINDOW):
+            t.record(level, True)
+    assert t.grades_at_bar() == 2 and t.own_measures() == []
