@@ -15,7 +15,7 @@ the reachable disc. A teacher chooses the goal of every training episode through
 ``max(0, 1 - final distance / reach)``. ``--teachers`` takes the names of saggriac's teachers
 of a continuous box (every class of ``saggriac.teachers`` built from ``(low, high, seed)``, by
 its kind: random, sagg_riac, riac, alp_gmm, covar_gmm, ...) and ``oracle``, uniform over the
-goals the body reaches (:class:`OracleTeacher`).
+goals the body reaches (:class:`saggriac.bench.oracle.OracleTeacher`).
 
 Seed s gives PPO's seed, the environments' seeds and the teacher's seed (children of
 SeedSequence(s)); every teacher runs with the same s, so runs are paired by seed. A run is
@@ -39,7 +39,8 @@ import numpy as np
 import pandas as pd
 from tqdm import tqdm
 
-from saggriac.bench.rl import ARM, N_ENVS, THRESHOLDS, arm_reach, evaluate, make_env, run_seeds, test_goals, train  # noqa: F401 (make_env: the study's environment, for its tests)
+from saggriac.bench.oracle import OracleTeacher
+from saggriac.bench.rl import ARM, FOLD_TIP, GOAL_BLIND, N_ENVS, THRESHOLDS, arm_config, arm_reach, evaluate, folded, make_env, run_seeds, test_goals, train  # noqa: F401 (make_env: the study's environment, for its tests; FOLD_TIP and folded: the fold, shared with the evidence runner)
 
 REPO = Path(__file__).resolve().parents[1]
 OUT = REPO / "docs" / "figures" / "rl_curriculum"
@@ -80,41 +81,9 @@ def teacher_names() -> list[str]:
     return ["random", "oracle", *sorted(k for k in box_teachers() if k != "random")]
 
 
-def task_config():
-    """The arm as a saggriac Config, for its reachable set."""
-    import saggriac as sg
-
-    return sg.Config(body="planar_arm", **{k: TASK[k] for k in ("n_joints", "arm_length", "joint_limit", "goal_low", "goal_high")})
-
-
-class OracleTeacher:
-    """Goals uniform over what the body reaches: uniform in the goal box of ``config``, kept if
-    saggriac's reachable set of the body (:class:`saggriac.bodies.reachable.ReachableSet`) holds them.
-    It is told competences and ignores them: the curriculum of pure focus."""
-
-    def __init__(self, config, seed: int) -> None:
-        from saggriac.bodies.reachable import ReachableSet
-
-        self.low, self.high = np.asarray(config.goal_low, float), np.asarray(config.goal_high, float)
-        self._contains = ReachableSet(config).contains
-        self._rng = np.random.default_rng(seed)
-        if not self._contains(self._rng.uniform(self.low, self.high, (100_000, len(self.low)))).any():
-            raise ValueError(f"OracleTeacher: the body of {config!r} reaches none of 100,000 points of its goal box; there is nothing to draw from.")
-
-    def sample(self) -> np.ndarray:
-        while True:
-            batch = self._rng.uniform(self.low, self.high, (64, len(self.low)))
-            inside = np.flatnonzero(self._contains(batch))
-            if inside.size:
-                return batch[inside[0]].copy()
-
-    def update(self, goal, competence) -> None:
-        return None
-
-
 def make_teacher(name: str, seed: int):
     if name == "oracle":
-        return OracleTeacher(task_config(), seed)
+        return OracleTeacher(arm_config(), seed)
     return box_teachers()[name](list(TASK["goal_low"]), list(TASK["goal_high"]), seed=seed)
 
 
@@ -128,9 +97,12 @@ def commit() -> str:
         return "unknown"
 
 
-def one_run(job: tuple[str, str, int, int, int, float, str]) -> list[dict]:
-    """One run: its scorings as rows of curves.csv."""
-    reward, name, seed, steps, every, threshold, code = job
+def one_run(job: tuple) -> list[dict]:
+    """One run: its scorings as rows of curves.csv. ``job``: (reward, teacher, seed, steps, every,
+    threshold, commit[, joints]); with free joints (a protocol's task option) each scoring also
+    records ``tip_spread`` (:func:`saggriac.bench.rl.evaluate`)."""
+    reward, name, seed, steps, every, threshold, code, *rest = job
+    joints = rest[0] if rest else "limited"
     reach = arm_reach()
     goals = test_goals(reach)
     rows: list[dict] = []
@@ -139,11 +111,14 @@ def one_run(job: tuple[str, str, int, int, int, float, str]) -> list[dict]:
     def score(step: int, model, teacher) -> None:
         told = [g for g, _ in teacher.history]
         recent = np.array(told[-200:]) if told else np.zeros((0, 2))
-        success, distance = evaluate(model, goals, reward, threshold)
+        extra: dict[str, float] = {}
+        success, distance = evaluate(model, goals, reward, threshold, joints, extra)
         share = float(np.mean(np.linalg.norm(recent, axis=1) <= reach)) if len(recent) else float("nan")
-        rows.append(dict(reward=reward, teacher=name, seed=seed, budget=steps, threshold=threshold, step=step, success=success, distance=distance, episodes=len(told), reachable_share=share, seconds=time.perf_counter() - start, cpu_seconds=time.process_time() - cpu, commit=code))
+        # The limited arm's rows keep the second study's columns; the free arm's add its spread.
+        spread = {} if joints == "limited" else dict(joints=joints, tip_spread=extra["tip_spread"])
+        rows.append(dict(reward=reward, teacher=name, seed=seed, budget=steps, threshold=threshold, step=step, success=success, distance=distance, episodes=len(told), reachable_share=share, **spread, seconds=time.perf_counter() - start, cpu_seconds=time.process_time() - cpu, commit=code))
 
-    train(reward, threshold, make_teacher(name, run_seeds(seed)[2]), seed, steps, every, score)
+    train(reward, threshold, make_teacher(name, run_seeds(seed)[2]), seed, steps, every, score, joints=joints)
     if rows[-1]["step"] != steps:
         raise RuntimeError(f"run {reward}/{name}/{seed}: the last scoring was at step {rows[-1]['step']}, not at the budget {steps}")
     return rows
@@ -168,6 +143,7 @@ def runs_table(curves: pd.DataFrame) -> pd.DataFrame:
             start_success=at.loc[0, "success"], start_distance=at.loc[0, "distance"],
             reachable_share=trained["reachable_share"].mean(), final_reachable_share=final["reachable_share"], episodes=int(final["episodes"]),
             budget=budget, threshold=final["threshold"], seconds=final["seconds"], cpu_seconds=final["cpu_seconds"], commit=final["commit"],
+            **({"final_tip_spread": final["tip_spread"]} if "tip_spread" in c else {}),
         ))
     return pd.DataFrame(rows)
 
@@ -239,6 +215,19 @@ def flattening(curves: pd.DataFrame, reward: str, seeds: list[int]) -> dict | No
     return dict(step=earlier, budget=budget, **paired(w[budget].to_numpy(), w[earlier].to_numpy()))
 
 
+def task_options(out: Path) -> dict[str, str]:
+    """The task's changes a study registers in ``out/protocol.json`` ("task": {"joints": "free"});
+    none for the second study and its replication."""
+    import json
+
+    path = out / "protocol.json"
+    given = json.loads(path.read_text()).get("task", {}) if path.exists() else {}
+    unknown = sorted(set(given) - {"joints"})
+    if unknown:
+        raise SystemExit(f"{path}: the task options {unknown} are unknown; a protocol may change only 'joints'")
+    return {k: str(v) for k, v in given.items()}
+
+
 def design(out: Path) -> dict[str, dict]:
     """The report runs of the study in ``out``: per reward, its seeds and teachers. A study of
     its own (a replication) registers them in ``out/protocol.json`` before its runs; without
@@ -274,19 +263,11 @@ def fmt(x: float, digits: int = 3, sign: bool = False) -> str:
     return f"{x:+.{digits}f}" if sign else f"{x:.{digits}f}"
 
 
-#: Where a policy that drives every joint to its limit (+-pi) leaves the tip, whatever the goal:
-#: with links of a third of the arm, out along pi, back along 2 pi, out again along 3 pi.
-FOLD_TIP = (-TASK["arm_length"] / 3, 0.0)
-
-
-def folded(runs: pd.DataFrame) -> pd.Series:
-    """Whether each run's final policy is the fold: its mean final distance to the test goals is
-    that of the tip held at FOLD_TIP (to 1e-9), which no policy that moves with the goal gives."""
-    fold = float(np.mean(np.linalg.norm(test_goals(arm_reach()) - np.array(FOLD_TIP), axis=1)))
-    return (runs["final_distance"] - fold).abs() < 1e-9
-
-
 def fold_line(runs: pd.DataFrame, teachers: list[str]) -> str:
+    if "final_tip_spread" in runs:
+        blind = runs["final_tip_spread"] < GOAL_BLIND
+        counts = ", ".join(f"{NAMES.get(t, t)} {int(blind[runs['teacher'] == t].sum())}/{int((runs['teacher'] == t).sum())}" for t in teachers)
+        return f"Runs whose final policy ends at one tip whatever the goal (goal-blind; free joints cannot fold): {counts}."
     fold = folded(runs)
     counts = ", ".join(f"{NAMES.get(t, t)} {int(fold[runs['teacher'] == t].sum())}/{int((runs['teacher'] == t).sum())}" for t in teachers)
     return f"Runs whose final policy folds the arm onto its joint limits (the tip at ({FOLD_TIP[0]:.4g}, 0) for every goal): {counts}."
@@ -476,7 +457,8 @@ def main(argv: list[str] | None = None) -> None:
         p.error(f"{a.out / 'curves.csv'} holds {a.reward} runs with budget {sorted(set(clash['budget']))} and threshold {sorted(set(clash['threshold']))}; this call has --steps {a.steps} and threshold {threshold}: the runs would not be comparable. Use another --out.")
     done = set(map(tuple, curves[KEY].drop_duplicates().itertuples(index=False, name=None))) if len(curves) else set()
     code = commit()
-    jobs = [(a.reward, t, s, a.steps, every, threshold, code) for s in seeds for t in teachers if (a.reward, t, s) not in done]
+    joints = task_options(a.out).get("joints", "limited")
+    jobs = [(a.reward, t, s, a.steps, every, threshold, code, *([joints] if joints != "limited" else [])) for s in seeds for t in teachers if (a.reward, t, s) not in done]
     print(f"{len(jobs)} runs to do, {len(seeds) * len(teachers) - len(jobs)} already in {a.out / 'curves.csv'}", file=sys.stderr)
     if a.workers == 1:
         results = map(one_run, jobs)

@@ -367,3 +367,44 @@ except Exception as e:
 
     gc.collect()
     assert in_child().startswith("ran")  # this process let it go
+
+
+def test_free_joints_turn_for_ever_where_limited_ones_fold():
+    """joints="free": an arm with no limit to fold onto. Driving every joint one way folds the
+    limited arm onto its limits, the tip fixed (the deep-RL study's fold); the free arm keeps
+    turning, its angles in [-pi, pi), its tip where its forward kinematics puts it."""
+    import math
+
+    from saggriac.bodies.environments import PlanarArm
+
+    GoalArmEnv = sgym.GoalArmEnv
+    kw = dict(n_joints=3, arm_length=1.0, max_joint_step=0.2, goal_low=(-2.0, -2.0), goal_high=(2.0, 2.0))
+    limited, free = GoalArmEnv(joint_limit=math.pi, **kw), GoalArmEnv(joints="free", **kw)
+    tips = {}
+    for name, env in (("limited", limited), ("free", free)):
+        env.reset(options={"goal": [0.5, 0.0]})
+        seen = []
+        for _ in range(100):
+            obs, *_ = env.step(np.ones(3, np.float32))
+            assert env.observation_space.contains(obs)
+            seen.append(obs["achieved_goal"])
+        tips[name] = np.array(seen)
+    assert np.allclose(tips["limited"][-20:], [-1 / 3, 0.0])
+    assert np.ptp(tips["free"][-20:], axis=0).min() > 0.5  # still sweeping
+    theta = free.step(np.zeros(3, np.float32))[0]["observation"]
+    assert np.all((-math.pi <= theta) & (theta < math.pi))
+    assert np.allclose(free.step(np.zeros(3, np.float32))[0]["achieved_goal"], PlanarArm(n_joints=3, arm_length=1.0).forward(theta))
+    # 100 steps of 0.2 rad: joint 0 has turned 20 rad, wrapped.
+    assert math.isclose(theta[0], math.remainder(20.0, 2 * math.pi), abs_tol=1e-9)
+
+
+def test_free_joints_refuse_a_joint_limit_and_unknown_modes():
+    import math
+
+    from saggriac.errors import ParameterError
+
+    GoalArmEnv = sgym.GoalArmEnv
+    with pytest.raises(ParameterError, match="'joint_limit' parameter of GoalArmEnv must be left unset with joints='free'"):
+        GoalArmEnv(joints="free", joint_limit=math.pi)
+    with pytest.raises(ParameterError, match="'joints' parameter of GoalArmEnv must be one of 'limited', 'free'. Got 'loose'"):
+        GoalArmEnv(joints="loose")

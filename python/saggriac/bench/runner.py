@@ -62,18 +62,29 @@ def run_one(job: Job) -> dict[str, Any]:
     in the teacher's own sample and update), its score curve and the goals asked (thinned,
     :class:`saggriac.bench.goals.GoalLog`).
     A failing teacher raises TeacherError naming the teacher, the task and the seed."""
-    cls = TASKS[job.task]
-    budget = cls.budgets[job.tier]
-    teacher_seed, task_seed = cls.child_seeds(job.seed) if hasattr(cls, "child_seeds") else child_seeds(job.seed)
-    task = cls(task_seed)
-    start = time.perf_counter()
-    with alarm_handler():
-        guard = Guarded(job.teacher, task, teacher_seed, job.timeout, run_seed=job.seed)
-        curve = task.play(guard.ask, guard.tell, budget)
-    seconds = time.perf_counter() - start
+    budget = TASKS[job.task].budgets[job.tier]
+    _task, guard, curve, seconds = play_run(job.task, job.seed, budget, lambda task, teacher_seed: Guarded(job.teacher, task, teacher_seed, job.timeout, run_seed=job.seed))
     scores = [s for _, s in curve]
     row = dict(task=job.task, teacher=job.teacher.label, seed=job.seed, goals=budget, area=float(np.mean(scores)), final=float(scores[-1]), seconds=seconds, teacher_seconds=guard.teacher_seconds, version=_core.__version__)
     return {"row": row, "curve": [[int(t), float(s)] for t, s in curve], "asked": guard.log.thinned()}
+
+
+def play_run(name: str, seed: int, budget: int, guard: Callable[[Any, int], Guarded], points: int | None = None) -> tuple[Any, Guarded, list[tuple[int, float]], float]:
+    """The task ``name`` built for the root seed ``seed`` and played for ``budget`` with the
+    teacher ``guard(task, teacher_seed)`` builds, scored ``points`` times (default: the task's
+    own number): (task, guard, score curve, wall seconds). Every run of the bench and of the
+    evidence runner goes through here, so both derive the same seeds (the task's
+    ``child_seeds`` if it has its own, else :func:`child_seeds`)."""
+    cls = TASKS[name]
+    teacher_seed, task_seed = cls.child_seeds(seed) if hasattr(cls, "child_seeds") else child_seeds(seed)
+    task = cls(task_seed)
+    if points is not None:
+        task.points = int(points)
+    start = time.perf_counter()
+    with alarm_handler():
+        guarded = guard(task, teacher_seed)
+        curve = task.play(guarded.ask, guarded.tell, budget)
+    return task, guarded, curve, time.perf_counter() - start
 
 
 def _write(path: Path, record: dict[str, Any]) -> None:

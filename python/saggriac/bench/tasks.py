@@ -92,6 +92,29 @@ class BenchTask:
     def oracle(self) -> Any:
         raise NotImplementedError
 
+    def oracle_teacher(self, seed: int) -> Any:
+        """The oracle as a teacher of this run (``sample()`` and ``update(goal, competence)``),
+        for the evidence runner's teacher "oracle"; ``seed`` is the run's teacher seed, for an
+        oracle that draws at random. By default it asks :meth:`oracle` and ignores what it is told."""
+        return _AskOracle(self)
+
+    @classmethod
+    def has_oracle(cls) -> bool:
+        """Whether the task's class gives an oracle (overrides oracle or oracle_teacher)."""
+        return cls.oracle is not BenchTask.oracle or cls.oracle_teacher is not BenchTask.oracle_teacher
+
+    def own_measures(self) -> list[dict[str, float]]:
+        """The task's own measures at each point of the score curve of the run just played (one
+        dict per point, the same keys at every point), beside the score: for the evidence runner's
+        tables. None by default (an empty list)."""
+        return []
+
+    @classmethod
+    def notes(cls, runs: Any) -> list[str]:
+        """Lines the evidence runner's results add for this task, from its runs (a DataFrame of
+        runs.csv's rows of the task: teacher, seed, final, area, the own measures at the end)."""
+        return []
+
     def expert_knowledge(self) -> Knowledge | None:
         """What an expert could tell a teacher about this box task, for the bench's expert
         levels (``TEACHER@high``): ``self.knowledge(easy, target)``, with ``easy`` the box where
@@ -123,6 +146,19 @@ class BenchTask:
                 if not curve or curve[-1][0] != t:
                     curve.append((t, self.score()))
         return curve
+
+
+class _AskOracle:
+    """A task's oracle() as a teacher: it is told competences and ignores them."""
+
+    def __init__(self, task: BenchTask) -> None:
+        self.task = task
+
+    def sample(self) -> Any:
+        return self.task.oracle()
+
+    def update(self, goal: Any, competence: float) -> None:
+        return None
 
 
 class Hypercube(BenchTask):

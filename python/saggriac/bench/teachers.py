@@ -37,6 +37,8 @@ from .goals import GoalLog
 
 #: The teacher every other one is compared with (paired by seed).
 REFERENCE = "random"
+#: The name of a task's own oracle as a teacher (:class:`GuardedOracle`; the evidence runner's).
+ORACLE = "oracle"
 #: Seconds one call of a teacher (sample or update) may take before the run is stopped.
 CALL_TIMEOUT = 30.0
 SPACES = ("box", "tasks")
@@ -186,15 +188,7 @@ class Guarded:
     """A teacher built for one task and seed, every call bounded and checked."""
 
     def __init__(self, spec: TeacherSpec, task: Any, seed: int, timeout: float = CALL_TIMEOUT, run_seed: int | None = None) -> None:
-        self.spec, self.task, self.seed, self.timeout = spec, task, seed, timeout
-        # Messages name the run's seed (the bench's), not the teacher's child of it.
-        self.where = f"teacher {spec.label} on task {task.name!r}, seed {seed if run_seed is None else run_seed}"
-        self.calls = 0
-        #: Seconds spent inside the teacher's sample and update (the board's teacher_us_per_goal).
-        self.teacher_seconds = 0.0
-        #: The goals asked, as the task gets them (the figures of goals over time).
-        self.log = GoalLog()
-        self.to_task: Callable[[Any], Any] | None = None
+        self._setup(spec, task, seed, timeout, run_seed)
         cls = spec.load()
         self.tell_map = competence_map(cls, spec.label)
         #: What the teacher is told: "competence" (the default), or a score only some tasks'
@@ -218,6 +212,20 @@ class Guarded:
             self.to_task = lambda g: min(int(np.asarray(g, float).reshape(-1)[0]), n - 1)
             self.tell_map = lambda c: c - 1.0
         self.teacher = self._call("was built", make)
+
+    def _setup(self, spec: TeacherSpec, task: Any, seed: int, timeout: float, run_seed: int | None) -> None:
+        self.spec, self.task, self.seed, self.timeout = spec, task, seed, timeout
+        # Messages name the run's seed (the bench's), not the teacher's child of it.
+        self.where = f"teacher {spec.label} on task {task.name!r}, seed {seed if run_seed is None else run_seed}"
+        self.calls = 0
+        #: Seconds spent inside the teacher's sample and update (the board's teacher_us_per_goal).
+        self.teacher_seconds = 0.0
+        #: The goals asked, as the task gets them (the figures of goals over time).
+        self.log = GoalLog()
+        self.to_task: Callable[[Any], Any] | None = None
+        self.tell_map: Callable[[float], float] = float
+        #: What the teacher is told: "competence", or a score only some tasks' learners have.
+        self.told = "competence"
 
     @staticmethod
     def _expert_params(spec: TeacherSpec, task: Any, run_seed: int) -> dict[str, Any]:
@@ -282,6 +290,18 @@ class Guarded:
         if g.shape != task.low.shape or not np.all(np.isfinite(g)) or np.any(g < task.low) or np.any(g > task.high):
             raise TeacherError(f"The {self.where} asked the goal {raw!r} (call {self.calls}), which is outside the space: the goals are {task.low.size} floats in the box low={task.low.tolist()}, high={task.high.tolist()}.")
         return g
+
+
+class GuardedOracle(Guarded):
+    """The task's own oracle (``task.oracle_teacher(seed)``, :class:`saggriac.bench.tasks.BenchTask`)
+    as the teacher named :data:`ORACLE`, every call bounded and its goals checked as any teacher's.
+    Told competences in [0, 1], as the task gives them."""
+
+    def __init__(self, task: Any, seed: int, timeout: float = CALL_TIMEOUT, run_seed: int | None = None) -> None:
+        self._setup(TeacherSpec(ORACLE), task, seed, timeout, run_seed)
+        if not task.has_oracle():
+            raise TeacherError(f"The {self.where}: the task {task.name!r} has no oracle (its class overrides neither oracle nor oracle_teacher).")
+        self.teacher = self._call("was built", lambda: task.oracle_teacher(seed))
 
 
 @contextmanager

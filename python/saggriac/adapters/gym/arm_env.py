@@ -20,12 +20,13 @@ import gymnasium
 import numpy as np
 from gymnasium import spaces
 
-from ...bodies.environments import PlanarArm, SpatialArm
+from ...bodies.environments import PlanarArm, SpatialArm, joint_step
 from ...errors import InputError, ParameterError
 from ...values import as_numbers
 
 BODIES = {"planar_arm": PlanarArm, "spatial_arm": SpatialArm}
 REWARDS = ("sparse", "dense")
+JOINTS = ("limited", "free")
 # "normalized": actions in [-1, 1], times max_joint_step; "joint": the joint change itself.
 ACTION_SCALES = ("normalized", "joint")
 # reset() options this environment reads; vector environments add "reset_mask" themselves.
@@ -66,7 +67,11 @@ class GoalArmEnv(gymnasium.Env):
     ``goal_low``/``goal_high`` bound the goals (default: the box around the arm's reach);
     a goal is reached within ``distance_threshold`` (default: 1 % of the arm's length).
     ``reward_type="sparse"`` gives -1 until the goal is reached and 0 there; ``"dense"`` gives
-    minus the distance."""
+    minus the distance. ``joints="limited"`` (the default) clips each angle to
+    [-``joint_limit``, ``joint_limit``], as saggriac's arms do; ``"free"`` lets each joint turn
+    for ever, its angle kept in [-pi, pi) (``joint_limit`` is then not used, and must be left
+    unset): an arm with no limit to fold onto, for checking what a deep-RL student's folding onto
+    its limits does to a study (docs/rl_curriculum.md, "the fold")."""
 
     metadata = {"render_modes": ["human", "rgb_array"], "render_fps": 25}
 
@@ -76,7 +81,7 @@ class GoalArmEnv(gymnasium.Env):
         n_joints: int = 15,
         arm_length: float = 50.0,
         link_lengths: Any = None,
-        joint_limit: float = math.pi / 2,
+        joint_limit: float | None = None,
         max_joint_step: float = 0.05,
         goal_low: Any = None,
         goal_high: Any = None,
@@ -84,6 +89,7 @@ class GoalArmEnv(gymnasium.Env):
         reward_type: str = "sparse",
         render_mode: str | None = None,
         action_scale: str = "normalized",
+        joints: str = "limited",
     ) -> None:
         if body not in BODIES:
             raise ParameterError(f"The 'body' parameter of GoalArmEnv must be one of {', '.join(map(repr, BODIES))}. Got {body!r} instead.", "body", repr(body))
@@ -94,7 +100,11 @@ class GoalArmEnv(gymnasium.Env):
             if not lengths or any(isinstance(v, bool) or not isinstance(v, (int, float, np.floating)) or not math.isfinite(v) or v <= 0 for v in lengths):
                 raise ParameterError(f"The 'link_lengths' parameter of GoalArmEnv must be a list of finite floats > 0. Got {link_lengths!r} instead.", "link_lengths", repr(link_lengths))
         arm_length = _positive("arm_length", arm_length)
-        joint_limit = _positive("joint_limit", joint_limit)
+        if joints not in JOINTS:
+            raise ParameterError(f"The 'joints' parameter of GoalArmEnv must be one of {', '.join(map(repr, JOINTS))}. Got {joints!r} instead.", "joints", repr(joints))
+        if joints == "free" and joint_limit is not None:
+            raise ParameterError(f"The 'joint_limit' parameter of GoalArmEnv must be left unset with joints='free' (free joints have no limit; their angles are kept in [-pi, pi)). Got {joint_limit!r} instead.", "joint_limit", repr(joint_limit))
+        joint_limit = math.pi if joints == "free" else (math.pi / 2 if joint_limit is None else _positive("joint_limit", joint_limit))
         if joint_limit > math.pi:
             raise ParameterError(f"The 'joint_limit' parameter of GoalArmEnv must be at most pi. Got {joint_limit!r} instead.", "joint_limit", repr(joint_limit))
         max_joint_step = _positive("max_joint_step", max_joint_step)
@@ -105,6 +115,7 @@ class GoalArmEnv(gymnasium.Env):
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
             raise ParameterError(f"The 'render_mode' parameter of GoalArmEnv must be None, 'human' or 'rgb_array'. Got {render_mode!r} instead.", "render_mode", repr(render_mode))
         self.body = body
+        self.joints = joints
         self.arm = BODIES[body](n_joints=n_joints, arm_length=arm_length, link_lengths=link_lengths, joint_limit=joint_limit, max_joint_step=max_joint_step)
         self.reach = float(sum(self.arm.lengths))
         dim = self.arm.task_dim
@@ -183,7 +194,14 @@ class GoalArmEnv(gymnasium.Env):
             raise InputError(f"GoalArmEnv.step() needs {self.action_space.shape[0]} finite joint changes; got {action!r}.")
         if self.action_scale == "normalized":
             a = a * self.arm.max_joint_step
-        self._theta, self._x = self.arm.step(a)
+        if self.joints == "free":
+            # The arm's own micro-action without its clip, then each angle wrapped into [-pi, pi).
+            theta = joint_step(self._theta, a, self.arm.max_joint_step, math.inf)
+            self._theta = np.mod(theta + math.pi, 2 * math.pi) - math.pi
+            self.arm.theta = self._theta.copy()
+            self._x = self.arm.forward(self._theta)
+        else:
+            self._theta, self._x = self.arm.step(a)
         info = self._info()
         reward = float(self.compute_reward(self._x, self._goal, info))
         terminated = bool(self.compute_terminated(self._x, self._goal, info))
