@@ -162,3 +162,19 @@ def test_grades_at_bar_counts_the_grades_the_student_passes_whatever_the_teacher
         for _ in range(M.ORACLE_WINDOW):
             t.record(level, True)
     assert t.grades_at_bar() == 2 and t.own_measures() == []
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("teacher", ["random", "oracle"])
+def test_the_pilot_script_runs_what_the_evidence_runner_runs(teacher, monkeypatch):
+    """benchmarks/minigrid_pilot.py made the pilot's rows; the study's report runs go through
+    benchmarks/evidence.py. At a small budget both give the same score curve for a pilot seed."""
+    from tests import benchmark_scripts
+
+    pilot = benchmark_scripts.load("minigrid_pilot")
+    evidence = benchmark_scripts.load("evidence")
+    monkeypatch.setattr(pilot, "PILOT_STEPS", 1_600)
+    rows, run = pilot.one_run(teacher, 108)
+    curves, row = evidence.one_run(("rl-minigrid", teacher, 108, 1_600, 10, 30.0, "test"))
+    assert [(r["step"], r["score"]) for r in rows] == [(c["step"], c["score"]) for c in curves]
+    assert run["final"] == row["final"] and 0.0 <= row["final_solved"] <= 1.0
