@@ -75,6 +75,8 @@ class BenchTask:
     points: ClassVar[int] = 20
     #: What the curve's x axis counts.
     unit: ClassVar[str] = "goals"
+    #: What the task can tell a teacher (a teacher's ``told`` must be one; saggriac.bench.teachers).
+    tells: ClassVar[tuple[str, ...]] = ("competence",)
     low: np.ndarray
     high: np.ndarray
     n_tasks: int
