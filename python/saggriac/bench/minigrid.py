@@ -234,6 +234,7 @@ class RlMiniGrid(BenchTask):
     points = 10
     tells: ClassVar[tuple[str, ...]] = TELLS
     budgets = {"quick": None, "standard": 160_000, "full": 160_000}  # the pilot fixed B (docs/evidence/minigrid.md)
+    cpu_per_unit = 0.797e-3  # the pilot's CPU seconds per step (docs/evidence/minigrid.md)
 
     @classmethod
     def child_seeds(cls, seed: int) -> tuple[int, int]:

@@ -231,6 +231,9 @@ class RlArm(BenchTask):
     space = "box"
     reward: ClassVar[str] = "dense"
     algorithm: ClassVar[str] = "ppo"
+    #: PPO's cost on this arm: the second study's runs took 57-63 CPU s per 120,000 steps
+    #: (docs/rl_curriculum.md, "Cost").
+    cpu_per_unit: ClassVar[float | None] = 60.0 / 120_000
     #: GoalArmEnv's joints: "limited" (the studies' arm) or "free" (no limit to fold onto).
     joints: ClassVar[str] = "limited"
     requires = ("stable_baselines3", "the sb3 extra: pip install \"saggriac[sb3]\"")
@@ -321,6 +324,7 @@ class RlArmSparse(RlArm):
 @register
 class RlArmSacDense(RlArm):
     name, reward, algorithm = "rl-arm-sac-dense", "dense", "sac"
+    cpu_per_unit = 3.956e-3  # the SAC study's pilot (docs/evidence/sac.md)
     learner = "SAC (SB3, no HER), 3-joint goal arm, dense reward"
     measures = "whether the deep-RL verdicts are the task's or PPO's: the same task with an off-policy learner that replays its past episodes (docs/evidence/sac.md)"
     budgets = {"quick": None, "standard": 60_000, "full": 120_000}
@@ -329,6 +333,7 @@ class RlArmSacDense(RlArm):
 @register
 class RlArmSacSparse(RlArm):
     name, reward, algorithm = "rl-arm-sac-sparse", "sparse", "sac"
+    cpu_per_unit = 3.956e-3
     learner = "SAC (SB3, no HER), 3-joint goal arm, sparse reward"
     measures = "the same with a sparse reward (does SAC fold the arm as PPO does?)"
     budgets = {"quick": None, "standard": 60_000, "full": 120_000}
