@@ -178,3 +178,13 @@ def test_the_pilot_script_runs_what_the_evidence_runner_runs(teacher, monkeypatc
     curves, row = evidence.one_run(("rl-minigrid", teacher, 108, 1_600, 10, 30.0, "test"))
     assert [(r["step"], r["score"]) for r in rows] == [(c["step"], c["score"]) for c in curves]
     assert run["final"] == row["final"] and 0.0 <= row["final_solved"] <= 1.0
+
+
+def test_the_bench_plans_plr_on_value_loss_only_where_it_can_be_told():
+    from saggriac.bench.runner import plan
+
+    teachers = [parse_teacher("saggriac.bench.value_loss:PlrValueLoss"), parse_teacher("plr")]
+    jobs = plan(teachers, ["2d-cells", "niches-cells", "rl-minigrid"], "standard", [0], 30.0)
+    assert sorted((j.teacher.label, j.task) for j in jobs) == sorted(
+        [("saggriac.bench.value_loss:PlrValueLoss", "rl-minigrid"), ("plr", "2d-cells"), ("plr", "niches-cells"), ("plr", "rl-minigrid")]
+    )

@@ -132,6 +132,12 @@ class TeacherSpec:
             raise ParameterError(f"The 'spaces' attribute of the teacher {self.label} must be a tuple of 'box' and/or 'tasks'. Got {value!r} instead.", "spaces", repr(value))
         return spaces
 
+    @property
+    def told(self) -> str:
+        """What the teacher asks to be told (its class's ``told``): "competence" unless it wants
+        a score only some tasks' learners have (saggriac.bench.value_loss)."""
+        return getattr(self.load(), "told", "competence")
+
     def takes(self, space: str) -> bool:
         """Whether the bench runs this teacher on a task of ``space`` (the reference, random,
         runs on task lists too: uniform over the tasks; expert knowledge is of box tasks)."""
