@@ -9,12 +9,16 @@ seed: the mean gain with its 95 % interval and the verdict, read from a committe
 - the hypercube toys (docs/figures/teachers/toy_tasks_runs.csv, 10 seeds): the area under the
   score curve, paired t-test, Holm over every teacher and space of the toys; helps / hurts when
   the Holm-adjusted p < 0.05, by the sign of the gain;
+- the registered progress-niche study (docs/figures/teachers/niches/comparisons.csv, 20 seeds):
+  its pairs with random on the area, Holm within the study's family (every pair of its
+  teachers, per space), the same rule;
 - the bench's shipped quick results (python/saggriac/bench/results, 5 seeds) for every task but
   the four hypercubes above (the toys have twice the seeds): the area, as the bench's
   leaderboard computes it (Holm over the whole board), the same rule;
 - the registered deep-RL studies (docs/figures/rl_curriculum/comparisons.csv and the evidence
-  studies' comparisons.csv under docs/figures/evidence/): their primary family against random, as
-  each study's decision rule gave it (its own measure, interval and Holm family).
+  studies' comparisons.csv under docs/figures/evidence/, once every report run of a task is
+  in): their primary family against random, as each study's decision rule gave it (its own
+  measure, interval and Holm family).
 
 Written between the guide's markers ``<!-- verdicts -->`` and ``<!-- /verdicts -->``; tests run
 ``--check`` on the committed data, so the guide and the tables cannot drift apart.
@@ -23,6 +27,7 @@ Written between the guide's markers ``<!-- verdicts -->`` and ``<!-- /verdicts -
 from __future__ import annotations
 
 import argparse
+import json
 import sys
 from dataclasses import dataclass
 from pathlib import Path
@@ -84,6 +89,21 @@ def toy_rows() -> tuple[list[Evidence], pd.DataFrame]:
     return cols, table
 
 
+def niches_rows() -> tuple[list[Evidence], pd.DataFrame]:
+    """The registered niche study's pairs with random (the area, its own Holm family per space and
+    measure), read from its comparisons; the extra rows are left out."""
+    comp = pd.read_csv(REPO / "docs" / "figures" / "teachers" / "niches" / "comparisons.csv")
+    comp = comp[(comp.family == "registered") & (comp.metric == "auc") & ((comp.a == "random") | (comp.b == "random"))]
+    rows = []
+    for r in comp.itertuples():
+        flip = r.a == "random"  # the difference as teacher minus random
+        rows.append(dict(key=f"niches:{r.distractors}", teacher=r.b if flip else r.a, n=r.n, gain=-r.mean_diff if flip else r.mean_diff,
+                         ci_low=-r.ci_high if flip else r.ci_low, ci_high=-r.ci_low if flip else r.ci_high, p_holm=r.p_holm))
+    spaces = sorted(set(comp.distractors))
+    cols = [Evidence(f"niches:{d}", f"progress niches, {d} distractors", "niches opened by practice, noisy and impossible cells", "area", "docs/figures/teachers/niches/comparisons.csv") for d in spaces]
+    return cols, pd.DataFrame(rows)
+
+
 def bench_rows() -> tuple[list[Evidence], pd.DataFrame]:
     ship = shipped.load("quick")
     if ship is None:
@@ -108,9 +128,42 @@ def study_rows(path: Path, label: str, learner: str, note: str = "") -> tuple[li
     return cols, table
 
 
+def shown(path: Path) -> str:
+    """A table's path as the guide names it: from the repository's root."""
+    return path.relative_to(REPO).as_posix() if path.is_relative_to(REPO) else str(path)
+
+
+def seed_count(text: str) -> int:
+    """How many seeds a protocol's "a-b,c" names."""
+    return sum(int(b or a) - int(a) + 1 for a, _, b in (part.partition("-") for part in str(text).split(",")))
+
+
+def evidence_rows(folder: Path = REPO / "docs" / "figures" / "evidence") -> tuple[list[Evidence], pd.DataFrame]:
+    """Every registered study of benchmarks/evidence.py whose report is complete: per task, its
+    teachers against the baseline, as the study's own rule decided (its comparisons.csv). A study
+    still running has no column yet: its numbers decide nothing until every run is in."""
+    cols, parts = [], []
+    for protocol in sorted(folder.glob("*/protocol.json")):
+        comp_path = protocol.parent / "comparisons.csv"
+        if not comp_path.exists():
+            continue
+        p = json.loads(protocol.read_text())
+        comp = pd.read_csv(comp_path)
+        comp = comp[comp.family == "against the baseline"]
+        for task in p["tasks"]:
+            mine = comp[comp.task == task]
+            if mine.empty or int(mine.seeds.iloc[0]) < seed_count(p["report"][task]):
+                continue
+            key = f"{p['study']}:{task}"
+            cls = TASKS.get(task)
+            cols.append(Evidence(key, f"{p['study']} study, `{task}`", cls.learner if cls else task, str(p["rule"]["primary"]), shown(comp_path)))
+            parts.append(pd.DataFrame(dict(key=key, teacher=mine.a, n=mine.seeds, gain=mine.gain, ci_low=mine.ci_low, ci_high=mine.ci_high, p_holm=mine.p_holm, verdict=mine.verdict)))
+    return cols, (pd.concat(parts, ignore_index=True) if parts else pd.DataFrame())
+
+
 def gather() -> tuple[list[Evidence], pd.DataFrame]:
-    parts = [toy_rows(), bench_rows(), study_rows(REPO / "docs" / "figures" / "rl_curriculum" / "comparisons.csv", "goal arm", "PPO"),
-             study_rows(REPO / "docs" / "figures" / "rl_curriculum" / "replication" / "comparisons.csv", "goal arm", "PPO", " (replication)")]
+    parts = [toy_rows(), niches_rows(), bench_rows(), study_rows(REPO / "docs" / "figures" / "rl_curriculum" / "comparisons.csv", "goal arm", "PPO"),
+             study_rows(REPO / "docs" / "figures" / "rl_curriculum" / "replication" / "comparisons.csv", "goal arm", "PPO", " (replication)"), evidence_rows()]
     cols = [c for p in parts for c in p[0]]
     table = pd.concat([p[1] for p in parts if not p[1].empty], ignore_index=True)
     if "verdict" not in table:
@@ -124,11 +177,21 @@ def _cell(r: pd.Series) -> str:
     return f"{r.gain:+.3f} [{r.ci_low:+.3f}, {r.ci_high:+.3f}] {MARK[r.verdict]}"
 
 
+def label(c: Evidence) -> str:
+    """A column's short name in the table's header."""
+    kind, name = c.key.split(":", 1)
+    if kind == "niches":
+        return f"niches study, {name} distractors"
+    if kind in ("toy", "bench") or "study" in c.task:
+        return name
+    return f"{kind}, {name}"
+
+
 def render(cols: list[Evidence], table: pd.DataFrame) -> str:
     teachers = [t for t in NAMES if t in set(table.teacher)] + sorted(set(table.teacher) - set(NAMES))
     lines = [START, "", "*Generated by `python benchmarks/guide.py` from the committed tables named below; do not edit by hand.*", "",
              "Each teacher against the random teacher on the same seeds: ↑ helps, ↓ hurts (Holm-adjusted p < 0.05, by the gain's sign), · no difference shown, blank: not run there.", ""]
-    header = "| teacher | " + " | ".join(c.key.split(":", 1)[1] if c.key.startswith(("toy", "bench")) else c.key.replace(":", ", ") for c in cols) + " |"
+    header = "| teacher | " + " | ".join(label(c) for c in cols) + " |"
     lines += [header, "|---|" + "---|" * len(cols)]
     by = table.set_index(["teacher", "key"])
     for t in teachers:

@@ -40,7 +40,7 @@ import pandas as pd
 from tqdm import tqdm
 
 from saggriac.bench.oracle import OracleTeacher
-from saggriac.bench.rl import ARM, FOLD_TIP, N_ENVS, THRESHOLDS, arm_config, arm_reach, evaluate, folded, make_env, run_seeds, test_goals, train  # noqa: F401 (make_env: the study's environment, for its tests; FOLD_TIP and folded: the fold, shared with the evidence runner)
+from saggriac.bench.rl import ARM, FOLD_TIP, GOAL_BLIND, N_ENVS, THRESHOLDS, arm_config, arm_reach, evaluate, folded, make_env, run_seeds, test_goals, train  # noqa: F401 (make_env: the study's environment, for its tests; FOLD_TIP and folded: the fold, shared with the evidence runner)
 
 REPO = Path(__file__).resolve().parents[1]
 OUT = REPO / "docs" / "figures" / "rl_curriculum"
@@ -97,9 +97,12 @@ def commit() -> str:
         return "unknown"
 
 
-def one_run(job: tuple[str, str, int, int, int, float, str]) -> list[dict]:
-    """One run: its scorings as rows of curves.csv."""
-    reward, name, seed, steps, every, threshold, code = job
+def one_run(job: tuple) -> list[dict]:
+    """One run: its scorings as rows of curves.csv. ``job``: (reward, teacher, seed, steps, every,
+    threshold, commit[, joints]); with free joints (a protocol's task option) each scoring also
+    records ``tip_spread`` (:func:`saggriac.bench.rl.evaluate`)."""
+    reward, name, seed, steps, every, threshold, code, *rest = job
+    joints = rest[0] if rest else "limited"
     reach = arm_reach()
     goals = test_goals(reach)
     rows: list[dict] = []
@@ -108,11 +111,14 @@ def one_run(job: tuple[str, str, int, int, int, float, str]) -> list[dict]:
     def score(step: int, model, teacher) -> None:
         told = [g for g, _ in teacher.history]
         recent = np.array(told[-200:]) if told else np.zeros((0, 2))
-        success, distance = evaluate(model, goals, reward, threshold)
+        extra: dict[str, float] = {}
+        success, distance = evaluate(model, goals, reward, threshold, joints, extra)
         share = float(np.mean(np.linalg.norm(recent, axis=1) <= reach)) if len(recent) else float("nan")
-        rows.append(dict(reward=reward, teacher=name, seed=seed, budget=steps, threshold=threshold, step=step, success=success, distance=distance, episodes=len(told), reachable_share=share, seconds=time.perf_counter() - start, cpu_seconds=time.process_time() - cpu, commit=code))
+        # The limited arm's rows keep the second study's columns; the free arm's add its spread.
+        spread = {} if joints == "limited" else dict(joints=joints, tip_spread=extra["tip_spread"])
+        rows.append(dict(reward=reward, teacher=name, seed=seed, budget=steps, threshold=threshold, step=step, success=success, distance=distance, episodes=len(told), reachable_share=share, **spread, seconds=time.perf_counter() - start, cpu_seconds=time.process_time() - cpu, commit=code))
 
-    train(reward, threshold, make_teacher(name, run_seeds(seed)[2]), seed, steps, every, score)
+    train(reward, threshold, make_teacher(name, run_seeds(seed)[2]), seed, steps, every, score, joints=joints)
     if rows[-1]["step"] != steps:
         raise RuntimeError(f"run {reward}/{name}/{seed}: the last scoring was at step {rows[-1]['step']}, not at the budget {steps}")
     return rows
@@ -137,6 +143,7 @@ def runs_table(curves: pd.DataFrame) -> pd.DataFrame:
             start_success=at.loc[0, "success"], start_distance=at.loc[0, "distance"],
             reachable_share=trained["reachable_share"].mean(), final_reachable_share=final["reachable_share"], episodes=int(final["episodes"]),
             budget=budget, threshold=final["threshold"], seconds=final["seconds"], cpu_seconds=final["cpu_seconds"], commit=final["commit"],
+            **({"final_tip_spread": final["tip_spread"]} if "tip_spread" in c else {}),
         ))
     return pd.DataFrame(rows)
 
@@ -208,6 +215,19 @@ def flattening(curves: pd.DataFrame, reward: str, seeds: list[int]) -> dict | No
     return dict(step=earlier, budget=budget, **paired(w[budget].to_numpy(), w[earlier].to_numpy()))
 
 
+def task_options(out: Path) -> dict[str, str]:
+    """The task's changes a study registers in ``out/protocol.json`` ("task": {"joints": "free"});
+    none for the second study and its replication."""
+    import json
+
+    path = out / "protocol.json"
+    given = json.loads(path.read_text()).get("task", {}) if path.exists() else {}
+    unknown = sorted(set(given) - {"joints"})
+    if unknown:
+        raise SystemExit(f"{path}: the task options {unknown} are unknown; a protocol may change only 'joints'")
+    return {k: str(v) for k, v in given.items()}
+
+
 def design(out: Path) -> dict[str, dict]:
     """The report runs of the study in ``out``: per reward, its seeds and teachers. A study of
     its own (a replication) registers them in ``out/protocol.json`` before its runs; without
@@ -244,6 +264,10 @@ def fmt(x: float, digits: int = 3, sign: bool = False) -> str:
 
 
 def fold_line(runs: pd.DataFrame, teachers: list[str]) -> str:
+    if "final_tip_spread" in runs:
+        blind = runs["final_tip_spread"] < GOAL_BLIND
+        counts = ", ".join(f"{NAMES.get(t, t)} {int(blind[runs['teacher'] == t].sum())}/{int((runs['teacher'] == t).sum())}" for t in teachers)
+        return f"Runs whose final policy ends at one tip whatever the goal (goal-blind; free joints cannot fold): {counts}."
     fold = folded(runs)
     counts = ", ".join(f"{NAMES.get(t, t)} {int(fold[runs['teacher'] == t].sum())}/{int((runs['teacher'] == t).sum())}" for t in teachers)
     return f"Runs whose final policy folds the arm onto its joint limits (the tip at ({FOLD_TIP[0]:.4g}, 0) for every goal): {counts}."
@@ -433,7 +457,8 @@ def main(argv: list[str] | None = None) -> None:
         p.error(f"{a.out / 'curves.csv'} holds {a.reward} runs with budget {sorted(set(clash['budget']))} and threshold {sorted(set(clash['threshold']))}; this call has --steps {a.steps} and threshold {threshold}: the runs would not be comparable. Use another --out.")
     done = set(map(tuple, curves[KEY].drop_duplicates().itertuples(index=False, name=None))) if len(curves) else set()
     code = commit()
-    jobs = [(a.reward, t, s, a.steps, every, threshold, code) for s in seeds for t in teachers if (a.reward, t, s) not in done]
+    joints = task_options(a.out).get("joints", "limited")
+    jobs = [(a.reward, t, s, a.steps, every, threshold, code, *([joints] if joints != "limited" else [])) for s in seeds for t in teachers if (a.reward, t, s) not in done]
     print(f"{len(jobs)} runs to do, {len(seeds) * len(teachers) - len(jobs)} already in {a.out / 'curves.csv'}", file=sys.stderr)
     if a.workers == 1:
         results = map(one_run, jobs)

@@ -10,7 +10,8 @@ generator (two children of SeedSequence(s)), so runs with the same seed are pair
 
 Writes to ``--out``: ``runs.csv`` (one row per run), ``curves.csv`` (the score every ``--every``
 updates), ``comparisons.csv`` (every pair of teachers, paired t-tests, Holm within a space and a
-metric), ``results.md`` and ``niches.png``. The decision rule is the one of docs/teachers.md.
+metric), ``results.md`` and ``niches.png``; ``--report-only`` rebuilds the last three from the
+first two. The decision rule is the one of docs/teachers.md.
 
 ``--extra sagg_riac_w`` adds SAGG-RIAC with saggriac 0.2's reading of eq. 2 (a region holding
 fewer than zeta measurements divided by its own count, ``interest_divisor="window"``) as a row
@@ -209,7 +210,16 @@ def main() -> None:
     p.add_argument("--teachers", nargs="+", default=list(TEACHERS), choices=TEACHERS)
     p.add_argument("--extra", nargs="*", default=[], choices=EXTRA, help="teachers added as rows for comparison, outside the decision rule")
     p.add_argument("--workers", type=int, default=2)
+    p.add_argument("--report-only", action="store_true", help="rebuild comparisons.csv, results.md and niches.png from --out's runs.csv and curves.csv, running nothing (seeds, updates, distractors and extra rows read from the runs)")
     args = p.parse_args()
+    if args.report_only:
+        runs = pd.read_csv(args.out / "runs.csv")
+        curves_df = pd.read_csv(args.out / "curves.csv")
+        args.seeds, args.updates = runs.seed.nunique(), int(curves_df["update"].max())
+        args.distractors = sorted(runs.distractors.unique().tolist())
+        args.extra = [t for t in EXTRA if t in set(runs.teacher)]
+        write_report(runs, curves_df, args)
+        return
     if args.seeds < 2 or args.updates < args.every or args.every < 1:
         p.error("--seeds must be >= 2 and --updates >= --every >= 1")
     args.out.mkdir(parents=True, exist_ok=True)
@@ -224,9 +234,13 @@ def main() -> None:
             curves += curve
     runs = pd.DataFrame(rows).sort_values(["distractors", "teacher", "seed"]).reset_index(drop=True)
     curves_df = pd.DataFrame(curves).sort_values(["distractors", "teacher", "seed", "update"]).reset_index(drop=True)
-    comps = compare(runs)
     runs.to_csv(args.out / "runs.csv", index=False)
     curves_df.to_csv(args.out / "curves.csv", index=False)
+    write_report(runs, curves_df, args)
+
+
+def write_report(runs: pd.DataFrame, curves_df: pd.DataFrame, args: argparse.Namespace) -> None:
+    comps = compare(runs)
     comps.to_csv(args.out / "comparisons.csv", index=False)
     text = report(runs, comps, args)
     (args.out / "results.md").write_text(text)

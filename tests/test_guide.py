@@ -34,3 +34,22 @@ def test_the_verdict_rule_and_a_drifted_guide_is_caught(guide, tmp_path, monkeyp
     assert "differs from the committed tables; run python benchmarks/guide.py" in capsys.readouterr().err
     # Rewriting it puts the number back, and the rest of the page is left as it was.
     assert guide.main([]) == 0 and edited.read_text() == text
+
+
+def test_an_evidence_study_joins_the_table_once_its_report_is_complete(guide, tmp_path):
+    import json
+
+    import pandas as pd
+
+    study = tmp_path / "mystudy"
+    study.mkdir()
+    (study / "protocol.json").write_text(json.dumps({"study": "mystudy", "tasks": ["rl-arm-dense"], "report": {"rl-arm-dense": "900-902,910"}, "rule": {"primary": "final"}}))
+    rows = [dict(family="against the baseline", a="spdl", b="random", gain=0.2, ci_low=0.1, ci_high=0.3, p_holm=0.01, verdict="helps", task="rl-arm-dense", seeds=4),
+            dict(family="against the oracle", a="spdl", b="oracle", gain=-0.1, ci_low=-0.2, ci_high=0.0, p_holm=0.2, verdict="no difference shown", task="rl-arm-dense", seeds=4)]
+    pd.DataFrame(rows).to_csv(study / "comparisons.csv", index=False)
+    cols, table = guide.evidence_rows(tmp_path)
+    assert [c.key for c in cols] == ["mystudy:rl-arm-dense"] and cols[0].learner.startswith("PPO")
+    assert table.to_dict("records") == [dict(key="mystudy:rl-arm-dense", teacher="spdl", n=4, gain=0.2, ci_low=0.1, ci_high=0.3, p_holm=0.01, verdict="helps")]
+    # Three of the four report seeds done: interim, no column.
+    pd.DataFrame([{**r, "seeds": 3} for r in rows]).to_csv(study / "comparisons.csv", index=False)
+    assert guide.evidence_rows(tmp_path)[0] == []

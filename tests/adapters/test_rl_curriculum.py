@@ -168,3 +168,25 @@ def test_a_study_of_its_own_registers_its_seeds_and_teachers_in_protocol_json(tm
         want = 3 * (len(range(int(seeds[:3]), int(seeds[-3:]) + 1)))
         assert f"- dense: 6 of the protocol's {want} runs done (random, spdl, alp_gmm x seeds {seeds}" in text
         assert ("**Interim" in text) == interim
+
+
+def test_a_protocol_with_free_joints_runs_them_and_counts_goal_blind_policies(tmp_path):
+    """The free-joint check's protocol changes the arm (task.joints = "free"): its runs record
+    the spread of the final tips, --analyse counts the goal-blind policies instead of the fold,
+    and a protocol naming any other task option is refused."""
+    import json
+
+    out = tmp_path / "free"
+    out.mkdir()
+    (out / "protocol.json").write_text(json.dumps({"task": {"joints": "free"}, "report": {"sparse": {"seeds": "9", "teachers": ["random"]}}}))
+    done = run("--out", out, "--reward", "sparse", "--steps", 8192, "--every", 4096, "--teachers", "random")
+    assert done.returncode == 0, done.stderr[-3000:]
+    curves = pd.read_csv(out / "curves.csv")
+    assert (curves["joints"] == "free").all() and (curves["tip_spread"] >= 0).all()
+    runs = pd.read_csv(out / "runs.csv")
+    assert runs["final_tip_spread"].iloc[0] == curves["tip_spread"].iloc[-1]
+    blind = int(runs["final_tip_spread"].iloc[0] < 1e-6)
+    assert f"(goal-blind; free joints cannot fold): random {blind}/1." in (out / "results.md").read_text()
+    (out / "protocol.json").write_text(json.dumps({"task": {"joints": "free", "links": 4}, "report": {"sparse": {"seeds": "9", "teachers": ["random"]}}}))
+    bad = run("--out", out, "--reward", "sparse", "--steps", 8192, "--every", 4096, "--teachers", "random")
+    assert bad.returncode != 0 and "the task options ['links'] are unknown" in bad.stderr

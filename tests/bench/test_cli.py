@@ -11,7 +11,20 @@ def test_list_prints_every_task_with_its_budgets_and_every_teacher(capsys):
     for name, cls in TASKS.items():
         line = next(ln for ln in out.splitlines() if ln.split() and ln.split()[0] == name)
         assert cls.space in line and all(("-" if b is None else f"{b:,}") in line.split(cls.learner)[1] for b in cls.budgets.values())
-    assert all(t in out for t in available()) and "quick tier, one box teacher, all tasks: about" in out
+    assert all(t in out for t in available())
+    # Each tier's CPU hours, for one box teacher and every built-in one, from the shipped runs'
+    # seconds (measured in quick, scaled by the budget in the others).
+    from saggriac.bench.command import run_seconds, tier_hours
+
+    seconds = run_seconds()
+    quick_one = sum(s for n, (s, measured) in seconds["quick"].items() if TASKS[n].space == "box") * 5 / 3600
+    assert all(measured for _, measured in seconds["quick"].values()) and tier_hours(seconds["quick"], "quick")[0] == quick_one
+    for tier in ("quick", "standard", "full"):
+        one, every = tier_hours(seconds[tier], tier)
+        assert f"  {tier} (" in out and f"one box teacher about {one:.2g} CPU h, every built-in teacher about {every:.2g} CPU h" in out and every > one > 0
+    # A deep-RL task, in no shipped tier, is estimated from its study's measured cost per step.
+    s, measured = seconds["full"]["rl-arm-dense"]
+    assert not measured and s == TASKS["rl-arm-dense"].budgets["full"] * TASKS["rl-arm-dense"].cpu_per_unit
     # The teachers given expert knowledge, at TeachMyAgent's levels.
     assert "with expert knowledge (box tasks, TeachMyAgent's levels; docs/bench.md): adr@low, adr@high, spdl@low, spdl@high, goal_gan@low, goal_gan@high" in out
 

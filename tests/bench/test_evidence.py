@@ -162,7 +162,7 @@ def test_the_analysis_is_the_hand_computation_on_a_small_table(tmp_path):
     base = table[table["family"] == "against the baseline"].set_index("a")
     (go, lo_o, hi_o, po), (gr, lo_r, hi_r, pr) = hand("oracle", "random"), hand("riac", "random")
     assert base.loc["oracle", "gain"] == pytest.approx(go) and base.loc["oracle", "ci_low"] == pytest.approx(lo_o) and base.loc["oracle", "ci_high"] == pytest.approx(hi_o)
-    assert base.loc["riac", "gain"] == pytest.approx(gr) and base.loc["riac", "ci_high"] == pytest.approx(hi_r)
+    assert base.loc["riac", "gain"] == pytest.approx(gr) and base.loc["riac", "ci_low"] == pytest.approx(lo_r) and base.loc["riac", "ci_high"] == pytest.approx(hi_r)
     # Holm over two: the smaller p times 2, the larger times 1 (but not below the first).
     small, large = sorted([po, pr])
     holm = {small: min(1.0, 2 * small), large: max(min(1.0, 2 * small), large)}

@@ -15,7 +15,7 @@ if os.environ.get("SAGGRIAC_REQUIRE_EXTRAS") != "1":
     pytest.importorskip("stable_baselines3", reason='the SB3 extra is not installed (pip install "saggriac[sb3]")')
 
 from saggriac.bench import TASKS, maze  # noqa: E402
-from saggriac.bench.rl import train_goals  # noqa: E402
+from saggriac.bench.rl import train_learner  # noqa: E402
 from saggriac.errors import ConformanceError  # noqa: E402
 
 MAPS = {"rl-pointmaze-umaze": "umaze", "rl-pointmaze-medium": "medium"}
@@ -118,7 +118,7 @@ def test_pointmaze_ignores_options_goal_and_training_refuses_it(name):
             raise AssertionError("told a competence for a goal never pursued")
 
     with pytest.raises(ConformanceError, match="does not take goals that way"):
-        train_goals(lambda: maze.make_env(name, goal_via="options"), lambda info: 0.0, Fixed(), 0, 4 * maze.EPISODE_STEPS[name] + 40, 10**9, lambda *a: None)
+        train_learner(lambda: maze.make_env(name, goal_via="options"), lambda info: 0.0, Fixed(), 0, 4 * maze.EPISODE_STEPS[name] + 40, 10**9, lambda *a: None)
     assert asked
 
 

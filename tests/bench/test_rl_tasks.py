@@ -150,3 +150,20 @@ def test_the_oracle_of_the_arm_gives_the_studys_oracle_run(reward):
     assert [s for _, s in curve] == [-r["distance"] for r in rows[1:]]
     np.testing.assert_array_equal([m["reachable_share"] for m in task.own_measures()], [r["reachable_share"] for r in rows[1:]])  # NaN before any episode is told
     assert guard.spec.label == "oracle"
+
+
+def test_the_free_joint_arm_gives_the_free_joint_studys_run():
+    """rl-arm-free-sparse is the sparse arm with free joints: its random run is the one the
+    free-joint check's script makes (rl_curriculum.py with the protocol's joints="free"), with
+    the spread of the final tips among its measures."""
+    _sb3()
+    from saggriac.bench.runner import play_run
+    from saggriac.bench.teachers import Guarded
+
+    task, guard, curve, _ = play_run("rl-arm-free-sparse", 7, 1_200, lambda t, s: Guarded(TeacherSpec("random"), t, s, run_seed=7), points=10)
+    study = benchmark_scripts.load("rl_curriculum")
+    rows = study.one_run(("sparse", "random", 7, 1_200, 120, study.THRESHOLDS["sparse"], "test", "free"))
+    assert [s for _, s in curve] == [-r["distance"] for r in rows[1:]]
+    assert [m["tip_spread"] for m in task.own_measures()] == [r["tip_spread"] for r in rows[1:]]
+    limited = study.one_run(("sparse", "random", 7, 1_200, 120, study.THRESHOLDS["sparse"], "test"))
+    assert [r["distance"] for r in limited] != [r["distance"] for r in rows] and "tip_spread" not in limited[0]

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import math
 import os
 import sys
 from pathlib import Path
@@ -37,24 +38,50 @@ def add_arguments(b: argparse.ArgumentParser) -> None:
     b.add_argument("--no-progress", action="store_true", help="no progress bar")
 
 
-def expected_seconds(tier: str) -> dict[str, float]:
-    """Per task, the mean seconds of one run over the shipped built-in teachers' runs (measured)."""
-    ship = shipped.load(tier) or shipped.load("quick")
-    if ship is None:
-        return {}
-    return ship[0].groupby("task").seconds.mean().to_dict()
+def run_seconds() -> dict[str, dict[str, tuple[float, bool]]]:
+    """Per tier and task in it, the seconds of one run and whether they were measured: the tier's
+    shipped runs' mean where they ship; else an estimate, the quick tier's measured mean scaled by
+    the budget, or the task's ``cpu_per_unit`` (measured by its study's pilot) times its budget
+    (NaN where neither exists)."""
+    measured = {tier: (lambda ship: {} if ship is None else ship[0].groupby("task").seconds.mean().to_dict())(shipped.load(tier)) for tier in TIERS}
+    out: dict[str, dict[str, tuple[float, bool]]] = {}
+    for tier in TIERS:
+        out[tier] = {}
+        for name, cls in TASKS.items():
+            budget = cls.budgets[tier]
+            if budget is None:
+                continue
+            if name in measured[tier]:
+                out[tier][name] = (float(measured[tier][name]), True)
+            elif name in measured["quick"] and cls.budgets["quick"]:
+                out[tier][name] = (float(measured["quick"][name]) * budget / cls.budgets["quick"], False)
+            else:
+                out[tier][name] = (budget * cls.cpu_per_unit if cls.cpu_per_unit else math.nan, False)
+    return out
+
+
+def tier_hours(seconds: dict[str, tuple[float, bool]], tier: str) -> tuple[float, float]:
+    """CPU hours of ``tier`` for one box teacher on its box tasks, and for every built-in teacher
+    (each on the tasks of its spaces, the expert variants on the tasks that declare knowledge)."""
+    one = sum(s for name, (s, _) in seconds.items() if TASKS[name].space == "box" and not math.isnan(s)) * TIERS[tier] / 3600
+    specs = builtin_specs(True)
+    every = sum(s * sum(1 for spec in specs if spec.takes(TASKS[name].space) and (not spec.level or TASKS[name].declares_knowledge())) for name, (s, _) in seconds.items() if not math.isnan(s))
+    return one, every * TIERS[tier] / 3600
 
 
 def listing() -> str:
     rows = []
-    times = {tier: expected_seconds(tier) for tier in TIERS}
+    seconds = run_seconds()
     for name, cls in TASKS.items():
         row: dict[str, Any] = dict(task=name, space=cls.space, learner=cls.learner)
         for tier in TIERS:
             budget = cls.budgets[tier]
             row[f"{tier} ({TIERS[tier]} seeds)"] = "-" if budget is None else f"{budget:,} {cls.unit}"
-        s = times["quick"].get(name)
-        row["s/run (quick, measured)"] = "" if s is None else f"{s:.2f}"
+        cells = []
+        for tier in TIERS:
+            s, measured = seconds[tier].get(name, (None, True))
+            cells.append("-" if s is None else "?" if math.isnan(s) else f"{'' if measured else '~'}{s:.3g}")
+        row["s/run: quick / standard / full"] = " / ".join(cells)
         rows.append(row)
     table = pd.DataFrame(rows).to_string(index=False)
     names = ", ".join(f"{n} ({'/'.join(c.spaces)})" for n, c in available().items())
@@ -62,10 +89,16 @@ def listing() -> str:
     expert = (f"\nwith expert knowledge (box tasks, TeachMyAgent's levels; docs/bench.md): {variants}\n"
               f"  {', '.join(BUILTIN)} without a level: no knowledge (their defaults); @{LEVELS[0]}: a start drawn at random in the box, the whole box as target; "
               f"@{LEVELS[1]}: the easy region and the target each task declares (--no-expert leaves them out)")
-    total = sum(times["quick"].get(n, 0.0) for n, c in TASKS.items()) * TIERS["quick"]
+    hours = []
+    for tier in TIERS:
+        one, every = tier_hours(seconds[tier], tier)
+        unknown = [n for n, (s, _) in seconds[tier].items() if math.isnan(s)]
+        hours.append(f"  {tier} ({TIERS[tier]} seeds): one box teacher about {one:.2g} CPU h, every built-in teacher about {every:.2g} CPU h" + (f" (without {', '.join(unknown)}: no measure yet)" if unknown else ""))
     needs = [f"{n} needs {missing_extra(n)}" for n in TASKS if missing_extra(n) is not None]
     missing = f"\nnot installed: {'; '.join(needs)} (left out of the bench until it is)" if needs else ""
-    return f"{table}\n\n'-': not in that tier (deep RL is not in the quick tier)\nbuilt-in teachers: {names}{expert}\nquick tier, one box teacher, all tasks: about {total:.0f} s of CPU (the shipped runs' mean seconds per run x {TIERS['quick']} seeds){missing}"
+    return (f"{table}\n\n'-': not in that tier (deep RL is not in the quick tier). s/run: the shipped runs' mean seconds per run where they ship; "
+            f"'~' an estimate (the quick tier's scaled by the budget, or the CPU seconds per step its study's pilot measured)\nbuilt-in teachers: {names}{expert}\n"
+            f"all tasks of a tier, all installed or not:\n" + "\n".join(hours) + missing)
 
 
 def _teacher_params(pairs: list[str], parse_value: Any) -> dict[str, Any]:

@@ -1,4 +1,4 @@
-"""Each teacher's goals over time: what a run's teacher asked, kept thinned (:class:`GoalLog`), as a
+"""Each teacher's goals over time: what a run's teacher asked, kept thinned (:class:`saggriac.bench.goal_log.GoalLog`), as a
 long table (:func:`goals_table`) and as one figure per task (:func:`goals_figures`), the goals of
 each teacher on its first seed coloured by when they were asked."""
 
@@ -7,36 +7,11 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any, Iterable
 
-import numpy as np
 import pandas as pd
 
 from .tasks import TASKS
 
-#: Goals kept per run: enough to see where a teacher looks and how that moves, few enough that a
-#: run's file stays small.
-KEPT = 200
 COLUMNS = ["task", "teacher", "seed", "call", "dim", "value"]
-
-
-class GoalLog:
-    """The goals asked in one run, in order (a box's goal as its floats, a task list's as its
-    index)."""
-
-    def __init__(self) -> None:
-        self._goals: list[list[float]] = []
-
-    def add(self, goal: Any) -> None:
-        self._goals.append([float(v) for v in np.asarray(goal, float).reshape(-1)])
-
-    def __len__(self) -> int:
-        return len(self._goals)
-
-    def thinned(self, kept: int = KEPT) -> list[list[float]]:
-        """At most ``kept`` goals evenly spaced over the run, first and last included, each as
-        [call, *goal] with call counted from 1."""
-        n = len(self._goals)
-        picks = range(n) if n <= kept else np.unique(np.linspace(0, n - 1, kept).round().astype(int))
-        return [[float(i + 1), *self._goals[i]] for i in picks]
 
 
 def goals_table(records: Iterable[dict[str, Any]]) -> pd.DataFrame:
@@ -60,7 +35,7 @@ def goals_figures(goals: pd.DataFrame, folder: Path) -> list[Path]:
     against the call."""
     from matplotlib.figure import Figure
 
-    from .report import _tight, short
+    from .report import tight, short
 
     goals = first_seed(goals)
     folder.mkdir(parents=True, exist_ok=True)
@@ -90,7 +65,7 @@ def goals_figures(goals: pd.DataFrame, folder: Path) -> list[Path]:
             ax.set_visible(False)
         space = "" if cls is None else (f"dimensions 1-2 of {dims}" if cls.space == "box" and dims >= 2 else ("goal against call" if cls.space == "box" else "task index against call"))
         fig.suptitle(f"{task}: goals asked, first seed, early (dark) to late (yellow); {space}", fontsize=9)
-        _tight(fig, rect=(0, 0, 1, 0.95))
+        tight(fig, rect=(0, 0, 1, 0.95))
         path = folder / f"{task}.png"
         fig.savefig(path, dpi=80)
         written.append(path)

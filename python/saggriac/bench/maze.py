@@ -3,7 +3,7 @@
 Gymnasium-Robotics' PointMaze (after D4RL's maze2d; Fu et al. 2020) is a ball of radius 0.1
 pushed by a force in a maze of unit cells. The teacher chooses the goal of every training
 episode of Stable-Baselines3's PPO (its defaults, 4 environments in one process, one torch
-thread, the code of :func:`saggriac.bench.rl.train_goals`) in the goal box spanned by the centres
+thread, the code of :func:`saggriac.bench.rl.train_learner`) in the goal box spanned by the centres
 of the maze's free cells. Part of that box is wall: a goal deep in a wall can be asked and never
 reached, and the reachable set (the free cells, less the ball's radius along the walls) is not
 convex. The episode starts in a fixed cell (the map's ``"r"``), with PointMaze's noise of a
@@ -32,7 +32,7 @@ from typing import Any, Callable, ClassVar
 import numpy as np
 
 from .expert import Knowledge
-from .rl import run_seeds, train_goals
+from .rl import run_seeds, train_learner
 from .tasks import BenchTask, register
 
 #: The maps: Gymnasium-Robotics' U_MAZE and MEDIUM_MAZE (1 a wall, 0 free) with the start cell
@@ -203,6 +203,9 @@ class MazeTask(BenchTask):
     #: Set by the registered pilot's rules (docs/evidence/pointmaze.md): the study's budget on
     #: each map, for the standard and full tiers alike.
     budgets: ClassVar[dict[str, int | None]] = {"quick": None, "standard": 120_000, "full": 120_000}
+    #: The pilot's CPU seconds per step at 200,000 steps (docs/evidence/pointmaze.md): 135.6 s
+    #: a run on the medium maze (of which 23.4 scoring), 114.7 on the U-maze.
+    cpu_per_unit: ClassVar[float | None] = 135.6 / 200_000
 
     @classmethod
     def child_seeds(cls, seed: int) -> tuple[int, int]:
@@ -266,7 +269,7 @@ class MazeTask(BenchTask):
                 )
             )
 
-        train_goals(lambda: make_env(self.maze), self.competence, teacher, self.seed, budget, max(1, budget // self.points), score)
+        train_learner(lambda: make_env(self.maze), self.competence, teacher, self.seed, budget, max(1, budget // self.points), score)
         return curve
 
     def own_measures(self) -> list[dict[str, float]]:
@@ -280,6 +283,7 @@ class MazeTask(BenchTask):
 class PointMazeUMaze(MazeTask):
     name, maze = "rl-pointmaze-umaze", "umaze"
     budgets = {"quick": None, "standard": 200_000, "full": 200_000}
+    cpu_per_unit = 114.7 / 200_000
     learner = "PPO (SB3), PointMaze U-maze, dense reward"
     measures = "helping a deep-RL student where walls cut the goal box: 48 % of it the ball cannot be in, and the reachable set bends round a wall"
 

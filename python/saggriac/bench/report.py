@@ -55,7 +55,7 @@ def short(label: str) -> str:
     return label.rsplit("/", 1)[-1]
 
 
-def _tight(fig: "Figure", **kw: Any) -> None:
+def tight(fig: "Figure", **kw: Any) -> None:
     """Tight layout where it fits; long names may not, and then the figure is kept as it is."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", UserWarning)
@@ -116,7 +116,7 @@ def curves_figure(curves: pd.DataFrame, path: Path) -> Path:
                 seen.add(h.get_label())
                 handles.append(h)
     fig.legend(handles, [h.get_label() for h in handles], loc="lower center", ncol=min(6, len(handles)), fontsize=8, frameon=False)
-    _tight(fig, rect=(0, 0.8 / (3.3 * nrows + 0.8) + 0.02, 1, 1))
+    tight(fig, rect=(0, 0.8 / (3.3 * nrows + 0.8) + 0.02, 1, 1))
     fig.savefig(path, dpi=90)
     return path
 
@@ -141,6 +141,6 @@ def rank_figure(board: pd.DataFrame, path: Path) -> Path:
     ax.set_yticks(range(len(teachers)), [short(t) for t in teachers], fontsize=8)
     ax.set_title("rank by area on each task (1 is best)", fontsize=9)
     fig.colorbar(im, ax=ax, shrink=0.8)
-    _tight(fig)
+    tight(fig)
     fig.savefig(path, dpi=90)
     return path

@@ -35,12 +35,15 @@ TEST_SEED = 20261203  # one test set for every run
 LEARNERS = ("ppo", "sac")
 
 
-def make_env(reward: str, threshold: float) -> Any:
+def make_env(reward: str, threshold: float, joints: str = "limited") -> Any:
+    """The study's arm; ``joints="free"`` the same arm with joints that turn for ever (no limit
+    to fold onto: GoalArmEnv's ``joints``)."""
     from gymnasium.wrappers import TimeLimit
 
     from ..adapters.gym import GoalArmEnv
 
-    return TimeLimit(GoalArmEnv(**ARM, distance_threshold=threshold, reward_type=reward), EPISODE_STEPS)
+    arm = ARM if joints == "limited" else {k: v for k, v in ARM.items() if k != "joint_limit"}
+    return TimeLimit(GoalArmEnv(**arm, distance_threshold=threshold, reward_type=reward, joints=joints), EPISODE_STEPS)
 
 
 def arm_reach() -> float:
@@ -81,11 +84,13 @@ def test_goals(reach: float) -> np.ndarray:
     return np.array(out)
 
 
-def evaluate(model: Any, goals: np.ndarray, reward: str, threshold: float) -> tuple[float, float]:
+def evaluate(model: Any, goals: np.ndarray, reward: str, threshold: float, joints: str = "limited", extra: dict[str, float] | None = None) -> tuple[float, float]:
     """The deterministic policy from the rest pose towards every goal at once (one batched
     forward pass per step): the share of goals within the threshold at the episode's end, and
-    the mean final distance."""
-    envs = [make_env(reward, threshold).unwrapped for _ in goals]
+    the mean final distance. ``extra``, if given, gets ``tip_spread``: the largest distance of a
+    final tip from their mean (0 for a goal-blind policy, one that ends at one tip whatever the
+    goal, as the fold does)."""
+    envs = [make_env(reward, threshold, joints).unwrapped for _ in goals]
     obs = [e.reset(options={"goal": g})[0] for e, g in zip(envs, goals)]
     info: list[dict] = []
     for _ in range(EPISODE_STEPS):
@@ -94,6 +99,9 @@ def evaluate(model: Any, goals: np.ndarray, reward: str, threshold: float) -> tu
         steps = [e.step(a) for e, a in zip(envs, actions)]
         obs = [s[0] for s in steps]
         info = [s[4] for s in steps]
+    if extra is not None:
+        tips = np.array([o["achieved_goal"] for o in obs])
+        extra["tip_spread"] = float(np.linalg.norm(tips - tips.mean(axis=0), axis=1).max())
     return float(np.mean([i["is_success"] for i in info])), float(np.mean([i["distance"] for i in info]))
 
 
@@ -152,21 +160,22 @@ def check_replay_goals(model: Any, callback: Any) -> int:
     return len(stored)
 
 
-def train(reward: str, threshold: float, teacher: Any, seed: int, steps: int, every: int, on_score: Callable[[int, Any, Any], None], learner: str = "ppo") -> None:
+def train(reward: str, threshold: float, teacher: Any, seed: int, steps: int, every: int, on_score: Callable[[int, Any, Any], None], learner: str = "ppo", joints: str = "limited") -> None:
     """``learner`` (:data:`LEARNERS`) trained for ``steps`` environment steps on the arm with
-    ``reward`` and success ``threshold``, with ``teacher`` choosing its goals and told the
-    closeness ``max(0, 1 - final distance / reach)`` (:func:`train_goals`)."""
+    ``reward`` and success ``threshold`` (``joints``: :func:`make_env`'s), with ``teacher``
+    choosing its goals, told the closeness ``max(0, 1 - final distance / reach)``: the studies'
+    arm through :func:`train_learner`."""
     reach = arm_reach()
-    train_goals(lambda: make_env(reward, threshold), lambda info: max(0.0, 1.0 - info["distance"] / reach), teacher, seed, steps, every, on_score, learner)
+    train_learner(lambda: make_env(reward, threshold, joints), lambda info: max(0.0, 1.0 - info["distance"] / reach), teacher, seed, steps, every, on_score, learner)
 
 
-def train_goals(make: Callable[[], Any], competence: Callable[[dict], float], teacher: Any, seed: int, steps: int, every: int, on_score: Callable[[int, Any, Any], None], learner: str = "ppo") -> None:
-    """``learner`` (:data:`LEARNERS`) trained for ``steps`` environment steps on N_ENVS
-    environments ``make()`` in one process, with ``teacher`` choosing their goals and told
-    ``competence(final info)`` (through :class:`saggriac.adapters.sb3.TeacherCallback`), seeded
-    from ``seed`` (:func:`run_seeds`); ``on_score(step, model, callback)`` at step 0 and every
-    ``every`` steps, the last at ``steps``. An off-policy learner's replay buffer is checked at
-    the end (:func:`check_replay_goals`). The goal arm's and PointMaze's tasks."""
+def train_learner(make: Callable[[], Any], competence: Callable[[dict], float], teacher: Any, seed: int, steps: int, every: int, on_score: Callable[[int, Any, Any], None], learner: str = "ppo") -> None:
+    """SB3's ``learner`` (:data:`LEARNERS`) with its defaults trained for ``steps`` environment
+    steps on N_ENVS environments ``make()`` in one process, with ``teacher`` choosing their goals
+    and told ``competence(final info)`` (through :class:`saggriac.adapters.sb3.TeacherCallback`),
+    seeded from ``seed`` (:func:`run_seeds`); ``on_score(step, model, callback)`` at step 0 and
+    every ``every`` steps, the last at ``steps``. An off-policy learner's replay buffer is checked
+    at the end (:func:`check_replay_goals`). The goal arm's and PointMaze's tasks."""
     import torch
     from stable_baselines3.common.callbacks import BaseCallback, CallbackList
     from stable_baselines3.common.vec_env import DummyVecEnv
@@ -222,6 +231,11 @@ class RlArm(BenchTask):
     space = "box"
     reward: ClassVar[str] = "dense"
     algorithm: ClassVar[str] = "ppo"
+    #: PPO's cost on this arm: the second study's runs took 57-63 CPU s per 120,000 steps
+    #: (docs/rl_curriculum.md, "Cost").
+    cpu_per_unit: ClassVar[float | None] = 60.0 / 120_000
+    #: GoalArmEnv's joints: "limited" (the studies' arm) or "free" (no limit to fold onto).
+    joints: ClassVar[str] = "limited"
     requires = ("stable_baselines3", "the sb3 extra: pip install \"saggriac[sb3]\"")
     unit = "environment steps"
     points = 10
@@ -266,16 +280,17 @@ class RlArm(BenchTask):
         start: dict[str, float] = {}
 
         def score(step: int, model: Any, callback: Any) -> None:
-            success, distance = evaluate(model, goals, self.reward, THRESHOLDS[self.reward])
+            extra: dict[str, float] = {}
+            success, distance = evaluate(model, goals, self.reward, THRESHOLDS[self.reward], self.joints, extra)
             if step == 0:
                 start.update(start_distance=distance, start_success=success)
                 return
             curve.append((step, -distance))
             recent = np.array([g for g, _ in callback.history[-200:]]).reshape(-1, len(self.low))
             share = float(np.mean(np.linalg.norm(recent, axis=1) <= reach)) if len(recent) else float("nan")
-            self._measures.append(dict(distance=distance, success=success, reachable_share=share, episodes=float(len(callback.history)), **start))
+            self._measures.append(dict(distance=distance, success=success, reachable_share=share, episodes=float(len(callback.history)), tip_spread=extra["tip_spread"], **start))
 
-        train(self.reward, THRESHOLDS[self.reward], _AskTell(ask, tell), self.seed, budget, max(1, budget // self.points), score, self.algorithm)
+        train(self.reward, THRESHOLDS[self.reward], _AskTell(ask, tell), self.seed, budget, max(1, budget // self.points), score, self.algorithm, self.joints)
         return curve
 
     def own_measures(self) -> list[dict[str, float]]:
@@ -309,6 +324,7 @@ class RlArmSparse(RlArm):
 @register
 class RlArmSacDense(RlArm):
     name, reward, algorithm = "rl-arm-sac-dense", "dense", "sac"
+    cpu_per_unit = 3.956e-3  # the SAC study's pilot (docs/evidence/sac.md)
     learner = "SAC (SB3, no HER), 3-joint goal arm, dense reward"
     measures = "whether the deep-RL verdicts are the task's or PPO's: the same task with an off-policy learner that replays its past episodes (docs/evidence/sac.md)"
     budgets = {"quick": None, "standard": 60_000, "full": 120_000}
@@ -317,6 +333,28 @@ class RlArmSacDense(RlArm):
 @register
 class RlArmSacSparse(RlArm):
     name, reward, algorithm = "rl-arm-sac-sparse", "sparse", "sac"
+    cpu_per_unit = 3.956e-3
     learner = "SAC (SB3, no HER), 3-joint goal arm, sparse reward"
     measures = "the same with a sparse reward (does SAC fold the arm as PPO does?)"
     budgets = {"quick": None, "standard": 60_000, "full": 120_000}
+
+
+#: A final policy whose tips for all test goals lie within this of their mean ignores the goal.
+GOAL_BLIND = 1e-6
+
+
+@register
+class RlArmFreeSparse(RlArm):
+    name, reward, joints = "rl-arm-free-sparse", "sparse", "free"
+    learner = "PPO (SB3), 3-joint goal arm with free joints, sparse reward"
+    measures = "whether the sparse verdicts are the fold's: the same arm with joints that turn for ever, no limit to fold onto (docs/rl_curriculum.md, free joints)"
+
+    @classmethod
+    def notes(cls, runs: Any) -> list[str]:
+        """How many of each teacher's runs end goal-blind (one tip for every test goal), the free
+        arm's analogue of the fold (``runs`` has the own measures at the end as final_tip_spread)."""
+        if not len(runs) or "final_tip_spread" not in runs:
+            return []
+        blind = runs["final_tip_spread"] < GOAL_BLIND
+        counts = ", ".join(f"{t} {int(blind[runs['teacher'] == t].sum())}/{int((runs['teacher'] == t).sum())}" for t in dict.fromkeys(runs["teacher"]))
+        return [f"Runs whose final policy ends at one tip whatever the goal (goal-blind; the free joints cannot fold): {counts}."]

@@ -175,12 +175,12 @@ def _results(jobs: list[Job], workers: int, scheduler: Any) -> Iterable[tuple[Jo
 
 
 def plan(teachers: list[TeacherSpec], tasks: list[str], tier: str, seeds: Iterable[int], timeout: float) -> list[Job]:
-    """Every run of ``teachers`` on ``tasks`` (each teacher on the tasks of the spaces it takes; a
-    teacher given expert knowledge on the tasks that declare it), seed by seed, so that a partial
-    bench still pairs teachers on the same seeds."""
+    """Every run of ``teachers`` on ``tasks`` (each teacher on the tasks of the spaces it takes and
+    that can tell it what it asks to be told; a teacher given expert knowledge on the tasks that
+    declare it), seed by seed, so that a partial bench still pairs teachers on the same seeds."""
     if tier not in TIERS:
         raise SaggriacError(f"The 'tier' parameter of saggriac bench must be one of {', '.join(TIERS)}. Got {tier!r} instead.")
-    return [Job(task, tier, spec, int(seed), timeout) for seed in seeds for task in tasks for spec in teachers if spec.takes(TASKS[task].space) and (not spec.level or TASKS[task].declares_knowledge())]
+    return [Job(task, tier, spec, int(seed), timeout) for seed in seeds for task in tasks for spec in teachers if spec.takes(TASKS[task].space) and spec.told in TASKS[task].tells and (not spec.level or TASKS[task].declares_knowledge())]
 
 
 def failure_message(failures: dict[tuple[str, str, int], str], out: Path, n_jobs: int) -> str:

@@ -1,7 +1,8 @@
 """The built-in teachers' results that ship with the package, one set per tier, so that a user's
 teacher is placed among them without rerunning them: ``results/<tier>_runs.parquet`` (one row
 per run), ``results/<tier>_curves.parquet`` (their score curves), ``results/<tier>_goals.parquet``
-(each teacher's goals on each task's first seed, thinned: the figures of goals over time) and
+(each teacher's goals on each task's first seed, thinned, their first two dimensions: the figures
+of goals over time) and
 ``results/<tier>.json`` (the saggriac version that made them, the seeds and the command)."""
 
 from __future__ import annotations
@@ -22,6 +23,10 @@ RESULTS = Path(__file__).parent / "results"
 
 def paths(tier: str, folder: Path = RESULTS) -> tuple[Path, Path, Path]:
     return folder / f"{tier}_runs.parquet", folder / f"{tier}_curves.parquet", folder / f"{tier}.json"
+
+
+#: The goals' dimensions that ship: the figures show the first two.
+SHIPPED_DIMS = 2
 
 
 def goals_path(tier: str, folder: Path = RESULTS) -> Path:
@@ -53,13 +58,15 @@ def load(tier: str, folder: Path = RESULTS) -> tuple[pd.DataFrame, pd.DataFrame,
 
 def write(tier: str, runs: pd.DataFrame, curves: pd.DataFrame, goals: pd.DataFrame, seeds: list[int], command: str, folder: Path = RESULTS) -> list[Path]:
     """Write the built-in teachers' runs of a finished bench as the shipped results of ``tier``,
-    with their goals on each task's first seed only (the figures show no other)."""
+    with their goals on each task's first seed only, first two dimensions (the figures show no
+    other)."""
     runs_p, curves_p, meta_p = paths(tier, folder)
     folder.mkdir(parents=True, exist_ok=True)
     runs = runs.drop(columns=[c for c in ("source",) if c in runs]).sort_values(["task", "teacher", "seed"]).reset_index(drop=True)
     curves = curves.sort_values(["task", "teacher", "seed", "step"]).reset_index(drop=True)
     runs.to_parquet(runs_p, index=False)
     curves.to_parquet(curves_p, index=False)
+    goals = goals[goals.dim < SHIPPED_DIMS]
     first_seed(goals).sort_values(["task", "teacher", "seed", "call", "dim"]).reset_index(drop=True).to_parquet(goals_path(tier, folder), index=False)
     meta = {"version": _core.__version__, "tier": tier, "seeds": [int(s) for s in seeds], "teachers": sorted(set(runs.teacher)), "tasks": sorted(set(runs.task)), "command": command}
     meta_p.write_text(json.dumps(meta, indent=1) + "\n")

@@ -75,6 +75,11 @@ class BenchTask:
     points: ClassVar[int] = 20
     #: What the curve's x axis counts.
     unit: ClassVar[str] = "goals"
+    #: CPU seconds per unit of budget, for the listing's estimate of a tier that no shipped run
+    #: measures (deep RL, not in the quick tier): its study's pilot's measure; None if none.
+    cpu_per_unit: ClassVar[float | None] = None
+    #: What the task can tell a teacher (a teacher's ``told`` must be one; saggriac.bench.teachers).
+    tells: ClassVar[tuple[str, ...]] = ("competence",)
     low: np.ndarray
     high: np.ndarray
     n_tasks: int

@@ -33,7 +33,7 @@ import numpy as np
 from ..errors import ParameterError, SaggriacError
 from ..teachers import RandomSelector, available
 from . import expert
-from .goals import GoalLog
+from .goal_log import GoalLog
 
 #: The teacher every other one is compared with (paired by seed).
 REFERENCE = "random"
@@ -132,6 +132,12 @@ class TeacherSpec:
             raise ParameterError(f"The 'spaces' attribute of the teacher {self.label} must be a tuple of 'box' and/or 'tasks'. Got {value!r} instead.", "spaces", repr(value))
         return spaces
 
+    @property
+    def told(self) -> str:
+        """What the teacher asks to be told (its class's ``told``): "competence" unless it wants
+        a score only some tasks' learners have (saggriac.bench.value_loss)."""
+        return getattr(self.load(), "told", "competence")
+
     def takes(self, space: str) -> bool:
         """Whether the bench runs this teacher on a task of ``space`` (the reference, random,
         runs on task lists too: uniform over the tasks; expert knowledge is of box tasks)."""
@@ -191,6 +197,12 @@ class Guarded:
         self._setup(spec, task, seed, timeout, run_seed)
         cls = spec.load()
         self.tell_map = competence_map(cls, spec.label)
+        #: What the teacher is told: "competence" (the default), or a score only some tasks'
+        #: learners have (their ``tells``; saggriac.bench.value_loss).
+        self.told = getattr(cls, "told", "competence")
+        tells = getattr(task, "tells", ("competence",))
+        if self.told not in tells:
+            raise TeacherError(f"The {self.where} asks to be told {self.told!r} (its class's 'told'), and the task tells only {', '.join(map(repr, tells))}.")
         params = dict(spec.params)
         if spec.level:
             # Expert knowledge of the task at the level, as the teacher's own parameters.
@@ -218,6 +230,8 @@ class Guarded:
         self.log = GoalLog()
         self.to_task: Callable[[Any], Any] | None = None
         self.tell_map: Callable[[float], float] = float
+        #: What the teacher is told: "competence", or a score only some tasks' learners have.
+        self.told = "competence"
 
     @staticmethod
     def _expert_params(spec: TeacherSpec, task: Any, run_seed: int) -> dict[str, Any]:
