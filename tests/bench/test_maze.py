@@ -264,6 +264,8 @@ def test_the_pilots_rules_on_its_committed_rows_give_what_the_protocol_holds():
     task = protocol["tasks"][0]
     assert protocol["tasks"] == [choice["task"]] and protocol["budget"] == {task: choice["budget"]}
     first = choice["first_seed"]
-    assert protocol["report"] == {task: f"{first}-{first + choice['seeds'] - 1}"} and protocol["pilot_fixed"]["seeds"] == choice["seeds"]
+    assert protocol["pilot_fixed"]["seeds"] == choice["seeds"] == protocol["amended"]["was"]
+    # The amendment (before any report run): every seed the compute allows at B, the table's "seeds that fit".
+    assert protocol["report"] == {task: f"{first}-{first + protocol['amended']['report_seeds'] - 1}"}
+    assert f"| {choice['budget']:,} | 0.036 | 0.077 | 0.92 | {choice['seeds']} | {protocol['amended']['report_seeds']} | 4.31 |" in text
     assert TASKS[task].budgets["full"] == choice["budget"]
-    assert "| 120,000 | 0.036 | 0.077 | 0.92 | 19 | 31 | 4.31 |" in text
