@@ -3,11 +3,11 @@
 //! on their own, ask/tell style: `sample()` a goal, `update(goal, competence)`.
 
 use crate::config::high_level::check_bounds;
-pub use crate::config::high_level::ModeProbabilities;
+pub use crate::config::high_level::{Mode3Config, Mode3Reading, ModeProbabilities};
 use crate::error::Result;
 use crate::high_level::region_tree::{RegionTree, RegionTreeConfig};
 use crate::table::{bools, floats, ints, slices, Table};
-use crate::rng::{index, pick_weighted, rng_from_seed, uniform, unit, CoreRng};
+use crate::rng::{index, normal, pick_weighted, rng_from_seed, uniform, unit, CoreRng};
 
 /// How a goal was chosen.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -19,7 +19,8 @@ pub enum Mode {
     Interest = 1,
     /// mode(2): uniform in the whole space.
     Global = 2,
-    /// mode(3): the region of lowest mean competence.
+    /// mode(3): the region of lowest mean competence (or, by `Mode3Reading::InterestWorst`, near
+    /// the worst goal of a region drawn by interest).
     LowestCompetence = 3,
     /// A selector without a high level (SAGG-Random).
     Random = 4,
@@ -149,13 +150,49 @@ struct RandomState {
 pub struct SaggRiac {
     tree: RegionTree,
     modes: ModeProbabilities,
+    mode3: Mode3Config,
     rng: CoreRng,
 }
 
 impl SaggRiac {
+    /// With mode 3 as the paper reads it (`with_mode3` sets another reading).
     pub fn new(low: &[f64], high: &[f64], tree: RegionTreeConfig, modes: ModeProbabilities, seed: u64) -> Result<Self> {
         modes.validate()?;
-        Ok(SaggRiac { tree: RegionTree::new(low, high, tree)?, modes, rng: rng_from_seed(seed) })
+        Ok(SaggRiac { tree: RegionTree::new(low, high, tree)?, modes, mode3: Mode3Config::default(), rng: rng_from_seed(seed) })
+    }
+
+    pub fn with_mode3(mut self, mode3: Mode3Config) -> Result<Self> {
+        mode3.validate()?;
+        self.mode3 = mode3;
+        Ok(self)
+    }
+
+    /// The measurement of lowest competence `leaf` holds, the newest of equals (an older equal
+    /// failure says less about the region now); None for an empty leaf.
+    fn worst_in(&self, leaf: usize) -> Option<u32> {
+        let entries = &self.tree.region(leaf).entries;
+        entries.iter().rev().copied().fold(None, |best: Option<u32>, e| match best {
+            Some(b) if self.tree.value(b as usize) <= self.tree.value(e as usize) => Some(b),
+            _ => Some(e),
+        })
+    }
+
+    /// Mode 3 as `Mode3Reading::InterestWorst` reads it: a leaf by interest, then a Gaussian about
+    /// its worst goal (sd sigma times the box's width in each dimension) clipped to the leaf;
+    /// uniform in the leaf if it holds nothing.
+    fn near_worst(&mut self) -> (Vec<f64>, usize) {
+        let leaf = self.interest_leaf();
+        let Some(w) = self.worst_in(leaf) else {
+            let r = self.tree.region(leaf);
+            return (uniform_in(&mut self.rng, &r.low, &r.high), leaf);
+        };
+        let centre = self.tree.point(w as usize).to_vec();
+        let sigma = self.mode3.sigma;
+        let (lo, hi) = (self.tree.low().to_vec(), self.tree.high().to_vec());
+        let r = self.tree.region(leaf);
+        let (rlo, rhi) = (r.low.clone(), r.high.clone());
+        let goal = (0..centre.len()).map(|j| (centre[j] + sigma * (hi[j] - lo[j]) * normal(&mut self.rng)).clamp(rlo[j], rhi[j])).collect();
+        (goal, leaf)
     }
 
     /// Draw a leaf with probability |interest - min interest| / sum (eq. 3); uniform when all
@@ -203,6 +240,11 @@ impl GoalSelector for SaggRiac {
             return GoalChoice { goal, mode: Mode::Initial, region: None };
         }
         let u = unit(&mut self.rng);
+        let mode3 = self.modes.p_interest + self.modes.p_global <= u;
+        if mode3 && self.mode3.reading == Mode3Reading::InterestWorst {
+            let (goal, leaf) = self.near_worst();
+            return GoalChoice { goal, mode: Mode::LowestCompetence, region: Some(leaf) };
+        }
         let (mode, leaf) = if u < self.modes.p_interest {
             (Mode::Interest, Some(self.interest_leaf()))
         } else if u < self.modes.p_interest + self.modes.p_global {
@@ -225,7 +267,9 @@ impl GoalSelector for SaggRiac {
     /// R-IAC in the current context (docs/parameters.md, "ACTUATOR-RIAC"): each candidate is
     /// located in its leaf, and the three modes choose among the candidates through their
     /// leaves: mode 1 with probability |interest - min interest| (eq. 3, the minimum over all
-    /// leaves), mode 2 uniformly, mode 3 the candidate in the leaf of lowest mean competence.
+    /// leaves), mode 2 uniformly, mode 3 the candidate in the leaf of lowest mean competence (by
+    /// `Mode3Reading::InterestWorst`: a candidate drawn as in mode 1, then the candidate of its
+    /// leaf nearest the leaf's worst goal, distances in shares of the box's width).
     /// Uniform before the first split, and in mode 1 when no candidate's leaf has weight.
     fn choose(&mut self, candidates: &[Vec<f64>]) -> Option<GoalChoice> {
         let pick = |c: usize, mode: Mode, leaf: Option<usize>| Some(GoalChoice { goal: candidates[c].clone(), mode, region: leaf });
@@ -237,16 +281,27 @@ impl GoalSelector for SaggRiac {
         }
         let leaves: Vec<usize> = candidates.iter().map(|c| self.tree.leaf_of(c)).collect();
         let u = unit(&mut self.rng);
-        if u < self.modes.p_interest {
-            let min = self.tree.min_leaf_interest();
-            let w: Vec<f64> = leaves.iter().map(|&l| (self.tree.region(l).interest - min).abs()).collect();
+        // A candidate drawn by its leaf's interest (mode 1's draw).
+        let by_interest = |s: &mut Self| {
+            let min = s.tree.min_leaf_interest();
+            let w: Vec<f64> = leaves.iter().map(|&l| (s.tree.region(l).interest - min).abs()).collect();
             let total: f64 = w.iter().sum();
             if !(total > 0.0 && total.is_finite()) {
-                let c = index(&mut self.rng, candidates.len());
-                return pick(c, Mode::Interest, Some(leaves[c]));
+                return index(&mut s.rng, candidates.len());
             }
-            let chosen = pick_weighted(&w, unit(&mut self.rng) * total);
+            pick_weighted(&w, unit(&mut s.rng) * total)
+        };
+        if u < self.modes.p_interest {
+            let chosen = by_interest(self);
             pick(chosen, Mode::Interest, Some(leaves[chosen]))
+        } else if self.modes.p_interest + self.modes.p_global <= u && self.mode3.reading == Mode3Reading::InterestWorst {
+            let drawn = by_interest(self);
+            let leaf = leaves[drawn];
+            let Some(w) = self.worst_in(leaf) else { return pick(drawn, Mode::LowestCompetence, Some(leaf)) };
+            let (worst, lo, hi) = (self.tree.point(w as usize), self.tree.low(), self.tree.high());
+            let dist = |c: usize| candidates[c].iter().enumerate().map(|(j, x)| ((x - worst[j]) / (hi[j] - lo[j])).powi(2)).sum::<f64>();
+            let c = (0..candidates.len()).filter(|&c| leaves[c] == leaf).min_by(|&a, &b| dist(a).total_cmp(&dist(b))).unwrap_or(drawn);
+            pick(c, Mode::LowestCompetence, Some(leaf))
         } else if u < self.modes.p_interest + self.modes.p_global {
             let c = index(&mut self.rng, candidates.len());
             pick(c, Mode::Global, Some(leaves[c]))
@@ -392,6 +447,83 @@ mod tests {
             a.update(&ga.goal, c);
             b.update(&gb.goal, c);
         }
+    }
+
+    /// A tree of two leaves: the left half learnable (rising competence, high interest), the
+    /// right half flat at -0.9 (no interest, the lowest mean). The paper's mode 3 draws in the
+    /// right half; `InterestWorst` in the left, about its worst goal (planted at (0.2, 0.3)).
+    fn two_halves(mode3: Mode3Config) -> SaggRiac {
+        let cfg = RegionTreeConfig { g_max: 20, zeta: 10, min_child: 3, ..Default::default() };
+        let mut s = SaggRiac::new(&[0.0, 0.0], &[1.0, 1.0], cfg, ModeProbabilities { p_interest: 0.0, p_global: 0.0, p_lowest: 1.0 }, 3).unwrap().with_mode3(mode3).unwrap();
+        let mut r = rng_from_seed(5);
+        s.update(&[0.2, 0.3], -1.0);
+        for i in 0..60 {
+            s.update(&[uniform(&mut r, 0.0, 0.5), uniform(&mut r, 0.0, 1.0)], -0.99 + i as f64 / 60.0);
+            s.update(&[uniform(&mut r, 0.5, 1.0), uniform(&mut r, 0.0, 1.0)], -0.9);
+        }
+        s
+    }
+
+    #[test]
+    fn mode3_interest_worst_aims_near_the_worst_goal_of_an_interesting_leaf() {
+        let paper = two_halves(Mode3Config::default());
+        let leaves = paper.tree.leaves().to_vec();
+        assert!(leaves.len() >= 2);
+        let lowest = paper.lowest_leaf();
+        assert!(paper.tree.region(lowest).low[0] >= 0.5, "the right half has the lowest mean");
+        let mut paper = paper;
+        for _ in 0..500 {
+            let c = paper.sample();
+            assert_eq!((c.mode, c.region), (Mode::LowestCompetence, Some(lowest)));
+            assert!(c.goal[0] >= 0.5);
+        }
+        let sigma = 0.05;
+        let mut s = two_halves(Mode3Config { reading: Mode3Reading::InterestWorst, sigma });
+        let worst_leaf = s.tree.leaf_of(&[0.2, 0.3]);
+        let (mut near, mut in_worst, mut left, n) = (0, 0, 0, 2000);
+        for _ in 0..n {
+            let c = s.sample();
+            assert_eq!(c.mode, Mode::LowestCompetence);
+            let leaf = c.region.unwrap();
+            let r = s.tree.region(leaf);
+            assert!(c.goal.iter().zip(r.low.iter().zip(&r.high)).all(|(g, (l, h))| l <= g && g <= h), "clipped to its leaf");
+            assert!(r.interest > s.tree.min_leaf_interest(), "drawn by interest: never a leaf of least interest ({:?})", c.goal);
+            left += usize::from(c.goal[0] < 0.5);
+            if leaf == worst_leaf {
+                in_worst += 1;
+                if (c.goal[0] - 0.2).hypot(c.goal[1] - 0.3) < 3.0 * sigma {
+                    near += 1;
+                }
+            }
+        }
+        assert!(in_worst > 0 && left > n * 9 / 10, "{in_worst} in the worst goal's leaf, {left} of {n} in the learnable half");
+        // Within 3 sd in each of 2 dimensions: about 99 % of an unclipped Gaussian's draws.
+        assert!(near as f64 > 0.95 * in_worst as f64, "{near} of {in_worst} near the worst goal");
+        // Choosing among candidates: the one nearest the worst goal of the drawn leaf.
+        let cands = vec![vec![0.4, 0.9], vec![0.21, 0.31], vec![0.9, 0.5]];
+        for _ in 0..200 {
+            let c = s.choose(&cands).unwrap();
+            assert_eq!(c.mode, Mode::LowestCompetence);
+            if c.region == Some(worst_leaf) && s.tree.leaf_of(&cands[0]) == worst_leaf {
+                assert_eq!(c.goal, cands[1]);
+            }
+            assert!(s.tree.region(c.region.unwrap()).interest > s.tree.min_leaf_interest());
+        }
+    }
+
+    #[test]
+    fn mode3_parameters_are_checked() {
+        let bad = |sigma: f64| Mode3Config { reading: Mode3Reading::InterestWorst, sigma }.validate().unwrap_err().to_string();
+        for v in [0.0, -0.1, 1.5, f64::NAN, f64::INFINITY] {
+            let e = bad(v);
+            assert!(e.starts_with("The 'mode3_sigma' parameter of SaggRiac must be a float in (0, 1] (a share of the box's width). Got "), "{e}");
+        }
+        assert!(Mode3Config { reading: Mode3Reading::InterestWorst, sigma: 1.0 }.validate().is_ok());
+        let e = Mode3Config { reading: Mode3Reading::LowestCompetence, sigma: 0.5 }.validate().unwrap_err().to_string();
+        assert!(e.starts_with("The 'mode3_sigma' parameter of SaggRiac must be left at its default") && e.contains("'lowest_competence'") && e.ends_with("Got 0.5 instead."), "{e}");
+        let e = Mode3Reading::parse("SaggRiac", "worst").unwrap_err().to_string();
+        assert!(e.contains("'mode3'") && e.contains("'lowest_competence'") && e.contains("Got 'worst'"), "{e}");
+        assert_eq!(Mode3Reading::parse("X", "interest_worst").unwrap().name(), "interest_worst");
     }
 
     #[test]
