@@ -113,6 +113,6 @@ def test_the_run_and_the_selector_read_mode3_alike():
     cols = ["goal_x", "goal_y", "competence"]
     np.testing.assert_array_equal(built_in.goals[cols].to_numpy(), user.goals[cols].to_numpy())
     assert (built_in.goals["mode"].to_numpy() == MODE3).any()
-    paper = saggriac.run(cfg.replace(mode3="lowest_competence", mode3_sigma=0.1), seed=3)
+    paper = saggriac.run(cfg.replace(mode3="lowest_competence", mode3_sigma=Config().mode3_sigma), seed=3)
     n = min(len(paper.goals), len(built_in.goals))
     assert not np.array_equal(paper.goals["goal_x"].to_numpy()[:n], built_in.goals["goal_x"].to_numpy()[:n])
