@@ -44,7 +44,7 @@ SKIP_PATHS = ("config.knn_index",)
 # forward-model test configurations the reference had ("uniform"); the least-norm IK ones
 # (issue 14) change the prediction error by design.
 # Configuration keys added since, with the value that means what the reference ran.
-ADDED_VALUES = {"config.test_configs": "uniform", "config.timeout_in_exploration": False, "config.competence": "relative", "config.actuator_candidates": 0, "config.chain": None, "config.teacher": "own", "config.interest_divisor": "window", "config.exploration_trigger": "executed"}
+ADDED_VALUES = {"config.test_configs": "uniform", "config.timeout_in_exploration": False, "config.competence": "relative", "config.actuator_candidates": 0, "config.chain": None, "config.teacher": "own", "config.interest_divisor": "window", "config.exploration_trigger": "executed", "config.mode3": "lowest_competence", "config.mode3_sigma": (0.05).hex()}
 ADDED_PREFIXES = ("test_set.", "time_budget.", "scale.", "steps.", "profile.trigger_")
 LENGTHS = ("v", "eps_max", "eval_tolerance")
 ADDED_COLUMNS = {"metrics": ("dx_error",)}

@@ -46,7 +46,7 @@ pub struct UserParts {
 /// seeded with stream 1 of the learner's seed.
 pub fn run_teacher(cfg: &RunConfig, seed: u64) -> TeacherSpec {
     let (low, high, seed) = (cfg.goal_low.clone(), cfg.goal_high.clone(), child_seed(seed, 1));
-    let own = Teacher::SaggRiac(SaggRiacConfig { tree: cfg.tree, modes: cfg.modes });
+    let own = Teacher::SaggRiac(SaggRiacConfig { tree: cfg.tree, modes: cfg.modes, mode3: cfg.mode3 });
     let teacher = match cfg.condition {
         Condition::SaggRiac => cfg.teacher.unwrap_or(own),
         Condition::SaggRandom | Condition::ActuatorRandom => Teacher::Random(RandomConfig {}),

@@ -6,7 +6,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::config::teachers::{SpdlConfig, Teacher};
-use crate::config::RunConfig;
+use crate::config::{Mode3Config, RunConfig};
 use crate::error::{Error, Result};
 use crate::body::arm::InlineState;
 use crate::parts::PartsStateAs;
@@ -16,9 +16,10 @@ use crate::run_loop::Learner;
 /// (Castagnoli) of it. Format 4: the test motions' true displacements and the metric rows'
 /// dx_error. Format 5: each part's state in one piece. Format 6: the body's state in the body's
 /// own encoding (bytes), as the goal selector's. Format 7: the layout of 6, with configurations
-/// that print the parameters SPDL and Goal GAN gained in #46. Formats 5 and 6 are still read;
+/// that print the parameters SPDL and Goal GAN gained in #46. Format 8: the layout of 7, with
+/// configurations that print SAGG-RIAC's mode 3 reading (#48). Formats 5 to 7 are still read;
 /// older ones are refused.
-const FORMAT: u32 = 7;
+const FORMAT: u32 = 8;
 
 /// CRC-32C: detects every error of up to 32 consecutive bits, so any one damaged byte.
 const CHECKSUM: crc::Crc<u32> = crc::Crc::<u32>::new(&crc::CRC_32_ISCSI);
@@ -73,14 +74,18 @@ struct Head {
 fn other_format(bytes: &[u8]) -> Option<Head> {
     let (h, _) = postcard::take_from_bytes::<Head>(bytes).ok()?;
     let version = h.version.split('.').count() == 3 && h.version.split('.').all(|p| !p.is_empty() && p.chars().all(|c| c.is_ascii_digit()));
-    (![5, 6, FORMAT].contains(&h.format) && (1..FORMAT + 100).contains(&h.format) && version).then_some(h)
+    (![5, 6, 7, FORMAT].contains(&h.format) && (1..FORMAT + 100).contains(&h.format) && version).then_some(h)
 }
 
 /// The configuration as a checkpoint of `format` printed it. Format 5 (saggriac 0.5) printed the
 /// run's teacher as its own enum, `Own` for the condition's own high level, and no trigger.
-/// Formats 5 and 6 printed SPDL and Goal GAN without the parameters of #46.
+/// Formats 5 and 6 printed SPDL and Goal GAN without the parameters of #46; formats 5 to 7 printed
+/// SAGG-RIAC without mode 3's reading, which had only the paper's then.
 fn config_text(cfg: &RunConfig, format: u32) -> String {
     let mut text = format!("{cfg:?}");
+    if format < 8 {
+        text = text.replace(&format!(", mode3: {:?}", Mode3Config::default()), "");
+    }
     if format == 5 {
         // 0.5 had no choice of exploration trigger: its runs used today's default.
         text = text.replacen(", trigger: Executed", "", 1);
@@ -160,7 +165,7 @@ impl Learner {
         } else {
             decode::<State>(bytes)?
         };
-        if ![5, 6, FORMAT].contains(&s.format) {
+        if ![5, 6, 7, FORMAT].contains(&s.format) {
             return Err(wrong_format(Head { format: s.format, version: s.version }));
         }
         if s.config != config_text(&cfg, s.format) {
@@ -200,7 +205,7 @@ mod tests {
         }
         let old = postcard::to_stdvec(&Old { format: 4, version: "0.3.0".into(), rest: vec![7; 40] }).unwrap();
         let e = Learner::restore(small(), &old).err().unwrap().to_string();
-        assert!(e.contains("format 4") && e.contains("reads formats 5 to 7") && e.contains("saggriac 0.3.0"), "{e}");
+        assert!(e.contains("format 4") && e.contains("reads formats 5 to 8") && e.contains("saggriac 0.3.0"), "{e}");
         let e = Learner::restore(small(), b"\x00\x01garbage").err().unwrap().to_string();
         assert!(e.contains("damaged"), "{e}");
     }
@@ -276,6 +281,26 @@ mod tests {
                 assert!(e.contains("another configuration"), "{e}");
             }
         }
+    }
+
+    /// A checkpoint of format 7 (before mode 3 had a reading, by tests/data/saved_checkpoints.py
+    /// 7) resumes with the paper's reading and evaluates what it did then, to the bit; with
+    /// another reading it is another run's checkpoint.
+    #[test]
+    fn a_checkpoint_from_before_mode3_readings_resumes() {
+        use crate::config::{Mode3Config, Mode3Reading};
+        let (bytes, next) = (include_bytes!("../tests/data/checkpoint_v7_sagg_riac.bin"), include_str!("../tests/data/checkpoint_v7_sagg_riac.next"));
+        let mut cfg = small();
+        cfg.eval.schedule = vec![0, 100, 200, 300];
+        (cfg.tree.g_max, cfg.tree.zeta, cfg.tree.min_child) = (12, 8, 2);
+        let mut l = Learner::restore(cfg.clone(), bytes).unwrap();
+        assert!(l.steps() >= 100 && l.steps() < 300);
+        assert!(l.run(&mut |_| true));
+        let bits: Vec<String> = l.metrics().iter().map(|m| format!("{} {}", m.reach_error.to_bits(), m.pred_error.to_bits())).collect();
+        assert_eq!(bits, next.lines().collect::<Vec<_>>());
+        cfg.mode3 = Mode3Config { reading: Mode3Reading::InterestWorst, ..Mode3Config::default() };
+        let e = Learner::restore(cfg, bytes).err().unwrap().to_string();
+        assert!(e.contains("another configuration"), "{e}");
     }
 
     #[test]

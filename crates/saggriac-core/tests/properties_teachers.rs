@@ -112,7 +112,7 @@ fn spec() -> impl Strategy<Value = TeacherSpec> {
         absolute,
     });
     let teacher = prop_oneof![
-        tree.prop_map(|tree| Teacher::SaggRiac(SaggRiacConfig { tree, modes: ModeProbabilities::default() })),
+        tree.prop_map(|tree| Teacher::SaggRiac(SaggRiacConfig { tree, modes: ModeProbabilities::default(), ..Default::default() })),
         Just(Teacher::Random(RandomConfig {})),
         riac.prop_map(Teacher::Riac),
         lp.prop_map(Teacher::DiscreteLp),

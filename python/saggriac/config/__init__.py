@@ -121,6 +121,11 @@ class Config:
     p_interest: float = _CORE["p_interest"]
     p_global: float = _CORE["p_global"]
     p_lowest: float = _CORE["p_lowest"]
+    # Mode 3's reading: "lowest_competence" (the paper's: uniform in the region of lowest mean
+    # competence) or "interest_worst" (a region by interest, a Gaussian of sd mode3_sigma times
+    # the box's width about its worst goal). See docs/parameters.md, "Mode 3".
+    mode3: str = _CORE["mode3"]
+    mode3_sigma: float = _CORE["mode3_sigma"]
     reset_every: int = _CORE["reset_every"]
     # Beyond the paper: the teacher choosing sagg_riac's goals. "own" is SAGG-RIAC's high level;
     # any registered teacher of goals in a box (saggriac.teachers.available(), spaces "box")

@@ -12,7 +12,7 @@ pub mod teachers;
 
 pub use body::{ArmConfig, ArmKind, BodyChange};
 pub use evaluation::EvalConfig;
-pub use high_level::{check_bounds, check_bounds_named, CompetenceConfig, InterestDivisor, ModeProbabilities, RegionTreeConfig};
+pub use high_level::{check_bounds, check_bounds_named, CompetenceConfig, InterestDivisor, Mode3Config, Mode3Reading, ModeProbabilities, RegionTreeConfig};
 pub use teachers::{SaggRiacConfig, Teacher};
 pub use low_level::{EpisodicConfig, ExplorationConfig, ExplorationTrigger, ReachingConfig};
 pub use model::{IndexKind, LocalModelConfig, MIN_RCOND};
@@ -114,6 +114,8 @@ pub struct RunConfig {
     pub tree: RegionTreeConfig,
     #[serde(flatten)]
     pub modes: ModeProbabilities,
+    #[serde(flatten)]
+    pub mode3: Mode3Config,
     /// Who chooses the goals of the goal-babbling condition in place of its own high level
     /// (None, `Config`'s "own": SAGG-RIAC's, set by `tree` and `modes`).
     #[serde(skip)]
@@ -154,6 +156,7 @@ impl Default for RunConfig {
             competence: CompetenceConfig::default(),
             tree: RegionTreeConfig::default(),
             modes: ModeProbabilities::default(),
+            mode3: Mode3Config::default(),
             teacher: None,
             reset_every: 2,
             eval: EvalConfig::default(),
@@ -215,6 +218,7 @@ impl RunConfig {
         self.competence.validate()?;
         self.tree.validate()?;
         self.modes.validate()?;
+        self.mode3.validate()?;
         c.at_least("reset_every", self.reset_every, 1)?;
         if let Some(t) = &self.teacher {
             self.validate_teacher(t)?;
@@ -256,7 +260,7 @@ impl RunConfig {
         t.check_competences(self.competence.min_c, 0.0, "a run tells (min_c to 0)")?;
         // The whole parameter set, by name: a parameter added to SAGG-RIAC's is checked too.
         let flat = |c: SaggRiacConfig| teachers::flat_params(&c);
-        let (own, default) = (flat(SaggRiacConfig { tree: self.tree, modes: self.modes }), flat(SaggRiacConfig::default()));
+        let (own, default) = (flat(SaggRiacConfig { tree: self.tree, modes: self.modes, mode3: self.mode3 }), flat(SaggRiacConfig::default()));
         if let Some((name, value)) = own.iter().zip(&default).find(|(a, b)| a != b).map(|(a, _)| a) {
             return Err(invalid(
                 "Run",

@@ -10,15 +10,17 @@ use crate::high_level::region_tree::RegionTreeConfig;
 use crate::config::teachers::{RandomConfig, SaggRiacConfig, Teacher};
 use crate::high_level::teachers::TeacherSpec;
 
-/// Bumped whenever the saved layout changes. Format 6: the parameters given per dimension after
-/// the seed, SPDL's form, covariance and alpha parameters, Goal GAN's first goals' box. Formats 5
+/// Bumped whenever the saved layout changes. Format 7: SAGG-RIAC's mode 3 reading and sigma
+/// after its modes. Format 6 (the parameters given per dimension after the seed, SPDL's form,
+/// covariance and alpha parameters, Goal GAN's first goals' box; read with mode 3 as the paper
+/// reads it, the only reading then), formats 5
 /// (saggriac after 0.6.0, before #46's SPDL and Goal GAN parameters: PLR's parameters end with
 /// `ties`), 4 (saggriac 0.6, the teacher's parameters as the one `Teacher` enum beside the box
 /// and the seed; a PLR teacher read with the `Average` ties it ran), 3 (saggriac 0.5, each
 /// teacher's state in its own encoding), 2 (saggriac 0.3-0.4, one enum of every teacher's
 /// state) and 1 (saggriac <= 0.2, before SAGG-RIAC's tree had an eq.-2 divisor, read as the
 /// `Window` reading it ran) are still read.
-const FORMAT: u32 = 6;
+const FORMAT: u32 = 7;
 /// Told competences are bounded so that every teacher's sums, squares and mixtures of them stay
 /// finite (a mixture teacher squares differences of competences).
 pub const MAX_COMPETENCE: f64 = 1e100;
@@ -64,8 +66,8 @@ fn decode<T: serde::de::DeserializeOwned>(bytes: &[u8]) -> std::result::Result<T
 /// The layouts of formats 1 (saggriac <= 0.2: SAGG-RIAC's tree parameters without the divisor),
 /// 2 (saggriac 0.3-0.4, whose teachers' states were variants of one enum), 3 (saggriac 0.5,
 /// the parameters as one enum of teachers with their boxes and seeds), 4 (saggriac 0.6, PLR's
-/// parameters without `ties`) and 5 (no parameters per dimension, SPDL's and Goal GAN's
-/// parameters as they were before #46).
+/// parameters without `ties`), 5 (no parameters per dimension, SPDL's and Goal GAN's
+/// parameters as they were before #46) and 6 (SAGG-RIAC without mode 3's reading).
 mod legacy;
 
 pub struct AskTell {
@@ -90,7 +92,7 @@ impl AskTell {
 
     /// SAGG-RIAC over the box [low, high] of any dimension.
     pub fn sagg_riac(low: &[f64], high: &[f64], tree: RegionTreeConfig, modes: ModeProbabilities, seed: u64) -> Result<Self> {
-        Self::new(TeacherSpec { teacher: Teacher::SaggRiac(SaggRiacConfig { tree, modes }), low: low.to_vec(), high: high.to_vec(), seed, dims: Default::default() })
+        Self::new(TeacherSpec { teacher: Teacher::SaggRiac(SaggRiacConfig { tree, modes, ..Default::default() }), low: low.to_vec(), high: high.to_vec(), seed, dims: Default::default() })
     }
 
     /// Goals uniform in [low, high] (SAGG-Random's high level).
@@ -132,6 +134,7 @@ impl AskTell {
             3 => decode::<legacy::SavedV3>(bytes).map(legacy::upgrade),
             4 => decode::<legacy::SavedV4>(bytes).map(legacy::upgrade),
             5 => decode::<legacy::SavedV5>(bytes).map(legacy::upgrade),
+            6 => decode::<legacy::SavedV6>(bytes).map(legacy::upgrade),
             _ => decode::<Saved>(bytes),
         };
         let s = match decoded {
@@ -308,6 +311,35 @@ mod tests {
             assert!(format == 4 || format == 5, "{kind}: {format}");
             let a = continues_exactly(kind, bytes, next, told);
             assert!(a.spec().dims.is_empty());
+        }
+    }
+
+    /// A SAGG-RIAC teacher saved before mode 3 had a reading (format 6, by
+    /// tests/data/saved_teachers.py 6) restores with the paper's reading, asks the goals it asked
+    /// then, to the bit, and saved again carries a reading chosen since.
+    #[test]
+    fn a_sagg_riac_teacher_saved_before_mode3_readings_continues_exactly() {
+        use crate::config::high_level::{Mode3Config, Mode3Reading};
+        let (bytes, next) = (include_bytes!("../../tests/data/teacher_v6_sagg_riac.bin"), include_str!("../../tests/data/teacher_v6_sagg_riac.next"));
+        assert_eq!(postcard::take_from_bytes::<u32>(bytes).unwrap().0, 6);
+        let told = |_: &str, g: &[f64]| f64::from(u8::from(g[0] + 0.5 * (g[1] + 1.0) + 0.25 * g[2] < 0.9));
+        let a = continues_exactly("sagg_riac", bytes, next, told);
+        let Teacher::SaggRiac(c) = a.spec().teacher else { panic!("not SAGG-RIAC") };
+        assert_eq!(c.mode3, Mode3Config::default());
+        assert_eq!((c.tree.g_max, c.tree.zeta, c.tree.min_child), (12, 8, 2));
+        // Today's format carries another reading through a save and a restore.
+        let mode3 = Mode3Config { reading: Mode3Reading::InterestWorst, sigma: 0.03 };
+        let spec = TeacherSpec { teacher: Teacher::SaggRiac(SaggRiacConfig { mode3, ..c }), ..a.spec().clone() };
+        let mut b = AskTell::new(spec).unwrap();
+        for i in 0..200 {
+            let g = b.sample().goal;
+            b.update(&g, -((i % 5) as f64) / 5.0).unwrap();
+        }
+        let mut r = AskTell::restore(&b.save().unwrap()).unwrap();
+        let Teacher::SaggRiac(rc) = r.spec().teacher else { panic!("not SAGG-RIAC") };
+        assert_eq!(rc.mode3, mode3);
+        for _ in 0..50 {
+            assert_eq!(r.sample(), b.sample());
         }
     }
 

@@ -3,11 +3,11 @@
 //! on their own, ask/tell style: `sample()` a goal, `update(goal, competence)`.
 
 use crate::config::high_level::check_bounds;
-pub use crate::config::high_level::ModeProbabilities;
+pub use crate::config::high_level::{Mode3Config, Mode3Reading, ModeProbabilities};
 use crate::error::Result;
 use crate::high_level::region_tree::{RegionTree, RegionTreeConfig};
 use crate::table::{bools, floats, ints, slices, Table};
-use crate::rng::{index, pick_weighted, rng_from_seed, uniform, unit, CoreRng};
+use crate::rng::{index, normal, pick_weighted, rng_from_seed, uniform, unit, CoreRng};
 
 /// How a goal was chosen.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -19,7 +19,8 @@ pub enum Mode {
     Interest = 1,
     /// mode(2): uniform in the whole space.
     Global = 2,
-    /// mode(3): the region of lowest mean competence.
+    /// mode(3): the region of lowest mean competence (or, by `Mode3Reading::InterestWorst`, near
+    /// the worst goal of a region drawn by interest).
     LowestCompetence = 3,
     /// A selector without a high level (SAGG-Random).
     Random = 4,
@@ -149,13 +150,49 @@ struct RandomState {
 pub struct SaggRiac {
     tree: RegionTree,
     modes: ModeProbabilities,
+    mode3: Mode3Config,
     rng: CoreRng,
 }
 
 impl SaggRiac {
+    /// With mode 3 as the paper reads it (`with_mode3` sets another reading).
     pub fn new(low: &[f64], high: &[f64], tree: RegionTreeConfig, modes: ModeProbabilities, seed: u64) -> Result<Self> {
         modes.validate()?;
-        Ok(SaggRiac { tree: RegionTree::new(low, high, tree)?, modes, rng: rng_from_seed(seed) })
+        Ok(SaggRiac { tree: RegionTree::new(low, high, tree)?, modes, mode3: Mode3Config::default(), rng: rng_from_seed(seed) })
+    }
+
+    pub fn with_mode3(mut self, mode3: Mode3Config) -> Result<Self> {
+        mode3.validate()?;
+        self.mode3 = mode3;
+        Ok(self)
+    }
+
+    /// The measurement of lowest competence `leaf` holds, the newest of equals (an older equal
+    /// failure says less about the region now); None for an empty leaf.
+    fn worst_in(&self, leaf: usize) -> Option<u32> {
+        let entries = &self.tree.region(leaf).entries;
+        entries.iter().rev().copied().fold(None, |best: Option<u32>, e| match best {
+            Some(b) if self.tree.value(b as usize) <= self.tree.value(e as usize) => Some(b),
+            _ => Some(e),
+        })
+    }
+
+    /// Mode 3 as `Mode3Reading::InterestWorst` reads it: a leaf by interest, then a Gaussian about
+    /// its worst goal (sd sigma times the box's width in each dimension) clipped to the leaf;
+    /// uniform in the leaf if it holds nothing.
+    fn near_worst(&mut self) -> (Vec<f64>, usize) {
+        let leaf = self.interest_leaf();
+        let Some(w) = self.worst_in(leaf) else {
+            let r = self.tree.region(leaf);
+            return (uniform_in(&mut self.rng, &r.low, &r.high), leaf);
+        };
+        let centre = self.tree.point(w as usize).to_vec();
+        let sigma = self.mode3.sigma;
+        let (lo, hi) = (self.tree.low().to_vec(), self.tree.high().to_vec());
+        let r = self.tree.region(leaf);
+        let (rlo, rhi) = (r.low.clone(), r.high.clone());
+        let goal = (0..centre.len()).map(|j| (centre[j] + sigma * (hi[j] - lo[j]) * normal(&mut self.rng)).clamp(rlo[j], rhi[j])).collect();
+        (goal, leaf)
     }
 
     /// Draw a leaf with probability |interest - min interest| / sum (eq. 3); uniform when all
@@ -203,6 +240,11 @@ impl GoalSelector for SaggRiac {
             return GoalChoice { goal, mode: Mode::Initial, region: None };
         }
         let u = unit(&mut self.rng);
+        let mode3 = self.modes.p_interest + self.modes.p_global <= u;
+        if mode3 && self.mode3.reading == Mode3Reading::InterestWorst {
+            let (goal, leaf) = self.near_worst();
+            return GoalChoice { goal, mode: Mode::LowestCompetence, region: Some(leaf) };
+        }
         let (mode, leaf) = if u < self.modes.p_interest {
             (Mode::Interest, Some(self.interest_leaf()))
         } else if u < self.modes.p_interest + self.modes.p_global {
@@ -225,7 +267,9 @@ impl GoalSelector for SaggRiac {
     /// R-IAC in the current context (docs/parameters.md, "ACTUATOR-RIAC"): each candidate is
     /// located in its leaf, and the three modes choose among the candidates through their
     /// leaves: mode 1 with probability |interest - min interest| (eq. 3, the minimum over all
-    /// leaves), mode 2 uniformly, mode 3 the candidate in the leaf of lowest mean competence.
+    /// leaves), mode 2 uniformly, mode 3 the candidate in the leaf of lowest mean competence (by
+    /// `Mode3Reading::InterestWorst`: a candidate drawn as in mode 1, then the candidate of its
+    /// leaf nearest the leaf's worst goal, distances in shares of the box's width).
     /// Uniform before the first split, and in mode 1 when no candidate's leaf has weight.
     fn choose(&mut self, candidates: &[Vec<f64>]) -> Option<GoalChoice> {
         let pick = |c: usize, mode: Mode, leaf: Option<usize>| Some(GoalChoice { goal: candidates[c].clone(), mode, region: leaf });
@@ -237,16 +281,27 @@ impl GoalSelector for SaggRiac {
         }
         let leaves: Vec<usize> = candidates.iter().map(|c| self.tree.leaf_of(c)).collect();
         let u = unit(&mut self.rng);
-        if u < self.modes.p_interest {
-            let min = self.tree.min_leaf_interest();
-            let w: Vec<f64> = leaves.iter().map(|&l| (self.tree.region(l).interest - min).abs()).collect();
+        // A candidate drawn by its leaf's interest (mode 1's draw).
+        let by_interest = |s: &mut Self| {
+            let min = s.tree.min_leaf_interest();
+            let w: Vec<f64> = leaves.iter().map(|&l| (s.tree.region(l).interest - min).abs()).collect();
             let total: f64 = w.iter().sum();
             if !(total > 0.0 && total.is_finite()) {
-                let c = index(&mut self.rng, candidates.len());
-                return pick(c, Mode::Interest, Some(leaves[c]));
+                return index(&mut s.rng, candidates.len());
             }
-            let chosen = pick_weighted(&w, unit(&mut self.rng) * total);
+            pick_weighted(&w, unit(&mut s.rng) * total)
+        };
+        if u < self.modes.p_interest {
+            let chosen = by_interest(self);
             pick(chosen, Mode::Interest, Some(leaves[chosen]))
+        } else if self.modes.p_interest + self.modes.p_global <= u && self.mode3.reading == Mode3Reading::InterestWorst {
+            let drawn = by_interest(self);
+            let leaf = leaves[drawn];
+            let Some(w) = self.worst_in(leaf) else { return pick(drawn, Mode::LowestCompetence, Some(leaf)) };
+            let (worst, lo, hi) = (self.tree.point(w as usize), self.tree.low(), self.tree.high());
+            let dist = |c: usize| candidates[c].iter().enumerate().map(|(j, x)| ((x - worst[j]) / (hi[j] - lo[j])).powi(2)).sum::<f64>();
+            let c = (0..candidates.len()).filter(|&c| leaves[c] == leaf).min_by(|&a, &b| dist(a).total_cmp(&dist(b))).unwrap_or(drawn);
+            pick(c, Mode::LowestCompetence, Some(leaf))
         } else if u < self.modes.p_interest + self.modes.p_global {
             let c = index(&mut self.rng, candidates.len());
             pick(c, Mode::Global, Some(leaves[c]))
@@ -314,89 +369,4 @@ impl GoalSelector for RandomGoals {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// Choosing among candidates: uniform before the first split; then mode 1 favours the
-    /// candidates in the leaf of high interest, and mode 3 takes the one in the leaf of lowest
-    /// mean competence.
-    #[test]
-    fn chooses_among_candidates_by_their_leaves() {
-        let cfg = RegionTreeConfig { g_max: 20, zeta: 10, min_child: 3, ..Default::default() };
-        let mut s = SaggRiac::new(&[0.0, 0.0], &[1.0, 1.0], cfg, ModeProbabilities::default(), 3).unwrap();
-        let cands = vec![vec![0.1, 0.5], vec![0.9, 0.5]];
-        let first = s.choose(&cands).unwrap();
-        assert_eq!(first.mode, Mode::Initial);
-        // Left half: competence rising (interest); right half: flat at -0.9 (no interest, lowest).
-        let mut r = rng_from_seed(5);
-        for i in 0..60 {
-            s.update(&[uniform(&mut r, 0.0, 0.5), uniform(&mut r, 0.0, 1.0)], -1.0 + i as f64 / 60.0);
-            s.update(&[uniform(&mut r, 0.5, 1.0), uniform(&mut r, 0.0, 1.0)], -0.9);
-        }
-        assert!(s.tree.leaves().len() >= 2);
-        let (mut left, mut by_mode) = (0, std::collections::HashMap::new());
-        for _ in 0..2000 {
-            let c = s.choose(&cands).unwrap();
-            assert!(c.goal == cands[0] || c.goal == cands[1]);
-            assert_eq!(c.region, Some(s.tree.leaf_of(&c.goal)));
-            *by_mode.entry(c.mode as u8).or_insert(0) += 1;
-            if c.mode == Mode::Interest && c.goal == cands[0] {
-                left += 1;
-            }
-            if c.mode == Mode::LowestCompetence {
-                assert_eq!(c.goal, cands[1], "the right half has the lowest mean competence");
-            }
-        }
-        let interest = by_mode[&(Mode::Interest as u8)];
-        assert!((1250..1550).contains(&interest), "{interest} of 2000 in mode 1 (p = 0.7)");
-        assert!(left as f64 > 0.9 * interest as f64, "mode 1 chose the learnable half {left} of {interest} times");
-        // A selector without regions cannot choose.
-        let mut random = RandomGoals::new(&[0.0, 0.0], &[1.0, 1.0], 1).unwrap();
-        assert!(random.choose(&cands).is_none());
-    }
-
-    /// Competence on a toy task: the left quarter of [0,1]^2 improves with practice, the rest is
-    /// hopeless (always min_C). SAGG-RIAC must concentrate its goals where progress is.
-    #[test]
-    fn concentrates_on_the_learnable_region() {
-        let mut s = SaggRiac::new(&[0.0, 0.0], &[1.0, 1.0], RegionTreeConfig::default(), ModeProbabilities::default(), 7).unwrap();
-        let mut practice = 0.0;
-        let mut inside = 0;
-        let n = 4000;
-        for i in 0..n {
-            let g = s.sample();
-            let c = if g.goal[0] < 0.25 {
-                practice += 1.0;
-                // noisy progress: competence rises with practice
-                -1.0 / (1.0 + 0.02 * practice) * (0.8 + 0.4 * ((i * 7919) % 100) as f64 / 100.0)
-            } else {
-                -1.0
-            };
-            s.update(&g.goal, c.max(-1.0));
-            if i >= n / 2 && g.goal[0] < 0.25 {
-                inside += 1;
-            }
-        }
-        let share = inside as f64 / (n / 2) as f64;
-        assert!(share > 0.5, "share of goals in the learnable quarter: {share}");
-    }
-
-    #[test]
-    fn same_seed_same_goals() {
-        let mk = || SaggRiac::new(&[0.0], &[1.0], RegionTreeConfig { g_max: 10, zeta: 4, min_child: 2, ..Default::default() }, ModeProbabilities::default(), 3).unwrap();
-        let (mut a, mut b) = (mk(), mk());
-        for i in 0..500 {
-            let (ga, gb) = (a.sample(), b.sample());
-            assert_eq!(ga, gb);
-            let c = -((i % 7) as f64) / 7.0 * ga.goal[0];
-            a.update(&ga.goal, c);
-            b.update(&gb.goal, c);
-        }
-    }
-
-    #[test]
-    fn probabilities_must_sum_to_one() {
-        let e = ModeProbabilities { p_interest: 0.7, p_global: 0.2, p_lowest: 0.2 }.validate().unwrap_err();
-        assert!(e.to_string().contains("p_interest + p_global + p_lowest = 1"), "{e}");
-    }
-}
+mod tests;

@@ -6,6 +6,8 @@ reach_error and pred_error, one metric row per line).
 
 - 5: saggriac 0.5.0 (4ffeabf): a run of micro-actions and an episodic one.
 - 6: saggriac 0.6.0 (164832d): runs whose goals ADR, Goal GAN and SPDL choose.
+- 7: the same core as saved_teachers.py 6 (before SAGG-RIAC's mode 3 reading, #48): a run of
+  SAGG-RIAC's own high level with a small tree.
 """
 import sys
 
@@ -22,6 +24,7 @@ RUNS = {
         "goal_gan": {"teacher": "goal_gan", "teacher_params": {"update_size": 10, "gan_iterations": 5, "hidden": 8}},
         "spdl": {"teacher": "spdl", "teacher_params": {"update_every": 20, "warmup": 20}},
     },
+    7: {"sagg_riac": {"g_max": 12, "zeta": 8, "min_child": 2}},
 }
 
 

@@ -13,13 +13,16 @@ commit that wrote that format: each teacher after some goals, and the 20 goals i
 - 5: the core of 02d4afe (PLR's parameters with ties; SPDL's and Goal GAN's before #46, no
   parameters per dimension), ADR, SPDL, Goal GAN, TSCL, PLR, 290 goals. SPDL updates every 20
   goals here, so its next goals cross an update (at 300).
+- 6: the core /work/main had installed on 2026-12-07 (saggriac 0.6.0, its GIT_COMMIT 7261afc with
+  uncommitted changes; the core crate as at 82c65aa), before SAGG-RIAC's mode 3 reading (#48):
+  SAGG-RIAC, 290 goals.
 """
 import sys
 
 from old_core import bits, load
 
 LO, HI = [0.0, -1.0, 0.0], [1.0, 1.0, 2.0]
-GOALS = {3: 300, 4: 300, 5: 290}
+GOALS = {3: 300, 4: 300, 5: 290, 6: 290}
 PARAMS = {
     4: {
         "adr": {"buffer_size": 3, "step": 0.1, "initial": 0.3, "initial_width": 0.2},
@@ -34,6 +37,7 @@ PARAMS = {
         "tscl": {"n_tasks": 5},
         "plr": {"n_tasks": 5},
     },
+    6: {"sagg_riac": {"g_max": 12, "zeta": 8, "min_child": 2}},
 }
 
 

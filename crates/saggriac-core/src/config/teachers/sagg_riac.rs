@@ -3,7 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::config::high_level::{ModeProbabilities, RegionTreeConfig, SAGG_RIAC_RULES};
+use crate::config::high_level::{Mode3Config, ModeProbabilities, RegionTreeConfig, SAGG_RIAC_RULES};
 use crate::config::rules::Rule;
 use crate::config::teachers::TeacherParams;
 use crate::error::Result;
@@ -14,12 +14,14 @@ use crate::error::Result;
 pub struct SaggRiacConfig {
     pub tree: RegionTreeConfig,
     pub modes: ModeProbabilities,
+    /// Mode 3's reading (the paper's by default).
+    pub mode3: Mode3Config,
 }
 
 impl TeacherParams for SaggRiacConfig {
     const RULES: &'static [(&'static str, Rule)] = SAGG_RIAC_RULES;
 
     fn validate(&self) -> Result<()> {
-        self.tree.validate().and_then(|_| self.modes.validate())
+        self.tree.validate().and_then(|_| self.modes.validate()).and_then(|_| self.mode3.validate())
     }
 }

@@ -1,12 +1,12 @@
 //! The layouts of formats 1 (saggriac <= 0.2: SAGG-RIAC's tree parameters without the divisor),
 //! 2 (saggriac 0.3-0.4, whose teachers' states were variants of one enum), 3 (saggriac 0.5,
 //! the parameters as one enum of teachers with their boxes and seeds), 4 (saggriac 0.6, PLR's
-//! parameters without `ties`) and 5 (PLR's with `ties`; before #46: no parameters per dimension,
-//! SPDL's and Goal GAN's parameters as they were).
+//! parameters without `ties`), 5 (PLR's with `ties`; before #46: no parameters per dimension,
+//! SPDL's and Goal GAN's parameters as they were) and 6 (SAGG-RIAC without mode 3's reading).
 
 use super::*;
 use crate::config::high_level::InterestDivisor;
-use crate::config::teachers::{AdrConfig, GoalGanConfig, PlrConfig, PlrScore, PlrTies, RandomConfig, ReplaySchedule, SaggRiacConfig, SpdlConfig, SpdlCovariance, SpdlForm, Teacher, TsclConfig};
+use crate::config::teachers::{AdrConfig, GoalGanConfig, PerDimension, PlrConfig, PlrScore, PlrTies, RandomConfig, ReplaySchedule, SaggRiacConfig, SpdlConfig, SpdlCovariance, SpdlForm, Teacher, TsclConfig};
 use crate::high_level::teachers::alp_gmm::AlpGmmConfig;
 use crate::high_level::teachers::covar_gmm::CovarGmmConfig;
 use crate::high_level::teachers::discrete_lp::DiscreteLpConfig;
@@ -27,7 +27,7 @@ pub enum SpecV3 {
 impl From<SpecV3> for TeacherSpec {
     fn from(s: SpecV3) -> Self {
         let (teacher, low, high, seed) = match s {
-            SpecV3::SaggRiac { low, high, tree, modes, seed } => (Teacher::SaggRiac(SaggRiacConfig { tree, modes }), low, high, seed),
+            SpecV3::SaggRiac { low, high, tree, modes, seed } => (Teacher::SaggRiac(SaggRiacConfig { tree, modes, ..Default::default() }), low, high, seed),
             SpecV3::Random { low, high, seed } => (Teacher::Random(RandomConfig {}), low, high, seed),
             SpecV3::Riac { low, high, cfg, seed } => (Teacher::Riac(cfg), low, high, seed),
             SpecV3::DiscreteLp { cfg, seed } => (Teacher::DiscreteLp(cfg), Vec::new(), Vec::new(), seed),
@@ -151,11 +151,24 @@ impl From<GoalGanConfigV5> for GoalGanConfig {
     }
 }
 
+/// SAGG-RIAC's parameters as formats 4 to 6 wrote them: mode 3 as the paper reads it.
+#[derive(Deserialize)]
+pub struct SaggRiacConfigV6 {
+    tree: RegionTreeConfig,
+    modes: ModeProbabilities,
+}
+
+impl From<SaggRiacConfigV6> for SaggRiacConfig {
+    fn from(c: SaggRiacConfigV6) -> Self {
+        SaggRiacConfig { tree: c.tree, modes: c.modes, ..Default::default() }
+    }
+}
+
 /// `Teacher` as formats 4 and 5 wrote it: the registry's variants in its order, SPDL's and Goal
 /// GAN's parameters before #46, and PLR's as `Plr` (format 4: without `ties`; 5: with).
 #[derive(Deserialize)]
 pub enum TeacherV5<Plr> {
-    SaggRiac(SaggRiacConfig),
+    SaggRiac(SaggRiacConfigV6),
     Random(RandomConfig),
     Riac(RiacConfig),
     DiscreteLp(DiscreteLpConfig),
@@ -181,7 +194,7 @@ impl<Plr: Into<PlrConfig>> From<SpecV5<Plr>> for TeacherSpec {
     /// The parameters added since at the values the teachers of then ran with.
     fn from(s: SpecV5<Plr>) -> Self {
         let teacher = match s.teacher {
-            TeacherV5::SaggRiac(c) => Teacher::SaggRiac(c),
+            TeacherV5::SaggRiac(c) => Teacher::SaggRiac(c.into()),
             TeacherV5::Random(c) => Teacher::Random(c),
             TeacherV5::Riac(c) => Teacher::Riac(c),
             TeacherV5::DiscreteLp(c) => Teacher::DiscreteLp(c),
@@ -197,11 +210,57 @@ impl<Plr: Into<PlrConfig>> From<SpecV5<Plr>> for TeacherSpec {
     }
 }
 
+/// `Teacher` as format 6 wrote it: SAGG-RIAC without mode 3's reading.
+#[derive(Deserialize)]
+pub enum TeacherV6 {
+    SaggRiac(SaggRiacConfigV6),
+    Random(RandomConfig),
+    Riac(RiacConfig),
+    DiscreteLp(DiscreteLpConfig),
+    AlpGmm(AlpGmmConfig),
+    CovarGmm(CovarGmmConfig),
+    Adr(AdrConfig),
+    Plr(PlrConfig),
+    Spdl(SpdlConfig),
+    GoalGan(GoalGanConfig),
+    Tscl(TsclConfig),
+}
+
+/// `TeacherSpec` as format 6 wrote it.
+#[derive(Deserialize)]
+pub struct SpecV6 {
+    teacher: TeacherV6,
+    low: Vec<f64>,
+    high: Vec<f64>,
+    seed: u64,
+    dims: PerDimension,
+}
+
+impl From<SpecV6> for TeacherSpec {
+    fn from(s: SpecV6) -> Self {
+        let teacher = match s.teacher {
+            TeacherV6::SaggRiac(c) => Teacher::SaggRiac(c.into()),
+            TeacherV6::Random(c) => Teacher::Random(c),
+            TeacherV6::Riac(c) => Teacher::Riac(c),
+            TeacherV6::DiscreteLp(c) => Teacher::DiscreteLp(c),
+            TeacherV6::AlpGmm(c) => Teacher::AlpGmm(c),
+            TeacherV6::CovarGmm(c) => Teacher::CovarGmm(c),
+            TeacherV6::Adr(c) => Teacher::Adr(c),
+            TeacherV6::Plr(c) => Teacher::Plr(c),
+            TeacherV6::Spdl(c) => Teacher::Spdl(c),
+            TeacherV6::GoalGan(c) => Teacher::GoalGan(c),
+            TeacherV6::Tscl(c) => Teacher::Tscl(c),
+        };
+        TeacherSpec { teacher, low: s.low, high: s.high, seed: s.seed, dims: s.dims }
+    }
+}
+
 pub type SavedV1 = SavedAs<SpecV1, StateV2>;
 pub type SavedV2 = SavedAs<SpecV3, StateV2>;
 pub type SavedV3 = SavedAs<SpecV3, Vec<u8>>;
 pub type SavedV4 = SavedAs<SpecV5<PlrConfigV4>, Vec<u8>>;
 pub type SavedV5 = SavedAs<SpecV5<PlrConfig>, Vec<u8>>;
+pub type SavedV6 = SavedAs<SpecV6, Vec<u8>>;
 
 impl From<SpecV1> for TeacherSpec {
     fn from(s: SpecV1) -> Self {

@@ -8,6 +8,6 @@ use crate::high_level::teachers::Build;
 
 impl Build for SaggRiacConfig {
     fn build(&self, low: &[f64], high: &[f64], seed: u64) -> Result<Box<dyn GoalSelector>> {
-        Ok(Box::new(SaggRiac::new(low, high, self.tree, self.modes, seed)?))
+        Ok(Box::new(SaggRiac::new(low, high, self.tree, self.modes, seed)?.with_mode3(self.mode3)?))
     }
 }
