@@ -6,6 +6,8 @@ rules and the results: docs/sagg_riac_mode3.md.
     python benchmarks/sagg_riac_mode3.py choose     # the registered rule -> choice.json
     python benchmarks/sagg_riac_mode3.py report     # report seeds 900-919, every quick task
     python benchmarks/sagg_riac_mode3.py analyse    # the tables of the doc, from the rows
+    python benchmarks/sagg_riac_mode3.py arm        # the paper's exp1 / exp2, seeds 920-929
+    python benchmarks/sagg_riac_mode3.py arm-analyse
 
 Every run is one row of a CSV in --out (default docs/figures/sagg_riac_mode3), appended as soon
 as it is done: a phase killed and run again computes only the runs it has no row for. A run is
@@ -186,9 +188,69 @@ def compare(out: Path, base: str, other: str, name: str) -> str:
     return text
 
 
+ARM_SEEDS = tuple(range(920, 930))
+ARM_PRESETS = ("exp1", "exp2")
+ARM_FIELDS = ("preset", "condition", "seed", "reach_error", "pred_error", "seconds", "version", "commit")
+
+
+def arm_runs(out: Path) -> None:
+    """The paper's experiments (their presets and budgets, condition sagg_riac) with each mode 3
+    reading: the final evaluation's reaching error, one row per run."""
+    import time
+
+    import saggriac as sg
+
+    path = out / "arm_runs.csv"
+    done = {(r["preset"], r["condition"], int(r["seed"])) for r in rows(path)}
+    new = not path.exists()
+    sigma = json.loads((out / "choice.json").read_text())["mode3_sigma"]
+    readings = {"paper": {}, "interest_worst": {"mode3": "interest_worst", "mode3_sigma": sigma}}
+    commit = git_commit()
+    with path.open("a", newline="") as f:
+        w = csv.DictWriter(f, ARM_FIELDS)
+        if new:
+            w.writeheader()
+        for preset in ARM_PRESETS:
+            for seed in ARM_SEEDS:
+                for name, kw in readings.items():
+                    if (preset, name, seed) in done:
+                        continue
+                    start = time.perf_counter()
+                    last = sg.run(sg.Config.from_preset(preset, **kw), seed=seed).metrics.iloc[-1]
+                    row = dict(preset=preset, condition=name, seed=seed, reach_error=repr(float(last["reach_error"])), pred_error=repr(float(last["pred_error"])), seconds=f"{time.perf_counter() - start:.1f}", version=_core.__version__, commit=commit)
+                    w.writerow(row)
+                    f.flush()
+                    print(f"arm {preset} {name:16s} seed {seed}: reach_error {float(last['reach_error']):.3f}", flush=True)
+
+
+def arm_analyse(out: Path) -> None:
+    """interest_worst minus paper in final reaching error (lower is better), paired by seed; Holm
+    over the two presets."""
+    t: dict[tuple[str, str], dict[int, float]] = {}
+    for r in rows(out / "arm_runs.csv"):
+        t.setdefault((r["preset"], r["condition"]), {})[int(r["seed"])] = float(r["reach_error"])
+    rng = np.random.default_rng(np.random.SeedSequence(920))
+    res = []
+    for preset in ARM_PRESETS:
+        a, b = t.get((preset, "paper"), {}), t.get((preset, "interest_worst"), {})
+        seeds = sorted(set(a) & set(b))
+        if not seeds:
+            continue
+        d = np.array([b[s] - a[s] for s in seeds])
+        res.append((preset, len(seeds), np.mean([a[s] for s in seeds]), np.mean([b[s] for s in seeds]), paired(d, rng)))
+    adj = holm([r[4][3] for r in res])
+    lines = ["| preset | seeds | paper reach error | interest_worst reach error | difference [95 % CI] | p (Holm) | verdict |", "|---|---|---|---|---|---|---|"]
+    for (preset, n, ea, eb, (m, lo, hi, _)), p in zip(res, adj):
+        verdict = ("better" if m < 0 else "worse") if p < 0.05 else "no difference shown"
+        lines.append(f"| {preset} | {n} | {ea:.3f} | {eb:.3f} | {m:+.3f} [{lo:+.3f}, {hi:+.3f}] | {p:.2g} | {verdict} |")
+    text = "\n".join(lines) + "\n"
+    (out / "arm_results.md").write_text(text)
+    print(text)
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("phase", choices=["tune", "choose", "report", "analyse"])
+    ap.add_argument("phase", choices=["tune", "choose", "report", "analyse", "arm", "arm-analyse"])
     ap.add_argument("--out", default=str(OUT))
     args = ap.parse_args()
     out = Path(args.out)
@@ -198,8 +260,12 @@ def main() -> None:
         choose(out)
     elif args.phase == "report":
         run_all(out / "report_runs.csv", "report", report_conditions(out), box_tasks(), REPORT_SEEDS)
-    else:
+    elif args.phase == "analyse":
         analyse(out)
+    elif args.phase == "arm":
+        arm_runs(out)
+    else:
+        arm_analyse(out)
 
 
 if __name__ == "__main__":
