@@ -104,6 +104,7 @@ CALLS = {
     "saggriac.adapters.gym.goals.SelectorGoals.__init__.allow_copy": lambda v, t: _gym().SelectorGoals(_gym().GoalArmEnv(), _teacher(), allow_copy=v),
     "saggriac.adapters.gym.goals.VectorSelectorGoals.__init__.allow_copy": lambda v, t: _gym().VectorSelectorGoals(__import__("gymnasium").vector.SyncVectorEnv([_gym().GoalArmEnv]), _teacher(), allow_copy=v),
     "saggriac.adapters.sb3.TeacherCallback.__init__.allow_copy": lambda v, t: __import__("saggriac.adapters.sb3", fromlist=["x"]).TeacherCallback(_teacher(), allow_copy=v),
+    "saggriac.bench.minigrid.evaluate.greedy": lambda v, t: __import__("saggriac.bench.minigrid", fromlist=["x"]).evaluate(None, [], greedy=v),
 }
 
 

@@ -28,6 +28,7 @@ from typing import Any, Callable, ClassVar
 import numpy as np
 
 from ..errors import ParameterError
+from ..files import check_flag
 from .tasks import BenchTask, register
 
 #: The grades, easy to hard: an empty room of that side (the agent anywhere, facing any way; the
@@ -168,6 +169,7 @@ def evaluate(model: Any, levels: list[tuple[int, int]], greedy: bool = False) ->
     (mean MiniGrid return, share of levels solved). Its actions are drawn from the policy with a
     generator of its own seeded EVAL_SEED (the same draws for every run, and PPO's torch
     generator untouched), or the most likely ones with ``greedy``."""
+    greedy = check_flag(greedy, "greedy", "evaluate")
     import torch
 
     rng = np.random.default_rng(EVAL_SEED)
