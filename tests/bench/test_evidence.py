@@ -177,3 +177,19 @@ def test_the_analysis_is_the_hand_computation_on_a_small_table(tmp_path):
     assert d.min() <= base.loc["oracle", "boot_low"] <= go <= base.loc["oracle", "boot_high"] <= d.max()
     vs = table[table["family"] == "against the oracle"]
     assert list(vs["a"]) == ["riac"] and vs["gain"].iloc[0] == pytest.approx(np.mean(np.array(finals["riac"]) - finals["oracle"]))
+
+
+def test_the_sac_study_as_registered_plans_its_324_runs_dense_first_and_paired_by_seed():
+    """docs/figures/evidence/sac/protocol.json reads, and its plan is the registration's: 9
+    teachers on dense seeds 900-923 then sparse 950-961 at the pilot's budget, every teacher on a
+    seed before the next seed (a partial study stays paired)."""
+    ev = benchmark_scripts.load("evidence")
+    p = ev.read_protocol(ev.ROOT / "sac" / "protocol.json")
+    jobs = ev.plan(p, pilot=False)
+    assert len(jobs) == 9 * (24 + 12) and {j[3] for j in jobs} == {20_000}
+    assert [j[:3] for j in jobs[:10]] == [("rl-arm-sac-dense", t, 900) for t in p["teachers"]] + [("rl-arm-sac-dense", "random", 901)]
+    assert {j[2] for j in jobs if j[0] == "rl-arm-sac-dense"} == set(range(900, 924)) and {j[2] for j in jobs if j[0] == "rl-arm-sac-sparse"} == set(range(950, 962))
+    assert jobs.index(next(j for j in jobs if j[0] == "rl-arm-sac-sparse")) == 9 * 24
+    from saggriac.bench import TASKS
+
+    assert all(TASKS[t].budgets["full"] == p["budget"][t] for t in p["tasks"])  # the bench's full tier reruns it
