@@ -48,7 +48,7 @@ def run(root, *args):
     return subprocess.run([sys.executable, str(SCRIPT), "--study", "tiny", "--root", str(root), *args], capture_output=True, text=True, timeout=600, env=ENV)
 
 
-def test_a_tiny_study_runs_its_seeds_resumes_after_a_kill_and_reanalyses(tmp_path):
+def test_a_tiny_study_runs_its_seeds_resumes_after_a_kill_and_reanalyses(tmp_path, monkeypatch):
     out = write(tmp_path, protocol())
     done = run(tmp_path)
     assert done.returncode == 0, done.stderr[-3000:]
@@ -64,13 +64,9 @@ def test_a_tiny_study_runs_its_seeds_resumes_after_a_kill_and_reanalyses(tmp_pat
     from saggriac.bench import TASKS, TeacherSpec, run_one
     from saggriac.bench.runner import Job
 
-    TASKS["niches-0"].budgets = dict(TASKS["niches-0"].budgets, standard=400)
-    TASKS["niches-0"].points = 4
-    try:
-        bench = run_one(Job("niches-0", "standard", TeacherSpec("riac"), 902))["row"]
-    finally:
-        TASKS["niches-0"].budgets = dict(TASKS["niches-0"].budgets, standard=8_000)
-        TASKS["niches-0"].points = 32
+    monkeypatch.setattr(TASKS["niches-0"], "budgets", dict(TASKS["niches-0"].budgets, standard=400))
+    monkeypatch.setattr(TASKS["niches-0"], "points", 4)
+    bench = run_one(Job("niches-0", "standard", TeacherSpec("riac"), 902))["row"]
     mine = runs[(runs["task"] == "niches-0") & (runs["teacher"] == "riac") & (runs["seed"] == 902)].iloc[0]
     assert (mine["final"], mine["area"]) == (bench["final"], bench["area"])
     # The oracle opens the chain of niches faster than random on every seed.
