@@ -189,3 +189,32 @@ def test_the_sac_study_as_registered_plans_its_324_runs_dense_first_and_paired_b
     from saggriac.bench import TASKS
 
     assert all(TASKS[t].budgets["full"] == p["budget"][t] for t in p["tasks"])  # the bench's full tier reruns it
+
+
+def test_a_failing_teacher_is_recorded_and_the_study_goes_on(tmp_path):
+    """A teacher that raises on one seed: its run goes to failures.csv with the reason, every other
+    run is done, the results say so, and resuming tries that run again (and only it)."""
+    (tmp_path / "flaky.py").write_text(
+        "import numpy as np\n"
+        "class Flaky:\n"
+        "    def __init__(self, low, high, seed=0):\n"
+        "        self.low, self.high, self.rng, self.n = np.asarray(low), np.asarray(high), np.random.default_rng(seed), 0\n"
+        "        self.bad = seed % 2 == 0\n"
+        "    def sample(self):\n"
+        "        self.n += 1\n"
+        "        if self.bad and self.n == 5:\n"
+        "            raise RuntimeError('flaky on purpose')\n"
+        "        return self.rng.uniform(self.low, self.high)\n"
+        "    def update(self, goal, competence):\n"
+        "        pass\n"
+    )
+    teacher = f"{tmp_path / 'flaky.py'}:Flaky"
+    out = write(tmp_path, protocol(tasks=["niches-0"], budget={"niches-0": 200}, report={"niches-0": "900-905"}, teachers=["random", teacher]))
+    done = run(tmp_path)
+    assert done.returncode == 0, done.stderr[-3000:]
+    runs, failed = pd.read_csv(out / "runs.csv"), pd.read_csv(out / "failures.csv")
+    assert len(failed) >= 1 and failed["error"].str.contains("flaky on purpose").all() and (failed["teacher"] == teacher).all()
+    assert len(runs) + len(failed) == 12 and not set(zip(failed["teacher"], failed["seed"])) & set(zip(runs["teacher"], runs["seed"]))
+    assert "Refused on the way" in (out / "results.md").read_text() and "Interim" in (out / "results.md").read_text()
+    again = run(tmp_path)
+    assert again.returncode == 0 and f"{len(failed)} runs to do, {len(runs)} already" in again.stderr
