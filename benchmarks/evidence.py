@@ -11,7 +11,8 @@ prose is ``docs/evidence/NAME.md``): the bench tasks it runs (any registered tas
 list), the teachers (the bench's names, built-in or ``pkg.mod:Class``, and ``oracle``, the task's
 own oracle: ``BenchTask.oracle_teacher``), the budget per task, the scorings per run, the pilot's
 and the report's seeds (and its rules, ``pilot.rules``), the decision rule, and optionally the
-verdicts of an earlier study the results are set against (``earlier``).
+verdicts of an earlier study the results are set against (``earlier``) and the modules to import
+that register tasks ``saggriac.bench`` does not (``modules``).
 
 A run is (task, teacher, seed): the bench's task class built for the root seed, the bench's
 guarded teacher (seeds derived as the bench derives them, :func:`saggriac.bench.runner.play_run`),
