@@ -34,6 +34,7 @@ rule, and the task's own notes (the arm's fold counts).
 from __future__ import annotations
 
 import argparse
+import importlib
 import json
 import math
 import sys
@@ -76,7 +77,7 @@ def read_protocol(path: Path) -> dict[str, Any]:
     if missing:
         raise ProtocolError(f"The protocol {path} must have the keys {', '.join(NEEDED)}; it has no {', '.join(missing)}.")
     for module in p.get("modules", []):
-        __import__(module)  # a module that registers tasks of the study's own
+        importlib.import_module(module)  # a module that registers tasks of the study's own
     unknown = [t for t in p["tasks"] if t not in TASKS]
     if unknown:
         raise ProtocolError(f"The 'tasks' of the protocol {path} must be bench tasks ({', '.join(TASKS)}). Got {unknown} instead.")
@@ -122,7 +123,7 @@ def plan(p: dict[str, Any], pilot: bool) -> list[tuple[str, str, int, int]]:
     return jobs
 
 
-def one_run_safely(job: tuple[str, str, int, int, int, float, str]) -> tuple[list[dict] | None, dict | None, str | None]:
+def one_run_safely(job: tuple) -> tuple[list[dict] | None, dict | None, str | None]:
     """:func:`one_run`, or the message of a refused run: a teacher that failed (TeacherError:
     raised, took longer than the timeout, asked a goal outside the space) or a learner that did
     not train on the teacher's goals (ConformanceError). Anything else is a bug and stops the study."""
@@ -135,13 +136,17 @@ def one_run_safely(job: tuple[str, str, int, int, int, float, str]) -> tuple[lis
         return None, None, f"{type(e).__name__}: {e}"
 
 
-def one_run(job: tuple[str, str, int, int, int, float, str]) -> tuple[list[dict], dict]:
-    """One run (a top-level function, for a pool): its rows of curves.csv and runs.csv."""
+def one_run(job: tuple) -> tuple[list[dict], dict]:
+    """One run, (task, teacher, seed, budget, scorings, timeout, commit, modules) (a top-level
+    function, for a pool of fresh processes, which import the protocol's modules): its rows of
+    curves.csv and runs.csv."""
     from saggriac.bench import TASKS, parse_teacher
     from saggriac.bench.runner import play_run
     from saggriac.bench.teachers import ORACLE, Guarded, GuardedOracle
 
-    task_name, teacher, seed, budget, scorings, timeout, code = job
+    task_name, teacher, seed, budget, scorings, timeout, code, modules = job
+    for module in modules:
+        importlib.import_module(module)
     cpu = time.process_time()
     if teacher == ORACLE:
         build = lambda task, s: GuardedOracle(task, s, timeout, run_seed=seed)
@@ -203,7 +208,8 @@ def run_study(p: dict[str, Any], out: Path, pilot: bool, workers: int, timeout: 
     todo = [j for j in jobs if j[:3] not in done]
     print(f"{len(todo)} runs to do, {len(jobs) - len(todo)} already in {out / 'runs.csv'}", file=sys.stderr)
     code = commit()
-    args = [(task, teacher, seed, budget, int(p["scorings"]), timeout, code) for task, teacher, seed, budget in todo]
+    modules = tuple(p.get("modules", []))
+    args = [(task, teacher, seed, budget, int(p["scorings"]), timeout, code, modules) for task, teacher, seed, budget in todo]
     if workers == 1:
         results, pool = map(one_run_safely, args), None
     else:

@@ -218,3 +218,24 @@ def test_a_failing_teacher_is_recorded_and_the_study_goes_on(tmp_path):
     assert "Refused on the way" in (out / "results.md").read_text() and "Interim" in (out / "results.md").read_text()
     again = run(tmp_path)
     assert again.returncode == 0 and f"{len(failed)} runs to do, {len(runs)} already" in again.stderr
+
+
+def test_a_task_of_the_studys_own_module_runs_on_two_workers(tmp_path):
+    """A task registered by a module the protocol names (``modules``), not by saggriac.bench, runs
+    in the workers' fresh processes too, and two workers give the rows one does."""
+    (tmp_path / "mytasks.py").write_text(
+        "from saggriac.bench.tasks import Niches, register\n"
+        "@register\n"
+        "class Mine(Niches):\n"
+        "    name = 'my-niches'\n"
+    )
+    env = {**ENV, "PYTHONPATH": os.pathsep.join([str(tmp_path), ENV.get("PYTHONPATH", "")])}
+    rows = {}
+    for workers in (1, 2):
+        root = tmp_path / f"w{workers}"
+        out = write(root, protocol(tasks=["my-niches"], budget={"my-niches": 200}, report={"my-niches": "900-902"}, teachers=["random", "riac"], modules=["mytasks"]))
+        r = subprocess.run([sys.executable, str(SCRIPT), "--study", "tiny", "--root", str(root), "--workers", str(workers)], capture_output=True, text=True, timeout=600, env=env)
+        assert r.returncode == 0, r.stderr[-3000:]
+        rows[workers] = pd.read_csv(out / "runs.csv")[SAME].sort_values(["teacher", "seed"]).reset_index(drop=True)
+    assert len(rows[1]) == 6 and (rows[1]["task"] == "my-niches").all()
+    pd.testing.assert_frame_equal(rows[1], rows[2])
