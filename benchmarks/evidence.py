@@ -409,7 +409,9 @@ def figure(out: Path, curves: pd.DataFrame) -> None:
             m, s, n = g.mean(), g.std(ddof=1).fillna(0.0), g.count()
             ax.plot(m.index, m.values, label=t)
             ax.fill_between(m.index, m - s / np.sqrt(n), m + s / np.sqrt(n), alpha=0.15)
-        ax.set(xlabel="budget spent", ylabel="score (higher is better)", title=f"{task} (mean ± s.e.)")
+        from saggriac.bench import TASKS
+
+        ax.set(xlabel=TASKS[task].unit if task in TASKS else "budget spent", ylabel="score (higher is better)", title=f"{task} (mean ± s.e.)")
         ax.legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(out / "evidence.png", dpi=100)
