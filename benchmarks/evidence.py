@@ -11,7 +11,8 @@ prose is ``docs/evidence/NAME.md``): the bench tasks it runs (any registered tas
 list), the teachers (the bench's names, built-in or ``pkg.mod:Class``, and ``oracle``, the task's
 own oracle: ``BenchTask.oracle_teacher``), the budget per task, the scorings per run, the pilot's
 and the report's seeds (and its rules, ``pilot.rules``), the decision rule, and optionally the
-verdicts of an earlier study the results are set against (``earlier``).
+verdicts of an earlier study the results are set against (``earlier``) and the modules to import
+that register tasks ``saggriac.bench`` does not (``modules``).
 
 A run is (task, teacher, seed): the bench's task class built for the root seed, the bench's
 guarded teacher (seeds derived as the bench derives them, :func:`saggriac.bench.runner.play_run`),
@@ -19,8 +20,9 @@ with the protocol's budget and seeds rather than the bench's tier (which runs se
 ``curves.csv`` (every scoring, with the task's own measures) and ``runs.csv`` (one row: task,
 learner, teacher, seed, budget, final, area, the task's own measures at the end, seconds,
 cpu_seconds, teacher_seconds, commit); a run already in runs.csv is not run again, so a killed
-study resumes. Runs go seed by seed, every teacher on a seed before the next seed, so that a
-partial study stays paired.
+study resumes. A run refused on the way (a failing teacher, a learner not trained on the
+teacher's goals) goes to ``failures.csv`` with its reason, and is tried again on resuming. Runs go
+seed by seed, every teacher on a seed before the next seed, so that a partial study stays paired.
 
 ``--analyse`` reads runs.csv alone: per task, each teacher against the protocol's baseline and
 against the oracle, paired by seed on complete seeds, with the statistics of the deep-RL study
@@ -32,6 +34,7 @@ rule, and the task's own notes (the arm's fold counts).
 from __future__ import annotations
 
 import argparse
+import importlib
 import json
 import math
 import sys
@@ -74,7 +77,7 @@ def read_protocol(path: Path) -> dict[str, Any]:
     if missing:
         raise ProtocolError(f"The protocol {path} must have the keys {', '.join(NEEDED)}; it has no {', '.join(missing)}.")
     for module in p.get("modules", []):
-        __import__(module)  # a module that registers tasks of the study's own
+        importlib.import_module(module)  # a module that registers tasks of the study's own
     unknown = [t for t in p["tasks"] if t not in TASKS]
     if unknown:
         raise ProtocolError(f"The 'tasks' of the protocol {path} must be bench tasks ({', '.join(TASKS)}). Got {unknown} instead.")
@@ -120,13 +123,30 @@ def plan(p: dict[str, Any], pilot: bool) -> list[tuple[str, str, int, int]]:
     return jobs
 
 
-def one_run(job: tuple[str, str, int, int, int, float, str]) -> tuple[list[dict], dict]:
-    """One run (a top-level function, for a pool): its rows of curves.csv and runs.csv."""
+def one_run_safely(job: tuple) -> tuple[list[dict] | None, dict | None, str | None]:
+    """:func:`one_run`, or the message of a refused run: a teacher that failed (TeacherError:
+    raised, took longer than the timeout, asked a goal outside the space) or a learner that did
+    not train on the teacher's goals (ConformanceError). Anything else is a bug and stops the study."""
+    from saggriac.bench import TeacherError
+    from saggriac.errors import ConformanceError
+
+    try:
+        return (*one_run(job), None)
+    except (TeacherError, ConformanceError) as e:
+        return None, None, f"{type(e).__name__}: {e}"
+
+
+def one_run(job: tuple) -> tuple[list[dict], dict]:
+    """One run, (task, teacher, seed, budget, scorings, timeout, commit, modules) (a top-level
+    function, for a pool of fresh processes, which import the protocol's modules): its rows of
+    curves.csv and runs.csv."""
     from saggriac.bench import TASKS, parse_teacher
     from saggriac.bench.runner import play_run
     from saggriac.bench.teachers import ORACLE, Guarded, GuardedOracle
 
-    task_name, teacher, seed, budget, scorings, timeout, code = job
+    task_name, teacher, seed, budget, scorings, timeout, code, modules = job
+    for module in modules:
+        importlib.import_module(module)
     cpu = time.process_time()
     if teacher == ORACLE:
         build = lambda task, s: GuardedOracle(task, s, timeout, run_seed=seed)
@@ -188,16 +208,25 @@ def run_study(p: dict[str, Any], out: Path, pilot: bool, workers: int, timeout: 
     todo = [j for j in jobs if j[:3] not in done]
     print(f"{len(todo)} runs to do, {len(jobs) - len(todo)} already in {out / 'runs.csv'}", file=sys.stderr)
     code = commit()
-    args = [(task, teacher, seed, budget, int(p["scorings"]), timeout, code) for task, teacher, seed, budget in todo]
+    modules = tuple(p.get("modules", []))
+    args = [(task, teacher, seed, budget, int(p["scorings"]), timeout, code, modules) for task, teacher, seed, budget in todo]
     if workers == 1:
-        results, pool = map(one_run, args), None
+        results, pool = map(one_run_safely, args), None
     else:
         import multiprocessing as mp
 
         pool = mp.get_context("spawn").Pool(workers)
-        results = pool.imap(one_run, args)
+        results = pool.imap(one_run_safely, args)
+    failed = read_table(out / "failures.csv")
     try:
-        for c, r in tqdm(results, total=len(args), desc=f"{p['study']}{' pilot' if pilot else ''}", disable=not progress):
+        for job, (c, r, error) in zip(args, tqdm(results, total=len(args), desc=f"{p['study']}{' pilot' if pilot else ''}", disable=not progress)):
+            if error is not None:
+                # Kept apart, with its reason; the run is tried again when the study resumes.
+                row = pd.DataFrame([dict(task=job[0], teacher=job[1], seed=job[2], budget=job[3], error=error, commit=code)])
+                failed = pd.concat([failed, row], ignore_index=True) if len(failed) else row
+                write_table(out / "failures.csv", failed, "the failed runs")
+                print(f"run {job[0]}/{job[1]}/{job[2]} failed: {error}", file=sys.stderr)
+                continue
             curves = pd.concat([curves, pd.DataFrame(c)], ignore_index=True) if len(curves) else pd.DataFrame(c)
             runs = pd.concat([runs, pd.DataFrame([r])], ignore_index=True) if len(runs) else pd.DataFrame([r])
             write_table(out / "curves.csv", curves, "the curves")
@@ -284,6 +313,9 @@ def analyse(p: dict[str, Any], out: Path, pilot: bool = False) -> str:
     if runs.empty:
         raise ProtocolError(f"--analyse reads {out / 'runs.csv'}, which has no runs.")
     jobs = plan(p, pilot)
+    failed = read_table(out / "failures.csv")
+    if len(failed):
+        failed = failed[[k not in keys(runs) for k in zip(failed["task"], failed["teacher"], failed["seed"].astype(int))]]
     lines = [f"# {p['study']}{' (pilot)' if pilot else ''}: results recomputed from runs.csv", "", f"Question: {p['question']}", ""]
     tables = []
     for task in dict.fromkeys(j[0] for j in jobs):
@@ -292,6 +324,9 @@ def analyse(p: dict[str, Any], out: Path, pilot: bool = False) -> str:
         done = len(keys(r) & {j[:3] for j in want})
         teachers = list(dict.fromkeys(j[1] for j in want))
         lines += [f"## {task}: {TASKS[task].learner}", "", f"{done} of the protocol's {len(want)} runs done ({len(teachers)} teachers, budget {want[0][3]} {TASKS[task].unit}).", ""]
+        refused = failed[failed["task"] == task] if len(failed) else failed
+        if len(refused):
+            lines += ["Refused on the way (failures.csv; tried again when the study resumes): " + "; ".join(f"{x.teacher} seed {int(x.seed)}: {x.error}" for x in refused.itertuples()), ""]
         if done < len(want):
             lines += ["**Interim: not every run of the protocol is done; these numbers decide nothing.**", ""]
         if r.empty:
@@ -374,7 +409,9 @@ def figure(out: Path, curves: pd.DataFrame) -> None:
             m, s, n = g.mean(), g.std(ddof=1).fillna(0.0), g.count()
             ax.plot(m.index, m.values, label=t)
             ax.fill_between(m.index, m - s / np.sqrt(n), m + s / np.sqrt(n), alpha=0.15)
-        ax.set(xlabel="budget spent", ylabel="score (higher is better)", title=f"{task} (mean ± s.e.)")
+        from saggriac.bench import TASKS
+
+        ax.set(xlabel=TASKS[task].unit if task in TASKS else "budget spent", ylabel="score (higher is better)", title=f"{task} (mean ± s.e.)")
         ax.legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(out / "evidence.png", dpi=100)

@@ -48,7 +48,7 @@ def run(root, *args):
     return subprocess.run([sys.executable, str(SCRIPT), "--study", "tiny", "--root", str(root), *args], capture_output=True, text=True, timeout=600, env=ENV)
 
 
-def test_a_tiny_study_runs_its_seeds_resumes_after_a_kill_and_reanalyses(tmp_path):
+def test_a_tiny_study_runs_its_seeds_resumes_after_a_kill_and_reanalyses(tmp_path, monkeypatch):
     out = write(tmp_path, protocol())
     done = run(tmp_path)
     assert done.returncode == 0, done.stderr[-3000:]
@@ -64,13 +64,9 @@ def test_a_tiny_study_runs_its_seeds_resumes_after_a_kill_and_reanalyses(tmp_pat
     from saggriac.bench import TASKS, TeacherSpec, run_one
     from saggriac.bench.runner import Job
 
-    TASKS["niches-0"].budgets = dict(TASKS["niches-0"].budgets, standard=400)
-    TASKS["niches-0"].points = 4
-    try:
-        bench = run_one(Job("niches-0", "standard", TeacherSpec("riac"), 902))["row"]
-    finally:
-        TASKS["niches-0"].budgets = dict(TASKS["niches-0"].budgets, standard=8_000)
-        TASKS["niches-0"].points = 32
+    monkeypatch.setattr(TASKS["niches-0"], "budgets", dict(TASKS["niches-0"].budgets, standard=400))
+    monkeypatch.setattr(TASKS["niches-0"], "points", 4)
+    bench = run_one(Job("niches-0", "standard", TeacherSpec("riac"), 902))["row"]
     mine = runs[(runs["task"] == "niches-0") & (runs["teacher"] == "riac") & (runs["seed"] == 902)].iloc[0]
     assert (mine["final"], mine["area"]) == (bench["final"], bench["area"])
     # The oracle opens the chain of niches faster than random on every seed.
@@ -177,3 +173,69 @@ def test_the_analysis_is_the_hand_computation_on_a_small_table(tmp_path):
     assert d.min() <= base.loc["oracle", "boot_low"] <= go <= base.loc["oracle", "boot_high"] <= d.max()
     vs = table[table["family"] == "against the oracle"]
     assert list(vs["a"]) == ["riac"] and vs["gain"].iloc[0] == pytest.approx(np.mean(np.array(finals["riac"]) - finals["oracle"]))
+
+
+def test_the_sac_study_as_registered_plans_its_324_runs_dense_first_and_paired_by_seed():
+    """docs/figures/evidence/sac/protocol.json reads, and its plan is the registration's: 9
+    teachers on dense seeds 900-923 then sparse 950-961 at the pilot's budget, every teacher on a
+    seed before the next seed (a partial study stays paired)."""
+    ev = benchmark_scripts.load("evidence")
+    p = ev.read_protocol(ev.ROOT / "sac" / "protocol.json")
+    jobs = ev.plan(p, pilot=False)
+    assert len(jobs) == 9 * (24 + 12) and {j[3] for j in jobs} == {20_000}
+    assert [j[:3] for j in jobs[:10]] == [("rl-arm-sac-dense", t, 900) for t in p["teachers"]] + [("rl-arm-sac-dense", "random", 901)]
+    assert {j[2] for j in jobs if j[0] == "rl-arm-sac-dense"} == set(range(900, 924)) and {j[2] for j in jobs if j[0] == "rl-arm-sac-sparse"} == set(range(950, 962))
+    assert jobs.index(next(j for j in jobs if j[0] == "rl-arm-sac-sparse")) == 9 * 24
+    from saggriac.bench import TASKS
+
+    assert all(TASKS[t].budgets["full"] == p["budget"][t] for t in p["tasks"])  # the bench's full tier reruns it
+
+
+def test_a_failing_teacher_is_recorded_and_the_study_goes_on(tmp_path):
+    """A teacher that raises on one seed: its run goes to failures.csv with the reason, every other
+    run is done, the results say so, and resuming tries that run again (and only it)."""
+    (tmp_path / "flaky.py").write_text(
+        "import numpy as np\n"
+        "class Flaky:\n"
+        "    def __init__(self, low, high, seed=0):\n"
+        "        self.low, self.high, self.rng, self.n = np.asarray(low), np.asarray(high), np.random.default_rng(seed), 0\n"
+        "        self.bad = seed % 2 == 0\n"
+        "    def sample(self):\n"
+        "        self.n += 1\n"
+        "        if self.bad and self.n == 5:\n"
+        "            raise RuntimeError('flaky on purpose')\n"
+        "        return self.rng.uniform(self.low, self.high)\n"
+        "    def update(self, goal, competence):\n"
+        "        pass\n"
+    )
+    teacher = f"{tmp_path / 'flaky.py'}:Flaky"
+    out = write(tmp_path, protocol(tasks=["niches-0"], budget={"niches-0": 200}, report={"niches-0": "900-905"}, teachers=["random", teacher]))
+    done = run(tmp_path)
+    assert done.returncode == 0, done.stderr[-3000:]
+    runs, failed = pd.read_csv(out / "runs.csv"), pd.read_csv(out / "failures.csv")
+    assert len(failed) >= 1 and failed["error"].str.contains("flaky on purpose").all() and (failed["teacher"] == teacher).all()
+    assert len(runs) + len(failed) == 12 and not set(zip(failed["teacher"], failed["seed"])) & set(zip(runs["teacher"], runs["seed"]))
+    assert "Refused on the way" in (out / "results.md").read_text() and "Interim" in (out / "results.md").read_text()
+    again = run(tmp_path)
+    assert again.returncode == 0 and f"{len(failed)} runs to do, {len(runs)} already" in again.stderr
+
+
+def test_a_task_of_the_studys_own_module_runs_on_two_workers(tmp_path):
+    """A task registered by a module the protocol names (``modules``), not by saggriac.bench, runs
+    in the workers' fresh processes too, and two workers give the rows one does."""
+    (tmp_path / "mytasks.py").write_text(
+        "from saggriac.bench.tasks import Niches, register\n"
+        "@register\n"
+        "class Mine(Niches):\n"
+        "    name = 'my-niches'\n"
+    )
+    env = {**ENV, "PYTHONPATH": os.pathsep.join([str(tmp_path), ENV.get("PYTHONPATH", "")])}
+    rows = {}
+    for workers in (1, 2):
+        root = tmp_path / f"w{workers}"
+        out = write(root, protocol(tasks=["my-niches"], budget={"my-niches": 200}, report={"my-niches": "900-902"}, teachers=["random", "riac"], modules=["mytasks"]))
+        r = subprocess.run([sys.executable, str(SCRIPT), "--study", "tiny", "--root", str(root), "--workers", str(workers)], capture_output=True, text=True, timeout=600, env=env)
+        assert r.returncode == 0, r.stderr[-3000:]
+        rows[workers] = pd.read_csv(out / "runs.csv")[SAME].sort_values(["teacher", "seed"]).reset_index(drop=True)
+    assert len(rows[1]) == 6 and (rows[1]["task"] == "my-niches").all()
+    pd.testing.assert_frame_equal(rows[1], rows[2])
