@@ -145,8 +145,8 @@ def evidence_rows(folder: Path = REPO / "docs" / "figures" / "evidence") -> tupl
     cols, parts = [], []
     for protocol in sorted(folder.glob("*/protocol.json")):
         comp_path = protocol.parent / "comparisons.csv"
-        if not comp_path.exists():
-            continue
+        if not comp_path.exists() or not comp_path.read_text().strip():
+            continue  # not yet analysed, or no complete seed
         p = json.loads(protocol.read_text())
         comp = pd.read_csv(comp_path)
         comp = comp[comp.family == "against the baseline"]
