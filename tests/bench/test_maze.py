@@ -237,7 +237,7 @@ def test_the_evidence_runner_runs_the_task_and_its_oracle(monkeypatch):
     np.testing.assert_array_equal([guard.ask() for _ in range(20)], [task.oracle() for _ in range(20)])
     monkeypatch.setattr(maze, "N_TEST", 5)
     evidence = benchmark_scripts.load("evidence")
-    curves, row = evidence.one_run((name, "oracle", 7, 1_200, 10, 30.0, "test"))
+    curves, row = evidence.one_run((name, "oracle", 7, 1_200, 10, 30.0, "test", ()))
     assert len(curves) == 10 and row["budget"] == 1_200 and row["final"] == curves[-1]["score"]
     assert row["final_reachable_share"] == 1.0 and row["final_goals_asked"] == 12 and row["final_distance"] == curves[-1]["distance"]
 

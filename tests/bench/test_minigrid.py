@@ -175,7 +175,7 @@ def test_the_pilot_script_runs_what_the_evidence_runner_runs(teacher, monkeypatc
     evidence = benchmark_scripts.load("evidence")
     monkeypatch.setattr(pilot, "PILOT_STEPS", 1_600)
     rows, run = pilot.one_run(teacher, 108)
-    curves, row = evidence.one_run(("rl-minigrid", teacher, 108, 1_600, 10, 30.0, "test"))
+    curves, row = evidence.one_run(("rl-minigrid", teacher, 108, 1_600, 10, 30.0, "test", ()))
     assert [(r["step"], r["score"]) for r in rows] == [(c["step"], c["score"]) for c in curves]
     assert run["final"] == row["final"] and 0.0 <= row["final_solved"] <= 1.0
 
