@@ -2,7 +2,7 @@
 //! `best_by_aic_on` with k = 2..=10 on one thread and on two, for samples of uniform noise in
 //! [0, 1]^d, n samples. `cargo run --release -p saggriac-core --example refit_threads_probe --
 //! [repeats]`. Prints the median of each and their ratio; the crossover sets
-//! `refit_threads::MIN_PARALLEL_WORK` (n d^2).
+//! `refit_threads::MIN_PARALLEL_SAMPLES`.
 
 use std::time::Instant;
 
@@ -20,7 +20,7 @@ fn main() {
     let ks: Vec<usize> = (2..=10).collect();
     println!("n d n*d^2 one_thread_us two_threads_us one/two");
     for d in [3, 4, 11, 12] {
-        for n in [12, 25, 50, 100, 250] {
+        for n in [12, 25, 50, 100, 150, 200, 250, 400] {
             let mut rng = rng_from_seed(5);
             let data: Vec<DVector<f64>> = (0..n).map(|_| DVector::from_iterator(d, (0..d).map(|_| unit(&mut rng)))).collect();
             let mut times = [Vec::new(), Vec::new()];

@@ -256,9 +256,8 @@ fn kmeans_gmm(data: &Samples, labels: &[usize], k: usize, reg_covar: f64) -> Gmm
 /// up to `cap` threads (None: the cores), one when the data are small
 /// (`refit_threads::for_refit`); the result is the same bits on any number.
 pub fn best_by_aic(data: &[DVector<f64>], ks: &[usize], cfg: EmConfig, rng: &mut CoreRng, cap: Option<usize>) -> Option<Gmm> {
-    let d = data.first().map_or(0, |x| x.len());
     let n_fits = ks.iter().filter(|&&k| k >= 1 && k <= data.len()).count();
-    best_by_aic_on(data, ks, cfg, rng, refit_threads::for_refit(data.len(), d, n_fits, cap))
+    best_by_aic_on(data, ks, cfg, rng, refit_threads::for_refit(data.len(), n_fits, cap))
 }
 
 /// `best_by_aic` on exactly `threads` threads (at most one per fit).
@@ -464,9 +463,11 @@ mod tests {
 
     #[test]
     fn small_refits_stay_on_one_thread_and_the_cap_holds() {
-        assert_eq!(refit_threads::for_refit(10, 3, 9, None), 1);
-        assert_eq!(refit_threads::for_refit(250, 11, 9, Some(1)), 1);
-        assert!(refit_threads::for_refit(250, 11, 9, Some(2)) <= 2);
-        assert!(refit_threads::for_refit(250, 11, 3, None) <= 3);
+        assert_eq!(refit_threads::for_refit(199, 9, None), 1);
+        assert_eq!(refit_threads::for_refit(250, 9, Some(1)), 1);
+        assert!(refit_threads::for_refit(250, 9, Some(2)) <= 2);
+        assert!(refit_threads::for_refit(250, 3, None) <= 3);
+        let cores = std::thread::available_parallelism().map_or(1, |c| c.get());
+        assert_eq!(refit_threads::for_refit(250, 9, None), cores.min(9));
     }
 }

@@ -11,10 +11,12 @@ use crate::error::{invalid, Result};
 /// no result, so it is read when a teacher is built and never saved with the teacher.
 pub const FIT_THREADS_VAR: &str = "SAGGRIAC_FIT_THREADS";
 
-/// A refit whose samples x squared dimensions (its fits' cost per component and EM iteration)
-/// is below this runs on one thread. Measured by `examples/refit_threads_probe.rs`
-/// (docs/performance.md, issue 49 item 4).
-pub const MIN_PARALLEL_WORK: usize = 2_000;
+/// A refit on fewer samples runs on one thread. Below 150 samples (in 3 to 12 dimensions) a
+/// refit took 0.1-5 ms and two threads lost in every case, down to 0.13x; from 200 samples it
+/// took 16 ms or more and two threads were 0.78-1.10x on a loaded machine
+/// (`examples/refit_threads_probe.rs`, docs/performance.md, issue 49 item 4). The count of
+/// samples says more than n d^2: EM's iterations to converge vary more than d does.
+pub const MIN_PARALLEL_SAMPLES: usize = 200;
 
 /// The cap set by `SAGGRIAC_FIT_THREADS`, or None when it is unset. `owner` names the teacher in
 /// the error a bad value gets.
@@ -39,10 +41,10 @@ fn cores() -> usize {
     *CORES.get_or_init(|| std::thread::available_parallelism().map_or(1, |c| c.get()))
 }
 
-/// The threads a refit of `n_fits` fits on `n` samples of `d` dimensions uses: the cores (or
-/// `cap`), at most one per fit, and one when the work is below `MIN_PARALLEL_WORK`.
-pub fn for_refit(n: usize, d: usize, n_fits: usize, cap: Option<usize>) -> usize {
-    if n * d * d < MIN_PARALLEL_WORK {
+/// The threads a refit of `n_fits` fits on `n` samples uses: the cores (or `cap`), at most one
+/// per fit, and one below `MIN_PARALLEL_SAMPLES` samples.
+pub fn for_refit(n: usize, n_fits: usize, cap: Option<usize>) -> usize {
+    if n < MIN_PARALLEL_SAMPLES {
         return 1;
     }
     cores().min(cap.unwrap_or(usize::MAX)).min(n_fits).max(1)
