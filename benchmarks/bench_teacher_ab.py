@@ -46,7 +46,10 @@ def one(python: str, path: str | None, d: int, n: int, name: str) -> tuple[float
 def run(args: argparse.Namespace) -> None:
     out = Path(args.out)
     new_file = not out.exists()
-    done = 0 if new_file else max((int(r["round"]) for r in csv.DictReader(out.open())), default=0)
+    done = 0
+    if not new_file:
+        with out.open(newline="") as f:
+            done = max((int(r["round"]) for r in csv.DictReader(f)), default=0)
     with out.open("a", newline="") as f:
         w = csv.DictWriter(f, FIELDS)
         if new_file:
@@ -58,13 +61,14 @@ def run(args: argparse.Namespace) -> None:
                 for build, python, path in order:
                     load1 = os.getloadavg()[0]
                     cpu, wall, sha = one(python, path, d, n, name)
-                    w.writerow(dict(round=rnd, build=build, dim=d, updates=n, selector=name, cpu_us=cpu, wall_us=wall, goals_sha256=sha, load1=f"{load1:.2f}"))
+                    w.writerow({"round": rnd, "build": build, "dim": d, "updates": n, "selector": name, "cpu_us": cpu, "wall_us": wall, "goals_sha256": sha, "load1": f"{load1:.2f}"})
                     f.flush()
                     print(f"round {rnd} {build} {name} d={d}: cpu {cpu} wall {wall} us, {sha}, load {load1:.2f}", flush=True)
 
 
 def analyse(path: str) -> None:
-    rows = list(csv.DictReader(open(path)))
+    with open(path, newline="") as f:
+        rows = list(csv.DictReader(f))
     loads = [float(r["load1"]) for r in rows]
     print(f"{len(rows)} runs, load average (1 min) {min(loads):.1f}-{max(loads):.1f}, median {statistics.median(loads):.1f}")
     for d, n, name in CASES:

@@ -273,11 +273,7 @@ pub fn best_by_aic_on(data: &[DVector<f64>], ks: &[usize], cfg: EmConfig, rng: &
         (gmm.aic_of(&samples), gmm)
     };
     let threads = threads.clamp(1, starts.len().max(1));
-    let fits: Vec<(f64, Gmm)> = if threads == 1 {
-        starts.iter().map(fit).collect()
-    } else {
-        in_parallel(&starts, threads, fit)
-    };
+    let fits: Vec<(f64, Gmm)> = if threads == 1 { starts.iter().map(fit).collect() } else { in_parallel(&starts, threads, fit) };
     // Chosen in k order: the first of equal AICs wins, as before.
     let mut best: Option<(f64, Gmm)> = None;
     for (aic, gmm) in fits {
