@@ -6,10 +6,13 @@
 //! parameters (tests/test_gmm.py). Starts come from k-means (`kmeans.rs`), as scikit-learn's
 //! default starts do.
 
+use std::sync::atomic::{AtomicUsize, Ordering};
+
 use nalgebra::{DMatrix, DVector};
 
 use super::gmm_lanes::{mahalanobis_sq, weighted_scatter, LANES};
 use super::kmeans;
+use super::refit_threads;
 use crate::rng::CoreRng;
 
 /// A mixture of Gaussians in d dimensions.
@@ -249,27 +252,70 @@ fn kmeans_gmm(data: &Samples, labels: &[usize], k: usize, reg_covar: f64) -> Gmm
 }
 
 /// The mixture with the lowest AIC among `ks` components (each from a k-means start), as ALP-GMM
-/// and Covar-GMM choose theirs. None if no k is at most the number of samples.
-pub fn best_by_aic(data: &[DVector<f64>], ks: &[usize], cfg: EmConfig, rng: &mut CoreRng) -> Option<Gmm> {
-    let mut best: Option<(f64, Gmm)> = None;
+/// and Covar-GMM choose theirs. None if no k is at most the number of samples. The fits run on
+/// up to `cap` threads (None: the cores), one when the data are small
+/// (`refit_threads::for_refit`); the result is the same bits on any number.
+pub fn best_by_aic(data: &[DVector<f64>], ks: &[usize], cfg: EmConfig, rng: &mut CoreRng, cap: Option<usize>) -> Option<Gmm> {
+    let n_fits = ks.iter().filter(|&&k| k >= 1 && k <= data.len()).count();
+    best_by_aic_on(data, ks, cfg, rng, refit_threads::for_refit(data.len(), n_fits, cap))
+}
+
+/// `best_by_aic` on exactly `threads` threads (at most one per fit).
+pub fn best_by_aic_on(data: &[DVector<f64>], ks: &[usize], cfg: EmConfig, rng: &mut CoreRng, threads: usize) -> Option<Gmm> {
+    // Every k's k-means labels first, in k order: the generator gives what it gave when each
+    // fit followed its draw, and the fits no longer touch it.
+    let starts: Vec<(usize, Vec<usize>)> = ks.iter().filter(|&&k| k >= 1 && k <= data.len()).map(|&k| (k, kmeans::labels(data, k, rng))).collect();
     // The samples in one flat array, shared by the fits of every k.
     let samples = Samples::new(data);
-    for &k in ks.iter().filter(|&&k| k >= 1 && k <= data.len()) {
-        let labels = kmeans::labels(data, k, rng);
-        let start = kmeans_gmm(&samples, &labels, k, cfg.reg_covar);
-        let fit = fit_samples(&samples, start, cfg);
-        let aic = fit.gmm.aic_of(&samples);
+    let fit = |(k, labels): &(usize, Vec<usize>)| {
+        let start = kmeans_gmm(&samples, labels, *k, cfg.reg_covar);
+        let gmm = fit_samples(&samples, start, cfg).gmm;
+        (gmm.aic_of(&samples), gmm)
+    };
+    let threads = threads.clamp(1, starts.len().max(1));
+    let fits: Vec<(f64, Gmm)> = if threads == 1 { starts.iter().map(fit).collect() } else { in_parallel(&starts, threads, fit) };
+    // Chosen in k order: the first of equal AICs wins, as before.
+    let mut best: Option<(f64, Gmm)> = None;
+    for (aic, gmm) in fits {
         if best.as_ref().is_none_or(|(a, _)| aic < *a) {
-            best = Some((aic, fit.gmm));
+            best = Some((aic, gmm));
         }
     }
     best.map(|(_, g)| g)
 }
 
+/// `f` of every job on `threads` threads (this one included), results in the jobs' order. The
+/// threads take the jobs from the last (the largest k, the longest fit) down, so that the
+/// long fits start first and the short ones fill in.
+fn in_parallel<J: Sync, R: Send>(jobs: &[J], threads: usize, f: impl Fn(&J) -> R + Sync) -> Vec<R> {
+    let next = AtomicUsize::new(0);
+    let work = || {
+        let mut done = Vec::new();
+        loop {
+            let taken = next.fetch_add(1, Ordering::Relaxed);
+            if taken >= jobs.len() {
+                return done;
+            }
+            let i = jobs.len() - 1 - taken;
+            done.push((i, f(&jobs[i])));
+        }
+    };
+    let mut done = std::thread::scope(|s| {
+        let others: Vec<_> = (1..threads).map(|_| s.spawn(work)).collect();
+        let mut done = work();
+        for t in others {
+            done.extend(t.join().unwrap_or_else(|e| std::panic::resume_unwind(e)));
+        }
+        done
+    });
+    done.sort_by_key(|(i, _)| *i);
+    done.into_iter().map(|(_, r)| r).collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::rng::{normal, rng_from_seed};
+    use crate::rng::{normal, rng_from_seed, unit};
 
     fn blobs(rng: &mut CoreRng) -> Vec<DVector<f64>> {
         let centres = [[0.0, 0.0], [5.0, 5.0], [0.0, 6.0]];
@@ -338,7 +384,7 @@ mod tests {
     fn em_recovers_separated_blobs_and_aic_picks_their_number() {
         let mut rng = rng_from_seed(1);
         let data = blobs(&mut rng);
-        let g = best_by_aic(&data, &[1, 2, 3, 4, 5, 6], EmConfig::default(), &mut rng).unwrap();
+        let g = best_by_aic(&data, &[1, 2, 3, 4, 5, 6], EmConfig::default(), &mut rng, None).unwrap();
         assert_eq!(g.n_components(), 3);
         let mut means: Vec<(f64, f64)> = g.means.iter().map(|m| (m[0], m[1])).collect();
         means.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)));
@@ -363,5 +409,61 @@ mod tests {
             assert!(s >= last - 1e-9, "{s} < {last}");
             last = s;
         }
+    }
+
+    fn same_bits(a: &Gmm, b: &Gmm) -> bool {
+        let bits = |v: &mut dyn Iterator<Item = f64>| v.map(f64::to_bits).collect::<Vec<u64>>();
+        bits(&mut a.weights.iter().copied()) == bits(&mut b.weights.iter().copied())
+            && a.means.len() == b.means.len()
+            && a.means.iter().zip(&b.means).all(|(x, y)| bits(&mut x.iter().copied()) == bits(&mut y.iter().copied()))
+            && a.covariances.iter().zip(&b.covariances).all(|(x, y)| bits(&mut x.iter().copied()) == bits(&mut y.iter().copied()))
+    }
+
+    /// The refit on 2, 3 and 9 threads gives the mixture of the refit on one, bit for bit, and of
+    /// the loop before issue 49 (each k's k-means draw, then its fit), and leaves the generator
+    /// where that loop left it: on blobs in 2-D, uniform noise in 3-D and 11-D, and data as
+    /// small as a few samples per component.
+    #[test]
+    fn the_parallel_refit_has_the_bits_of_the_one_thread_refit() {
+        let mut rng = rng_from_seed(12);
+        let mut sets = vec![blobs(&mut rng)];
+        for (n, d) in [(250, 3), (250, 11), (30, 4), (12, 2)] {
+            sets.push((0..n).map(|_| DVector::from_iterator(d, (0..d).map(|_| unit(&mut rng)))).collect());
+        }
+        let all: Vec<usize> = (2..=10).collect();
+        for (s, data) in sets.iter().enumerate() {
+            for ks in [&all[..], &[2, 3][..], &[5, 9, 4][..]] {
+                let seed = 40 + s as u64;
+                let mut old_rng = rng_from_seed(seed);
+                let mut old: Option<(f64, Gmm)> = None;
+                let samples = Samples::new(data);
+                for &k in ks.iter().filter(|&&k| k <= data.len()) {
+                    let start = kmeans_gmm(&samples, &kmeans::labels(data, k, &mut old_rng), k, 1e-6);
+                    let g = fit_samples(&samples, start, EmConfig::default()).gmm;
+                    let aic = g.aic_of(&samples);
+                    if old.as_ref().is_none_or(|(a, _)| aic < *a) {
+                        old = Some((aic, g));
+                    }
+                }
+                let old = old.unwrap().1;
+                let old_next = unit(&mut old_rng);
+                for threads in [1, 2, 3, 9] {
+                    let mut r = rng_from_seed(seed);
+                    let g = best_by_aic_on(data, ks, EmConfig::default(), &mut r, threads).unwrap();
+                    assert!(same_bits(&g, &old), "set {s} ks {ks:?} threads {threads}: {g:?} != {old:?}");
+                    assert_eq!(unit(&mut r).to_bits(), old_next.to_bits(), "set {s} ks {ks:?} threads {threads}: the generator moved differently");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn small_refits_stay_on_one_thread_and_the_cap_holds() {
+        assert_eq!(refit_threads::for_refit(199, 9, None), 1);
+        assert_eq!(refit_threads::for_refit(250, 9, Some(1)), 1);
+        assert!(refit_threads::for_refit(250, 9, Some(2)) <= 2);
+        assert!(refit_threads::for_refit(250, 3, None) <= 3);
+        let cores = std::thread::available_parallelism().map_or(1, |c| c.get());
+        assert_eq!(refit_threads::for_refit(250, 9, None), cores.min(9));
     }
 }

@@ -11,6 +11,7 @@ use crate::config::high_level::check_bounds;
 use crate::error::Result;
 use crate::high_level::goal_selection::{load_state, save_state, GoalChoice, Mode};
 use crate::high_level::teachers::gmm::{best_by_aic, EmConfig, Gmm};
+use crate::high_level::teachers::refit_threads;
 use crate::rng::{child_seed, index, pick_weighted, rng_from_seed, uniform, unit, CoreRng};
 
 pub use crate::config::teachers::AlpGmmConfig;
@@ -71,6 +72,9 @@ pub(crate) struct MixtureCore {
     /// The last `fit_rate` rows of the teacher's own coordinates.
     pub window: VecDeque<Vec<f64>>,
     pub gmm: Option<Gmm>,
+    /// The cap on a refit's threads (`SAGGRIAC_FIT_THREADS`), read when built; never saved, as
+    /// it changes no result.
+    fit_threads: Option<usize>,
 }
 
 /// The most dimensions a mixture teacher takes: EM's cost per refit grows as d^3 (10^4
@@ -86,6 +90,7 @@ impl MixtureCore {
             return Err(crate::error::invalid(owner, "bounds", rule, format!("{} dimensions", low.len())));
         }
         cfg.check(owner)?;
+        let fit_threads = refit_threads::cap_from_env(owner)?;
         Ok(MixtureCore {
             cfg,
             unit_box: UnitBox { low: low.to_vec(), high: high.to_vec() },
@@ -95,6 +100,7 @@ impl MixtureCore {
             values: Vec::new(),
             window: VecDeque::new(),
             gmm: None,
+            fit_threads,
         })
     }
 
@@ -112,7 +118,7 @@ impl MixtureCore {
     /// The mixture of 2 to `max_components` components of lowest AIC on `data`.
     pub fn fit(&mut self, data: &[DVector<f64>]) {
         let ks: Vec<usize> = (2..=self.cfg.max_components).collect();
-        self.gmm = best_by_aic(data, &ks, EmConfig::default(), &mut self.fit_rng);
+        self.gmm = best_by_aic(data, &ks, EmConfig::default(), &mut self.fit_rng, self.fit_threads);
     }
 
     /// Uniform during the bootstrap and with probability `random_task_ratio`; otherwise the

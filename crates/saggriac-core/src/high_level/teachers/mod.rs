@@ -10,6 +10,7 @@ mod gmm_lanes;
 mod kmeans;
 pub(crate) mod mixture;
 pub mod mlp;
+pub mod refit_threads;
 pub(crate) mod task_index;
 
 use serde::{Deserialize, Serialize};
