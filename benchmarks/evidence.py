@@ -215,7 +215,9 @@ def run_study(p: dict[str, Any], out: Path, pilot: bool, workers: int, timeout: 
     else:
         import multiprocessing as mp
 
-        pool = mp.get_context("spawn").Pool(workers)
+        from saggriac.runs.resources import share_cores
+
+        pool = mp.get_context("spawn").Pool(workers, initializer=share_cores, initargs=(workers,))
         results = pool.imap(one_run_safely, args)
     failed = read_table(out / "failures.csv")
     try:

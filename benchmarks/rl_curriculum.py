@@ -466,7 +466,9 @@ def main(argv: list[str] | None = None) -> None:
     else:
         import multiprocessing as mp
 
-        pool = mp.get_context("spawn").Pool(a.workers)
+        from saggriac.runs.resources import share_cores
+
+        pool = mp.get_context("spawn").Pool(a.workers, initializer=share_cores, initargs=(a.workers,))
         results = pool.imap_unordered(one_run, jobs)
     from saggriac.files import write_file
 

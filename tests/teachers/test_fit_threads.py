@@ -41,3 +41,39 @@ def test_a_bad_cap_is_refused_naming_variable_value_and_rule(cls, bad, monkeypat
     monkeypatch.setenv("SAGGRIAC_FIT_THREADS", bad)
     with pytest.raises(sg.ParameterError, match=rf"The 'SAGGRIAC_FIT_THREADS' parameter of {cls.__name__} must be a whole number >= 1 when set .* Got \"{bad}\" instead"):
         cls([0.0, 0.0], [1.0, 1.0], seed=0)
+
+
+def test_pool_workers_take_their_share_of_the_cores_unless_the_user_capped_them(monkeypatch):
+    """The bench's and the studies' worker processes run share_cores: N workers side by side
+    each give a refit cores // N threads (at least 1), and a cap the user set is kept."""
+    from saggriac.runs import resources
+
+    monkeypatch.setattr(resources, "usable_cores", lambda: 8)
+    for workers, want in [(1, "8"), (2, "4"), (3, "2"), (8, "1"), (16, "1")]:
+        monkeypatch.delenv("SAGGRIAC_FIT_THREADS", raising=False)
+        resources.share_cores(workers)
+        assert resources.os.environ["SAGGRIAC_FIT_THREADS"] == want, workers
+    monkeypatch.setenv("SAGGRIAC_FIT_THREADS", "3")
+    resources.share_cores(2)
+    assert resources.os.environ["SAGGRIAC_FIT_THREADS"] == "3"
+
+
+def _cap_here():
+    import os
+
+    return os.environ.get("SAGGRIAC_FIT_THREADS")
+
+
+def test_a_study_pool_worker_starts_with_its_share(monkeypatch):
+    """The studies' pool initializer, in a real spawned worker: 2 workers, each half the cores."""
+    import concurrent.futures as cf
+    import multiprocessing
+    import os
+
+    from saggriac.runs.resources import usable_cores
+    from saggriac.study import backends
+
+    monkeypatch.delenv("SAGGRIAC_FIT_THREADS", raising=False)
+    with cf.ProcessPoolExecutor(1, mp_context=multiprocessing.get_context("spawn"), initializer=backends._die_with_parent, initargs=(os.getpid(), 2)) as pool:
+        assert pool.submit(_cap_here).result() == str(max(1, usable_cores() // 2))
+    assert "SAGGRIAC_FIT_THREADS" not in os.environ  # the parent's own environment is left alone

@@ -17,6 +17,7 @@ import numpy as np
 from .. import _core
 from ..errors import SaggriacError, StorageError
 from ..files import check_flag
+from ..runs.resources import share_cores
 from .tasks import TASKS, TIERS
 from .teachers import CALL_TIMEOUT, Guarded, TeacherError, TeacherSpec, alarm_handler
 
@@ -164,7 +165,7 @@ def _results(jobs: list[Job], workers: int, scheduler: Any) -> Iterable[tuple[Jo
     import concurrent.futures as cf
     import multiprocessing
 
-    with cf.ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("spawn")) as pool:
+    with cf.ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("spawn"), initializer=share_cores, initargs=(workers,)) as pool:
         futures = [pool.submit(_one_safely, j) for j in jobs]
         try:
             for fut in cf.as_completed(futures):

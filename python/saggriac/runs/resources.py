@@ -99,6 +99,18 @@ def usable_cores() -> int:
         return max(1, os.cpu_count() or 1)
 
 
+#: The variable capping a mixture refit's threads (read by the Rust core when a teacher is built).
+FIT_THREADS_VAR = "SAGGRIAC_FIT_THREADS"
+
+
+def share_cores(n_workers: int) -> None:
+    """Pool worker initializer: with ``n_workers`` processes side by side, a mixture teacher's
+    refit takes this worker's share of the cores, not all of them (threads beyond the free cores
+    only wait: docs/performance.md, issue 49 item 4). A cap the user set is kept."""
+    if FIT_THREADS_VAR not in os.environ:
+        os.environ[FIT_THREADS_VAR] = str(max(1, usable_cores() // max(1, n_workers)))
+
+
 def check_threads(threads: object, owner: str) -> int:
     """The number of threads a run's evaluations may use: None means every usable core."""
     if threads is None:

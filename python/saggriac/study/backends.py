@@ -18,6 +18,7 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import ParameterError
+from ..runs.resources import share_cores
 from .spec import Task, run_task
 
 
@@ -30,9 +31,11 @@ def default_workers() -> int:
     return os.cpu_count() or 1
 
 
-def _die_with_parent(parent_pid: int) -> None:
+def _die_with_parent(parent_pid: int, n_workers: int = 1) -> None:
     """Pool worker initializer: on Linux, be killed when the study process dies, so a killed
-    study leaves no orphan still writing runs into the folder."""
+    study leaves no orphan still writing runs into the folder; and take a worker's share of the
+    cores for the teachers' threads."""
+    share_cores(n_workers)
     if sys.platform.startswith("linux"):
         try:
             ctypes.CDLL(None, use_errno=True).prctl(1, int(signal.SIGKILL))  # PR_SET_PDEATHSIG
@@ -65,7 +68,7 @@ def run_local(tasks: list[Task], out: Path, n_workers: int, on_done: Callable[[T
     import multiprocessing
 
     ctx = multiprocessing.get_context("spawn")
-    with cf.ProcessPoolExecutor(max_workers=n_workers, mp_context=ctx, initializer=_die_with_parent, initargs=(os.getpid(),)) as pool:
+    with cf.ProcessPoolExecutor(max_workers=n_workers, mp_context=ctx, initializer=_die_with_parent, initargs=(os.getpid(), n_workers)) as pool:
         futures = {pool.submit(run_task, t, str(out)): t for t in tasks}
         try:
             for fut in cf.as_completed(futures):
