@@ -18,10 +18,11 @@ class GoalLog:
     index)."""
 
     def __init__(self) -> None:
-        self._goals: list[list[float]] = []
+        self._goals: list[np.ndarray] = []
 
     def add(self, goal: Any) -> None:
-        self._goals.append([float(v) for v in np.asarray(goal, float).reshape(-1)])
+        # A copy (the teacher may reuse its array); the floats are made for the kept few only.
+        self._goals.append(np.array(goal, float).reshape(-1))
 
     def __len__(self) -> int:
         return len(self._goals)
@@ -31,4 +32,4 @@ class GoalLog:
         [call, *goal] with call counted from 1."""
         n = len(self._goals)
         picks = range(n) if n <= kept else np.unique(np.linspace(0, n - 1, kept).round().astype(int))
-        return [[float(i + 1), *self._goals[i]] for i in picks]
+        return [[float(i + 1), *self._goals[i].tolist()] for i in picks]

@@ -35,7 +35,7 @@ def goals_figures(goals: pd.DataFrame, folder: Path) -> list[Path]:
     against the call."""
     from matplotlib.figure import Figure
 
-    from .report import tight, short
+    from .report import short
 
     goals = first_seed(goals)
     folder.mkdir(parents=True, exist_ok=True)
@@ -45,10 +45,14 @@ def goals_figures(goals: pd.DataFrame, folder: Path) -> list[Path]:
         teachers = list(dict.fromkeys(sub.teacher))
         cols = min(5, len(teachers))
         nrows = -(-len(teachers) // cols)
-        fig = Figure(figsize=(2.6 * cols, 2.5 * nrows + 0.5))
-        axes = fig.subplots(nrows, cols, squeeze=False)
+        width, height = 2.6 * cols, 2.5 * nrows + 0.5
+        fig = Figure(figsize=(width, height))
         dims = int(sub.dim.max()) + 1
         box = cls(0) if cls is not None and cls.space == "box" and dims >= 2 else None
+        # The box's panels share its limits: tick labels on the outer panels only. Margins in
+        # inches, fixed: a tight layout drew every figure twice, most of the bench's plotting time.
+        axes = fig.subplots(nrows, cols, squeeze=False, sharex=box is not None, sharey=box is not None)
+        fig.subplots_adjust(left=0.4 / width, right=1 - 0.1 / width, bottom=0.3 / height, top=1 - 0.55 / height, wspace=0.25 if box is not None else 0.35, hspace=0.3)
         for ax, teacher in zip(axes.ravel(), teachers):
             wide = sub[sub.teacher == teacher].pivot(index="call", columns="dim", values="value").sort_index()
             calls = wide.index.to_numpy(float)
@@ -61,11 +65,11 @@ def goals_figures(goals: pd.DataFrame, folder: Path) -> list[Path]:
                 ax.scatter(calls, wide[0], **colour)
             ax.set_title(short(str(teacher)), fontsize=8)
             ax.tick_params(labelsize=6)
+            ax.locator_params(nbins=4)
         for ax in axes.ravel()[len(teachers):]:
             ax.set_visible(False)
         space = "" if cls is None else (f"dimensions 1-2 of {dims}" if cls.space == "box" and dims >= 2 else ("goal against call" if cls.space == "box" else "task index against call"))
         fig.suptitle(f"{task}: goals asked, first seed, early (dark) to late (yellow); {space}", fontsize=9)
-        tight(fig, rect=(0, 0, 1, 0.95))
         path = folder / f"{task}.png"
         fig.savefig(path, dpi=80)
         written.append(path)

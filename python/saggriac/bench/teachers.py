@@ -224,6 +224,8 @@ class Guarded:
         # Messages name the run's seed (the bench's), not the teacher's child of it.
         self.where = f"teacher {spec.label} on task {task.name!r}, seed {seed if run_seed is None else run_seed}"
         self.calls = 0
+        low, high = getattr(task, "low", None), getattr(task, "high", None)
+        self._finite_box = low is not None and high is not None and bool(np.isfinite(low).all() and np.isfinite(high).all())
         #: Seconds spent inside the teacher's sample and update (the board's teacher_us_per_goal).
         self.teacher_seconds = 0.0
         #: The goals asked, as the task gets them (the figures of goals over time).
@@ -247,7 +249,8 @@ class Guarded:
         return known
 
     def _call(self, what: str, work: Callable[[], Any]) -> Any:
-        bounded = signal.getsignal(signal.SIGALRM) is _alarm if hasattr(signal, "setitimer") else False
+        # Set by alarm_handler (main thread only); reading the handler back cost more than the call.
+        bounded = _ALARM.active
         try:
             if bounded:
                 signal.setitimer(signal.ITIMER_REAL, self.timeout)
@@ -293,7 +296,8 @@ class Guarded:
             g = np.asarray(raw, dtype=np.float64)
         except (TypeError, ValueError):
             g = np.full(0, math.nan)
-        if g.shape != task.low.shape or not np.all(np.isfinite(g)) or np.any(g < task.low) or np.any(g > task.high):
+        # One pass: NaN fails both comparisons, and in a finite box so does an infinity.
+        if g.shape != task.low.shape or not ((g >= task.low) & (g <= task.high)).all() or not (self._finite_box or np.isfinite(g).all()):
             raise TeacherError(f"The {self.where} asked the goal {raw!r} (call {self.calls}), which is outside the space: the goals are {task.low.size} floats in the box low={task.low.tolist()}, high={task.high.tolist()}.")
         return g
 
@@ -318,11 +322,23 @@ def alarm_handler() -> Iterator[None]:
         yield
         return
     previous = signal.signal(signal.SIGALRM, _alarm)
+    outer = _ALARM.active
+    _ALARM.active = True
     try:
         yield
     finally:
+        _ALARM.active = outer
         signal.setitimer(signal.ITIMER_REAL, 0)
         signal.signal(signal.SIGALRM, previous)
+
+
+class _AlarmState:
+    """Whether alarm_handler's handler is installed (in this process's main thread)."""
+
+    active = False
+
+
+_ALARM = _AlarmState()
 
 
 def _alarm(signum: int, frame: Any) -> None:
