@@ -60,3 +60,37 @@ def test_bad_arguments_are_named(tmp_path, kw, words):
     with pytest.raises(ParameterError) as info:
         run_bench(out=tmp_path / "out", progress=False, **kw)
     assert words in str(info.value)
+
+
+class Says:
+    """A teacher that takes any box (an infinite one too) and asks the goals it is handed, in turn."""
+
+    def __init__(self, low, high, seed=0):
+        self.goals = iter(())
+
+    def sample(self):
+        return next(self.goals)
+
+    def update(self, goal, competence):
+        pass
+
+
+@pytest.mark.parametrize("infinite", [False, True])
+def test_nan_and_infinite_goals_are_refused_in_finite_and_infinite_boxes(infinite):
+    """The guard's one-pass check: NaN fails every comparison; an infinity is outside a finite box,
+    and still refused when the task's box is itself infinite."""
+    import numpy as np
+
+    from saggriac.bench import TASKS, parse_teacher
+    from saggriac.bench.teachers import Guarded, TeacherError
+
+    task = TASKS["2d"](0)
+    if infinite:
+        task.low, task.high = np.array([-np.inf, 0.0]), np.array([np.inf, 1.0])
+    g = Guarded(parse_teacher(f"{__name__}:Says"), task, 0, 30.0)
+    bad = [[np.nan, 0.5], [0.5, np.nan], [np.inf, 0.5], [-np.inf, 0.5], [0.5, 0.5, 0.5], [0.5]]
+    g.teacher.goals = iter([[0.25, 0.75]] + bad)
+    assert g.ask().tolist() == [0.25, 0.75]
+    for goal in bad:
+        with pytest.raises(TeacherError, match=r"which is outside the space"):
+            g.ask()
