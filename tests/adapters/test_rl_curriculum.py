@@ -190,3 +190,36 @@ def test_a_protocol_with_free_joints_runs_them_and_counts_goal_blind_policies(tm
     (out / "protocol.json").write_text(json.dumps({"task": {"joints": "free", "links": 4}, "report": {"sparse": {"seeds": "9", "teachers": ["random"]}}}))
     bad = run("--out", out, "--reward", "sparse", "--steps", 8192, "--every", 4096, "--teachers", "random")
     assert bad.returncode != 0 and "the task options ['links'] are unknown" in bad.stderr
+
+
+def test_the_free_joint_section_recomputes_from_its_committed_curves(tmp_path):
+    """docs/rl_curriculum.md's free-joint results: each teacher's gain, CI and Holm p as --analyse
+    gives them from free_joints/curves.csv, the limited arm's beside them as the second study's
+    tables give them, and the nearly goal-blind counts from the recomputed runs table."""
+    root = Path(__file__).resolve().parents[2]
+    figures = root / "docs" / "figures" / "rl_curriculum"
+    for name in ("curves.csv", "protocol.json"):
+        (tmp_path / name).write_bytes((figures / "free_joints" / name).read_bytes())
+    text = bench().analyse(tmp_path)
+    assert text == (figures / "free_joints" / "results.md").read_text()
+    limited = (figures / "results.md").read_text()
+    page = (root / "docs" / "rl_curriculum.md").read_text()
+    section = page[page.index("**Results: every verdict survives**") : page.index("## The first study")]
+    rows = re.findall(r"^\| ([A-Za-z -]+) \| ([+-]\d\.\d{3}) (\[[+-]\d\.\d{3}, [+-]\d\.\d{3}\]) \| ([\d.e-]+) \| ([a-z ]+) \| ([+-]\d\.\d{3}) (\[[+-]\d\.\d{3}, [+-]\d\.\d{3}\]), ([a-z ]+) \| (yes|no) \|$", section, re.M)
+    assert len(rows) == 8
+    for name, gain, ci, p_holm, verdict, l_gain, l_ci, l_verdict, survives in rows:
+        name = name.replace("Goal GAN", "GoalGAN")
+        assert re.search(rf"\| final_distance \| {name} \| random \| {re.escape(gain)} \| {re.escape(ci)} \| [^|]+ \| [^|]+ \| {re.escape(p_holm)} \| [^|]+ \| {verdict} \|", text), name
+        assert re.search(rf"\| final_distance \| {name} \| random \| {re.escape(l_gain)} \| {re.escape(l_ci)} \| .* \| {l_verdict} \|", limited), name
+        assert (survives == "yes") == (verdict == l_verdict)
+    runs = pd.read_csv(tmp_path / "runs.csv")
+    blind = runs.assign(b=runs.final_tip_spread < 0.2).groupby("teacher").b.sum()
+    names = {"random": "random", "oracle": "oracle", "SAGG-RIAC": "sagg_riac", "RIAC": "riac", "ALP-GMM": "alp_gmm", "Covar-GMM": "covar_gmm", "ADR": "adr", "SPDL": "spdl", "Goal GAN": "goal_gan"}
+    table = re.findall(r"^\| ([A-Za-z -]+) \| (\d+)/12 \| (\d+)/12 \|$", section, re.M)
+    assert {names[k]: int(v) for k, v, _ in table} == blind.to_dict()
+    sparse = limited[limited.index("## sparse reward") :]
+    folded = sparse[sparse.index("folds the arm onto its joint limits") :].splitlines()[0]
+    for k, _, f in table:
+        assert f"{k.replace('Goal GAN', 'GoalGAN')} {f}/12" in folded, k
+    spread = runs.final_tip_spread
+    assert not ((spread > 0.16) & (spread < 0.24)).any()  # the gap the page names

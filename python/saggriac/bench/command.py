@@ -140,7 +140,7 @@ def run_command(args: argparse.Namespace, parse_value: Any) -> int:
         curves = result.curves.merge(builtin[["task", "teacher", "seed"]], on=["task", "teacher", "seed"])
         goals = result.goals.merge(builtin[["task", "teacher", "seed"]], on=["task", "teacher", "seed"])
         seeds = sorted(set(builtin.seed))
-        command = f"saggriac bench --tier {args.tier} --rerun --write-shipped" + (f" --seeds {args.seeds}" if args.seeds else "") + (" --no-expert" if args.no_expert else "")
+        command = f"saggriac bench --tier {args.tier} --rerun --write-shipped" + (f" --seeds {args.seeds}" if args.seeds else "") + (f" --tasks {','.join(tasks)}" if tasks else "") + (" --no-expert" if args.no_expert else "")
         for p in shipped.write(args.tier, builtin, curves, goals, seeds, command):
             print(f"shipped results: {p}")
     return rc
