@@ -1,10 +1,11 @@
-"""Memory per stored sample, with 1,000,000 samples at n = 15 (issue 13: at most 300).
+"""Memory per stored sample, with 1,000,000 samples at n = 15 (issue 13: at most 300; 360 since
+issue 49 item 2).
 
     python benchmarks/bench_memory.py [--samples 1000000] [--joints 15]
 
 Builds and runs the Rust example `memory_probe`, which stores a random walk in the sensorimotor
 memory (sample arrays plus the block index) and reports the growth of its resident memory per
-sample. The stated bound is 300 bytes per sample at n = 15 (docs/performance.md); the script
+sample. The stated bound is 360 bytes per sample at n = 15 (docs/performance.md); the script
 says whether it holds. A benchmark, not a test.
 """
 
@@ -15,7 +16,7 @@ import re
 import subprocess
 import sys
 
-BOUND = {15: 300}
+BOUND = {15: 360}
 
 
 def main() -> None:

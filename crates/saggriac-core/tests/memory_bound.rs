@@ -1,6 +1,7 @@
 //! The memory bound of docs/performance.md, checked in CI on a smaller memory (its own test
 //! binary, so no other test allocates meanwhile): at n = 15 a stored sample, arrays and the block
-//! index together, takes at most 300 bytes of resident memory. benchmarks/bench_memory.py checks
+//! index together, takes at most 360 bytes of resident memory (300 until issue 49 item 2 added the
+//! index's f32 copy of the points, 60 bytes). benchmarks/bench_memory.py checks
 //! it at 1,000,000 samples.
 
 use saggriac_core::model::memory::{IndexKind, SensorimotorMemory};
@@ -32,7 +33,7 @@ fn bytes_per_sample_stay_within_the_bound() {
         theta.iter_mut().zip(&d).for_each(|(t, v)| *t += v);
     }
     let per = (rss_bytes().unwrap() - before) as f64 / samples as f64;
-    assert!(per <= 300.0, "{per:.0} bytes per sample, above the bound of 300");
+    assert!(per <= 360.0, "{per:.0} bytes per sample, above the bound of 360");
     assert!(per >= mem.sample_bytes() as f64, "{per:.0} bytes per sample cannot be below the arrays' {}", mem.sample_bytes());
     assert_eq!(mem.len(), samples);
 }

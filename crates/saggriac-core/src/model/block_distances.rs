@@ -121,6 +121,73 @@ pub(crate) fn full_block_distances_within<const B: usize>(q: &[f64], coords: &[f
     full_block_within(q, coords, acc, bound)
 }
 
+/// f32 squared distances from `q` to the `B` points of a full dimension-major f32 block, and
+/// which of them are at or below `limit`, as bits. A screen, not a distance: the caller proves
+/// that no point within its exact bound can sum above `limit` (rounding included; any order of
+/// the sum does, as each term still goes through at most dim additions).
+#[inline(always)]
+fn screen_block<const B: usize>(q: &[f32], coords: &[f32], limit: f32) -> u32 {
+    let mut s = [0.0f32; B];
+    for (&qd, row) in q.iter().zip(coords[..q.len() * B].chunks_exact(B)) {
+        for (a, &c) in s.iter_mut().zip(row) {
+            let e = qd - c;
+            *a += e * e;
+        }
+    }
+    s.iter().enumerate().fold(0u32, |m, (j, &a)| m | (u32::from(a <= limit) << j))
+}
+
+/// `screen_block` for blocks of 8 in one AVX2 register, written out: the compiler's own
+/// vectorisation of the generic loop shuffled lanes. Two running sums (even and odd
+/// dimensions) halve the chain of dependent additions; no FMA.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn screen_block8_avx2(q: &[f32], coords: &[f32], limit: f32) -> u32 {
+    use std::arch::x86_64::*;
+    let dim = q.len();
+    let coords = &coords[..dim * 8];
+    let p = coords.as_ptr();
+    let (mut s0, mut s1) = (_mm256_setzero_ps(), _mm256_setzero_ps());
+    let mut d = 0;
+    while d + 1 < dim {
+        let e0 = _mm256_sub_ps(_mm256_set1_ps(q[d]), _mm256_loadu_ps(p.add(d * 8)));
+        let e1 = _mm256_sub_ps(_mm256_set1_ps(q[d + 1]), _mm256_loadu_ps(p.add(d * 8 + 8)));
+        s0 = _mm256_add_ps(s0, _mm256_mul_ps(e0, e0));
+        s1 = _mm256_add_ps(s1, _mm256_mul_ps(e1, e1));
+        d += 2;
+    }
+    if d < dim {
+        let e0 = _mm256_sub_ps(_mm256_set1_ps(q[d]), _mm256_loadu_ps(p.add(d * 8)));
+        s0 = _mm256_add_ps(s0, _mm256_mul_ps(e0, e0));
+    }
+    let within = _mm256_cmp_ps::<_CMP_LE_OQ>(_mm256_add_ps(s0, s1), _mm256_set1_ps(limit));
+    _mm256_movemask_ps(within) as u32
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn screen_block_avx2<const B: usize>(q: &[f32], coords: &[f32], limit: f32) -> u32 {
+    if B == 8 {
+        return screen_block8_avx2(q, coords, limit);
+    }
+    screen_block::<B>(q, coords, limit)
+}
+
+/// `screen_block` in AVX2 lanes where the CPU has them. `q` and `coords` must be finite (an
+/// infinite pair would make NaN, which no limit admits).
+#[inline]
+pub(crate) fn screen_full_block<const B: usize>(q: &[f32], coords: &[f32], limit: f32) -> u32 {
+    const { assert!(B <= 32) };
+    #[cfg(target_arch = "x86_64")]
+    {
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the CPU supports AVX2, checked just above.
+            return unsafe { screen_block_avx2::<B>(q, coords, limit) };
+        }
+    }
+    screen_block::<B>(q, coords, limit)
+}
+
 /// `block_dist_sq` in AVX2 lanes where the CPU has them.
 #[inline]
 pub(crate) fn distances(q: &[f64], coords: &[f64], cap: usize, len: usize, acc: &mut [f64]) {

@@ -21,7 +21,7 @@ pub fn dist_sq(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| (x - y) * (x - y)).sum()
 }
 
-pub(crate) use crate::model::block_distances::{distances, distances_within, full_block_distances_within};
+pub(crate) use crate::model::block_distances::{distances, distances_within, full_block_distances_within, screen_full_block};
 
 /// The k best so far, sorted by (distance, id), within the radius; k is small (tens), so
 /// insertion into a sorted array beats a heap.

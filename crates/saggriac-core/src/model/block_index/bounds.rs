@@ -85,10 +85,17 @@ pub(super) fn bounds(q: &[f32], rows: &[&[f32]; BATCH], out: &mut Bounds) {
 /// (|q - p| + delta)^2 (Minkowski). And |q - p|^2 <= t (1 + 2 (dim + 2) 2^-53), since dist_sq
 /// rounds dim + 1 times. `limit(t)` is that bound, rounded up, plus 1e-37 for f32 results in the
 /// subnormal range (absolute error 2^-150 each).
+///
+/// `point_limit(t)` is the same for the f32 copy of a point p' (p rounded to nearest) taken as a
+/// box of one point: |q'_d - p'_d| <= |q_d - p_d| + |q_d - q'_d| + |p_d - p'_d|, so delta grows
+/// by `rounding`, the largest |p - p'| of the stored points. The screen's sum rounds each
+/// difference, square and partial sum once, as the box bound does.
 pub(super) struct Query<'a> {
     pub q: &'a [f64],
     pub q32: Vec<f32>,
     delta: f64,
+    /// The largest |p - p'| of the stored points (infinite when one overflows f32).
+    rounding: f64,
     /// (1 + u)^(dim + 3), rounded up.
     grow: f64,
     /// 1 + 2 (dim + 2) 2^-53 and a margin for the few f64 operations of `limit`.
@@ -96,20 +103,30 @@ pub(super) struct Query<'a> {
 }
 
 impl<'a> Query<'a> {
-    pub fn new(q: &'a [f64]) -> Self {
+    pub fn new(q: &'a [f64], rounding: f64) -> Self {
         let q32: Vec<f32> = q.iter().map(|&v| v as f32).collect();
         // q - q' is exact in f64; the sum is rounded, so widened a little.
         let delta = q.iter().zip(&q32).map(|(&a, &b)| (a - b as f64) * (a - b as f64)).sum::<f64>().sqrt() * (1.0 + 1e-12);
         let n = q.len() as f64;
-        Query { q, q32, delta, grow: 1.0 + 2.0 * (n + 3.0) * 2f64.powi(-24), exact: 1.0 + 2.0 * (n + 2.0) * 2f64.powi(-53) + 1e-12 }
+        Query { q, q32, delta, rounding, grow: 1.0 + 2.0 * (n + 3.0) * 2f64.powi(-24), exact: 1.0 + 2.0 * (n + 2.0) * 2f64.powi(-53) + 1e-12 }
     }
 
     /// The largest f32 bound that a box holding a point within squared distance `t` can get.
     pub fn limit(&self, t: f64) -> f32 {
-        if t == f64::INFINITY {
+        self.limit_with(t, self.delta)
+    }
+
+    /// The largest f32 screen sum that a stored point within squared distance `t` can get
+    /// (infinite, so no screen, when a query or stored coordinate overflows f32).
+    pub fn point_limit(&self, t: f64) -> f32 {
+        self.limit_with(t, self.delta + self.rounding)
+    }
+
+    fn limit_with(&self, t: f64, delta: f64) -> f32 {
+        if t == f64::INFINITY || !delta.is_finite() {
             return f32::INFINITY;
         }
-        let r = (t * self.exact).sqrt() * (1.0 + 1e-12) + self.delta;
+        let r = (t * self.exact).sqrt() * (1.0 + 1e-12) + delta;
         let l = r * r * self.grow * (1.0 + 1e-12) + 1e-37;
         let f = l as f32;
         if (f as f64) < l {

@@ -19,6 +19,13 @@
 //! so far, which never falls below the final one: every point at or inside the final k-th
 //! distance is ranked with the f64 `dist_sq`, ties included.
 //!
+//! Each full block's points are screened before they are ranked: an f32 copy of the block gives
+//! eight f32 distances in one register, and only a block with a point at or below
+//! `Query::point_limit` of the k-th distance is ranked in f64. That limit is proved the same way
+//! (the stored points' own f32 rounding added to the query's), so no point within the k-th
+//! distance is screened out. Half the bytes and half the lanes of the f64 kernel, for 60 more
+//! bytes per sample at n = 15 (docs/performance.md, issue 49 item 2).
+//!
 //! Storage is `Chunked`, so a clone is a cheap snapshot that later inserts do not change.
 
 mod bounds;
@@ -28,7 +35,7 @@ mod tests;
 use bounds::{bounds, outward, Query, BATCH, FANOUT};
 
 use crate::model::chunked::Chunked;
-use crate::model::neighbours::{distances, distances_within, full_block_distances_within, Neighbour, NeighbourIndex, PointIndex, TopK};
+use crate::model::neighbours::{distances, distances_within, full_block_distances_within, screen_full_block, Neighbour, NeighbourIndex, PointIndex, TopK};
 
 /// Samples per block (the unit whose distances are computed together). 8 rather than 16: on an
 /// exp1 ACTUATOR-RIAC memory a query must rank the points of 67 blocks of 8 (539 points) instead
@@ -44,6 +51,11 @@ pub struct BlockIndex {
     len: usize,
     /// Row b is block b: coordinate d of its point j at `d * BLOCK + j`.
     coords: Chunked<f64>,
+    /// `coords` rounded to the nearest f32, same layout: a full block's points are screened
+    /// with these (eight lanes at once) before their exact distances are computed.
+    coords32: Chunked<f32>,
+    /// The largest |p - p'| over stored points p and their f32 copies p' (see `Query`).
+    rounding: f64,
     /// `boxes[level]`, row r: boxes r * FANOUT .. of that level (box i of level l covers blocks
     /// i * FANOUT^l ..), dimension-major: the low of box c along d at `d * FANOUT + c`, the highs
     /// after all lows. Row r holds the children of box r of the level above; the top level has
@@ -76,7 +88,15 @@ fn widen(row: &mut [f32], lane: usize, p: &[f64]) {
 
 impl BlockIndex {
     pub fn new(dim: usize) -> Self {
-        BlockIndex { dim, len: 0, coords: Chunked::new(dim * BLOCK, CHUNK_BLOCKS), boxes: vec![Self::level(dim)], empty: empty_row(dim) }
+        BlockIndex {
+            dim,
+            len: 0,
+            coords: Chunked::new(dim * BLOCK, CHUNK_BLOCKS),
+            coords32: Chunked::new(dim * BLOCK, CHUNK_BLOCKS),
+            rounding: 0.0,
+            boxes: vec![Self::level(dim)],
+            empty: empty_row(dim),
+        }
     }
 
     fn level(dim: usize) -> Chunked<f32> {
@@ -103,18 +123,27 @@ impl BlockIndex {
 
     /// Bytes held per stored point (coordinates and boxes).
     pub fn bytes_per_point(&self) -> f64 {
-        let bytes = self.coords.bytes() + self.boxes.iter().map(|b| b.bytes()).sum::<usize>();
+        let bytes = self.coords.bytes() + self.coords32.bytes() + self.boxes.iter().map(|b| b.bytes()).sum::<usize>();
         bytes as f64 / self.len.max(1) as f64
     }
 
-    fn visit_block(&self, b: usize, q: &[f64], best: &mut TopK<'_>, acc: &mut [f64; BLOCK]) {
+    /// `plimit` is `q.point_limit(best.bound())`.
+    fn visit_block(&self, b: usize, q: &Query<'_>, best: &mut TopK<'_>, acc: &mut [f64; BLOCK], plimit: f32) {
         let first = b * BLOCK;
         let count = (self.len - first).min(BLOCK);
         let bound = best.bound();
+        let q32 = &q.q32;
+        let q = q.q;
         // The points within the k-th distance as bits (most are beyond it); `offer` tests each
         // again against the k-th distance as it falls, in id order, as a scan of all would.
         let mut within = if count == BLOCK {
-            full_block_distances_within(q, self.coords.row(b), acc, bound)
+            // Only a block with a point that passes the f32 screen is ranked in f64: every point
+            // within `bound` passes it (`Query::point_limit`), so the bits are those of a scan.
+            if plimit != f32::INFINITY && screen_full_block::<BLOCK>(q32, self.coords32.row(b), plimit) == 0 {
+                0
+            } else {
+                full_block_distances_within(q, self.coords.row(b), acc, bound)
+            }
         } else if distances_within(q, self.coords.row(b), BLOCK, count, acc, bound) {
             acc.iter().take(count).enumerate().fold(0u32, |m, (j, &d)| m | (u32::from(d <= bound) << j))
         } else {
@@ -137,6 +166,7 @@ impl BlockIndex {
         let n = self.n_boxes(level);
         let mut bound = best.bound();
         let mut limit = q.limit(bound);
+        let mut plimit = if level == 0 { q.point_limit(bound) } else { f32::INFINITY };
         for (&r, lanes) in rows.iter().zip(&b) {
             // The lanes to open, as bits (blocks are tested again as the limit falls).
             let real = (n - r * FANOUT).min(FANOUT);
@@ -149,12 +179,13 @@ impl BlockIndex {
                     if lanes[c] > limit {
                         continue;
                     }
-                    self.visit_block(i, q.q, best, acc);
-                    // Most blocks add nothing: the limit (two square roots) changes only with
-                    // the k-th distance.
+                    self.visit_block(i, q, best, acc, plimit);
+                    // Most blocks add nothing: the limits (square roots) change only with the
+                    // k-th distance.
                     if best.bound() != bound {
                         bound = best.bound();
                         limit = q.limit(bound);
+                        plimit = q.point_limit(bound);
                     }
                 } else {
                     next.push(i);
@@ -195,6 +226,7 @@ impl NeighbourIndex for BlockIndex {
         let (b, j) = (self.len / BLOCK, self.len % BLOCK);
         if j == 0 {
             self.coords.push(&vec![0.0; dim * BLOCK]);
+            self.coords32.push(&vec![0.0; dim * BLOCK]);
             // A new block: a new box on every level whose span it starts, in a new row when it
             // is the first of its row.
             let mut span = 1;
@@ -227,6 +259,16 @@ impl NeighbourIndex for BlockIndex {
         for (d, &v) in point.iter().enumerate() {
             block[d * BLOCK + j] = v;
         }
+        // v - v' is exact in f64 (or infinite when v' overflows); the norm is bounded by
+        // sqrt(dim) times the largest, which cannot underflow as a sum of squares could.
+        let block32 = self.coords32.last_mut();
+        let mut worst = 0.0f64;
+        for (d, &v) in point.iter().enumerate() {
+            let v32 = v as f32;
+            block32[d * BLOCK + j] = v32;
+            worst = worst.max((v - v32 as f64).abs());
+        }
+        self.rounding = self.rounding.max(worst * (dim as f64).sqrt() * (1.0 + 1e-12));
         let mut i = b;
         for level in self.boxes.iter_mut() {
             widen(level.last_mut(), i % FANOUT, point);
@@ -242,7 +284,7 @@ impl NeighbourIndex for BlockIndex {
         }
         let mut best = TopK::new(out, k, radius_sq);
         let mut acc = [0.0; BLOCK];
-        let query = &Query::new(query);
+        let query = &Query::new(query, self.rounding);
         // Nothing bounds the search yet: the nearest blocks first give it a k-th distance.
         let seeded = (best.bound() == f64::INFINITY).then(|| self.seed(query, &mut best, &mut acc));
         let (mut rows, mut next) = (vec![0usize], Vec::new());
