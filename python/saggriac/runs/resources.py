@@ -2,8 +2,8 @@
 
 Without this a run of 10^8 joints is accepted and dies on an allocation failure (an abort, not an
 error) after a minute of work. The estimate is an upper bound calibrated on the measured memory
-(docs/performance.md: 290 bytes per sample at n = 15 joints, block index included; the
-estimate allows 366).
+(docs/performance.md: 350 bytes per sample at n = 15 joints, block index and its float32 screen
+included; the estimate allows 426).
 """
 
 from __future__ import annotations
@@ -47,12 +47,13 @@ def machine_memory() -> tuple[int | None, int | None]:
 
 def bytes_per_sample(cfg: Config) -> int:
     """One stored micro-action: theta (kept in the block index), dtheta (n each), the task-space
-    change and position (m each), the index's boxes (2n bytes is above their share of 8n/7), slack, and
-    ACTUATOR-RIAC's second index over (theta, dtheta)."""
+    change and position (m each), the index's boxes (2n bytes is above their share of 8n/7), its
+    float32 copy of theta for the screen (4n), slack, and ACTUATOR-RIAC's second index over
+    (theta, dtheta) with its own copy."""
     n, m = cfg.joints, len(cfg.goal_low)
-    per = 8 * (2 * n + 2 * m) + 2 * n + 64
+    per = 8 * (2 * n + 2 * m) + 2 * n + 4 * n + 64
     if cfg.condition == "actuator_riac":
-        per += 16 * n + 64
+        per += 16 * n + 8 * n + 64
     return per
 
 
