@@ -122,7 +122,7 @@ def test_every_former_path_warns_and_gives_the_module_now_there():
     """saggriac <= 0.5's module paths: one mapping (saggriac.MOVED), no module files left."""
     modules = _modules()
     assert not set(saggriac.MOVED) & set(modules), "a former path is a module again: remove it or its MOVED entry"
-    code = f"""
+    code = """
 import importlib, warnings, saggriac
 for old, new in saggriac.MOVED.items():
     with warnings.catch_warnings(record=True) as w:

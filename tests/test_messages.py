@@ -2,9 +2,7 @@
 digits), one rule text per parameter whatever the wrong value, the parameter that is wrong named
 (not one derived from it), and a default run folder that says its teacher."""
 
-import math
 
-import numpy as np
 import pytest
 
 import saggriac as sg
