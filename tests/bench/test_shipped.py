@@ -34,6 +34,40 @@ def test_the_shipped_results_equal_a_rerun_on_this_version(task):
         assert (row["area"], row["final"]) == (ship.area, ship.final), name
 
 
+STANDARD = shipped.load("standard")
+
+
+def test_the_standard_results_ship_for_the_tasks_without_deep_rl():
+    """The standard tier ships the tasks without deep RL (its deep-RL runs are hours of CPU a
+    teacher): every such task, every seed of the tier, the built-in teachers that take it, and
+    the command that made them naming those tasks."""
+    assert STANDARD is not None, "python/saggriac/bench/results/standard_* are missing"
+    runs, curves, meta = STANDARD
+    plain = sorted(n for n, c in TASKS.items() if c.budgets["standard"] is not None and not n.startswith("rl-"))
+    assert sorted(set(runs.task)) == sorted(meta["tasks"]) == plain
+    assert meta["seeds"] == list(range(TIERS["standard"])) == sorted(set(runs.seed)) and meta["tier"] == "standard"
+    assert meta["command"].startswith("saggriac bench --tier standard --rerun --write-shipped")
+    assert set(meta["command"].split("--tasks ")[1].split()[0].split(",")) == set(plain)
+    for task in plain:
+        sub = runs[runs.task == task]
+        takers = {n for n in available() if TeacherSpec(n).takes(TASKS[task].space)}
+        assert takers <= set(sub.teacher), task
+        assert (sub.groupby("teacher").seed.nunique() == TIERS["standard"]).all(), task
+    assert len(curves) >= len(runs)
+
+
+@pytest.mark.skipif(STANDARD is None or STANDARD[2]["version"] != _core.__version__, reason="the shipped results were made by another version")
+@pytest.mark.parametrize("task, names", [("2d-reach", None), ("arm-episodic", ["random", "sagg_riac"])])
+def test_the_shipped_standard_results_equal_a_rerun_on_this_version(task, names):
+    runs = STANDARD[0]
+    seed = 7  # a seed only the standard tier has
+    names = names or [n for n in available() if TeacherSpec(n).takes(TASKS[task].space) and n in set(runs.teacher)]
+    for name in names:
+        row = run_one(Job(task, "standard", TeacherSpec(name), seed))["row"]
+        ship = runs[(runs.task == task) & (runs.teacher == name) & (runs.seed == seed)].iloc[0]
+        assert (row["area"], row["final"]) == (ship.area, ship.final), name
+
+
 def test_a_rerun_says_whether_it_differs_and_which_versions_made_what():
     ship = pd.DataFrame([dict(task="2d", teacher="riac", seed=0, goals=10, area=0.5, final=0.9)])
     same = compare_with_shipped(ship.copy(), ship, {"version": "0.0.1"})
