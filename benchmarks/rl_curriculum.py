@@ -257,6 +257,29 @@ def status(curves: pd.DataFrame, plan: dict[str, dict] | None = None) -> list[st
     return lines
 
 
+def settings_line(runs: pd.DataFrame) -> str:
+    """The task and the learner as the runs used them, so that a page quoting them quotes a table."""
+    from stable_baselines3 import PPO
+
+    from saggriac.bench.rl import EPISODE_STEPS, N_TEST
+
+    budgets = sorted(set(runs["budget"].astype(int))) if len(runs) else [BUDGET]
+    n_steps = inspect.signature(PPO.__init__).parameters["n_steps"].default
+    return (f"Settings: a {TASK['n_joints']}-joint arm of length {TASK['arm_length']}, joint limits +-{TASK['joint_limit']:.4f}, joint step {TASK['max_joint_step']}; "
+            f"goals in [{TASK['goal_low'][0]}, {TASK['goal_high'][0]}] x [{TASK['goal_low'][1]}, {TASK['goal_high'][1]}]; episodes of {EPISODE_STEPS} steps; "
+            f"{N_ENVS} environments; {N_TEST} test goals; reached within {', '.join(f'{k} {v}' for k, v in THRESHOLDS.items())}; "
+            f"budget {', '.join(map(str, budgets))} steps, {SCORINGS} scorings; PPO's defaults ({n_steps} steps per environment between updates).")
+
+
+def cost_lines(runs: pd.DataFrame) -> list[str]:
+    """What the runs cost, per reward and in all, by their own clocks."""
+    if not len(runs):
+        return []
+    parts = [f"{r} {runs.loc[runs['reward'] == r, 'cpu_seconds'].sum() / 3600:.2f}" for r in REWARDS if (runs["reward"] == r).any()]
+    return [f"Cost: {len(runs)} runs, {runs['cpu_seconds'].sum() / 3600:.2f} CPU hours ({', '.join(parts)}), {runs['seconds'].sum() / 3600:.2f} wall hours; "
+            f"{runs['cpu_seconds'].mean():.0f} CPU s a run on average."]
+
+
 def fmt(x: float, digits: int = 3, sign: bool = False) -> str:
     if x is None or (isinstance(x, float) and math.isnan(x)):
         return "-"
@@ -267,10 +290,31 @@ def fold_line(runs: pd.DataFrame, teachers: list[str]) -> str:
     if "final_tip_spread" in runs:
         blind = runs["final_tip_spread"] < GOAL_BLIND
         counts = ", ".join(f"{NAMES.get(t, t)} {int(blind[runs['teacher'] == t].sum())}/{int((runs['teacher'] == t).sum())}" for t in teachers)
-        return f"Runs whose final policy ends at one tip whatever the goal (goal-blind; free joints cannot fold): {counts}."
+        return f"Runs whose final policy ends at one tip whatever the goal (goal-blind; free joints cannot fold): {counts}." + near_blind(runs, teachers)
     fold = folded(runs)
     counts = ", ".join(f"{NAMES.get(t, t)} {int(fold[runs['teacher'] == t].sum())}/{int((runs['teacher'] == t).sum())}" for t in teachers)
     return f"Runs whose final policy folds the arm onto its joint limits (the tip at ({FOLD_TIP[0]:.4g}, 0) for every goal): {counts}."
+
+
+#: A look chosen after the free-joint runs (docs/rl_curriculum.md says so): a final tip spread
+#: below this is a student that ends near one place whatever the goal.
+NEAR_BLIND = 0.2
+
+
+def near_blind(runs: pd.DataFrame, teachers: list[str]) -> str:
+    """Descriptive, not registered: the runs whose final tips spread less than NEAR_BLIND, per
+    teacher, the gap around it, and how both groups end."""
+    spread = runs["final_tip_spread"]
+    low = spread < NEAR_BLIND
+    if not low.any() or low.all():
+        return ""
+    counts = ", ".join(f"{NAMES.get(t, t)} {int(low[runs['teacher'] == t].sum())}/{int((runs['teacher'] == t).sum())}" for t in teachers)
+    oracle = spread[runs["teacher"] == "oracle"]
+    lines = [f"\n\nNot registered (chosen after the runs): runs whose final tips spread less than {NEAR_BLIND} (nearly goal-blind): {counts}.",
+             f"Spreads: every run below {spread[low].max():.2f} or above {spread[~low].min():.2f}" + (f"; the oracle's {oracle.min():.2f}-{oracle.max():.2f}" if len(oracle) else "") + ".",
+             f"Nearly blind: {int(low.sum())} runs, final distance {runs.loc[low, 'final_distance'].mean():.3f}, success {runs.loc[low, 'final_success'].mean():.3f}; "
+             f"the other {int((~low).sum())}: {runs.loc[~low, 'final_distance'].mean():.3f}, {runs.loc[~low, 'final_success'].mean():.3f}."]
+    return "\n".join(lines)
 
 
 def analyse(out: Path) -> str:
@@ -281,7 +325,7 @@ def analyse(out: Path) -> str:
     runs = runs_table(curves)
     write_file(out / "runs.csv", lambda tmp: runs.to_csv(tmp, index=False), what="the runs table", overwrite=True)
     plan = design(out)
-    lines = ["# RL curriculum: results recomputed from curves.csv", "", "Status of the protocol's report runs:", "", *status(curves, plan), ""]
+    lines = ["# RL curriculum: results recomputed from curves.csv", "", "Status of the protocol's report runs:", "", *status(curves, plan), "", settings_line(runs), "", *cost_lines(runs), ""]
     all_tables = []
     for reward in REWARDS:
         if not (runs["reward"] == reward).any():
