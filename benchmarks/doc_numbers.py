@@ -76,13 +76,18 @@ def derivations() -> list[Derivation]:
         Derivation("rl_curriculum/pilot", ("curves.csv",), ("rl_curriculum.py", "--out", "{out}", "--pilot"), ("decision.md",), stdout="decision.md"),
         Derivation("rl_curriculum", (), ("rl_curriculum.py", "--power"), ("power.md",), stdout="power.md"),
         Derivation("teachers", ("toy_tasks_runs.csv", "toy_tasks_curves.csv"), ("toy_tasks.py", "--out", "{out}", "--report-only"), ("toy_tasks_results.csv", "toy_tasks_results.md")),
-        Derivation("teachers/niches", ("runs.csv", "curves.csv"), ("teacher_niches.py", "--out", "{out}", "--report-only"), ("comparisons.csv", "results.md")),
+        Derivation("teachers/spdl_after46", ("toy_tasks_runs.csv", "toy_tasks_curves.csv"), ("toy_tasks.py", "--out", "{out}", "--report-only"), ("toy_tasks_results.csv", "toy_tasks_results.md")),
+        *(Derivation(f"teachers/{name}", ("runs.csv", "curves.csv"), ("teacher_niches.py", "--out", "{out}", "--report-only"), ("comparisons.csv", "results.md"))
+          for name in ("niches", "niches_plr", "niches_adr_spdl_goal_gan")),
+        # The bench's quick leaderboard, from the results shipped with the package (nothing run).
+        Derivation("bench/quick", (), ("saggriac", "bench", "--tier", "quick", "--out", "{out}", "--workers", "1", "--no-progress"), ("leaderboard.csv", "leaderboard.md")),
     ]
     for study in sorted((REPO / FIGURES / "evidence").glob("*/protocol.json")):
         folder = study.parent.relative_to(REPO / FIGURES).as_posix()
         if (study.parent / "runs.csv").exists():
             found.append(_study(folder))
-        if (study.parent / "pilot" / "runs.csv").exists():
+        # A pilot analysed by evidence.py (the SAC study's); the others' pilots have scripts of their own.
+        if (study.parent / "pilot" / "results.md").exists():
             found.append(_study(folder, pilot=True))
     return found
 
@@ -100,7 +105,9 @@ def recompute(d: Derivation, scratch: Path, figures: Path = REPO / FIGURES) -> l
             shutil.copy2(committed / name, out / name)
     evidence_root = root / "evidence"
     args = [a.replace("{out}", str(out)).replace("{root}", str(evidence_root)) for a in d.args]
-    done = subprocess.run([sys.executable, str(REPO / "benchmarks" / args[0]), *args[1:]], capture_output=True, text=True, cwd=REPO)
+    # "saggriac ..." is the package's command line; anything else a script of benchmarks/.
+    program = [sys.executable, "-c", "import sys; from saggriac.cli import main; sys.exit(main(sys.argv[1:]))"] if args[0] == "saggriac" else [sys.executable, str(REPO / "benchmarks" / args[0])]
+    done = subprocess.run([*program, *args[1:]], capture_output=True, text=True, cwd=REPO)
     if done.returncode:
         return [f"{FIGURES}/{d.folder}: `{' '.join(d.args)}` failed: {done.stderr.strip()[-400:]}"]
     if d.stdout:
@@ -335,8 +342,11 @@ def check_page(page: Path, spell: dict[str, str], listing: bool = False) -> tupl
             if c not in cache:
                 cache[c] = [r for f in files_of(c) for r in records_of(f, spell)]
             records += cache[c]
-        # The numbers of the commands a section prints (seeds, budgets) are the protocol's own.
-        given = Record(f"{rel}: the section's commands", _numbers("\n".join(line for _, line in sec.lines if line.startswith("    ") or "`" in line)), set())
+        # The numbers of the commands and code a section prints (seeds, budgets, defaults) are the
+        # protocol's own: indented code and what stands between backticks, not the prose around it.
+        code = [line for _, line in sec.lines if line.startswith("    ") and not line.lstrip().startswith(("-", "|", "*"))]
+        code += [m for _, line in sec.lines for m in re.findall(r"`([^`]*)`", line)]
+        given = Record(f"{rel}: the section's commands", _numbers("\n".join(code)), set())
         records.append(given)
         # A section whose first line under its heading is the marker is a protocol: its prose is
         # rules and settings; its tables (a power table) are still located.
@@ -426,6 +436,24 @@ def evaluate(formula: str, records: list[Record], names: set[str], value: float,
     return f"= {formula.strip()}" if math.isclose(round(abs(shown), decimals), abs(value), abs_tol=1.01 * 10.0 ** -decimals) else None
 
 
+EMBEDDED = re.compile(r"```python\n(.*?)```", re.S)
+
+
+def embedded(figures: Path = REPO / FIGURES) -> list[str]:
+    """A summary table made by the Python it shows (a ```python block in a Markdown file under
+    docs/figures): the block is run from the repository's root and every line it prints must be
+    in the file."""
+    problems = []
+    for md in sorted(figures.rglob("*.md")):
+        for block in EMBEDDED.findall(md.read_text()):
+            done = subprocess.run([sys.executable, "-c", block], capture_output=True, text=True, cwd=REPO)
+            text = md.read_text()
+            missing = [line for line in done.stdout.splitlines() if line.strip() and line not in text]
+            if done.returncode or missing:
+                problems.append(f"{md.relative_to(REPO)}: its Python block " + (f"failed: {done.stderr.strip()[-300:]}" if done.returncode else f"prints {len(missing)} line(s) the file does not hold, e.g. {missing[0][:120]}"))
+    return problems
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("pages", nargs="*", default=list(PAGES), help=f"pages to check (default: {' '.join(PAGES)})")
@@ -437,6 +465,7 @@ def main(argv: list[str] | None = None) -> int:
         with tempfile.TemporaryDirectory(prefix="doc_numbers_") as tmp:
             for d in derivations():
                 problems += recompute(d, Path(tmp))
+        problems += embedded()
         guide = subprocess.run([sys.executable, str(REPO / "benchmarks" / "guide.py"), "--check"], capture_output=True, text=True, cwd=REPO)
         if guide.returncode:
             problems.append(guide.stderr.strip())
@@ -455,7 +484,8 @@ def main(argv: list[str] | None = None) -> int:
     if problems:
         print(f"{len(problems)} problem(s)", file=sys.stderr)
         return 1
-    print(f"every table recomputes, and all {total} numbers of {', '.join(args.pages)} are in them ({protocol} more are rules fixed before the runs)")
+    checked = "the committed tables (not recomputed: --no-recompute)" if args.no_recompute else "every table recomputes, and"
+    print(f"{checked} all {total} numbers of {', '.join(args.pages)} are in them ({protocol} more are rules fixed before the runs)")
     return 0
 
 
