@@ -95,3 +95,58 @@ def test_the_guides_bench_numbers_are_the_shipped_results():
     ]
     missing = [q for q in quoted if q not in guide]
     assert not missing, missing
+
+
+FULL = shipped.load("full")
+REPO = __import__("pathlib").Path(__file__).resolve().parents[2]
+
+
+def test_a_task_a_study_ran_takes_its_report_seeds_budget_and_scorings_in_the_full_tier():
+    """The full tier reruns the registered studies: each study task's seeds, budget and points
+    are its protocol's, and a task without a study keeps 0 .. N-1."""
+    import json
+
+    from saggriac.bench.tasks import tier_seeds
+
+    from tests.benchmark_scripts import load
+
+    checked = 0
+    for protocol in sorted((REPO / "docs" / "figures" / "evidence").glob("*/protocol.json")):
+        p = json.loads(protocol.read_text())
+        for task, seeds in p["report"].items():
+            a, _, b = seeds.partition("-")
+            assert tier_seeds(task, "full") == list(range(int(a), int(b or a) + 1)), task
+            assert TASKS[task].budgets["full"] == p["budget"][task] and TASKS[task].points == p["scorings"], task
+            checked += 1
+    rl = load("rl_curriculum")
+    for reward, seeds in rl.REPORT_SEEDS.items():
+        assert tier_seeds(f"rl-arm-{reward}", "full") == seeds and TASKS[f"rl-arm-{reward}"].budgets["full"] == rl.BUDGET
+        assert TASKS[f"rl-arm-{reward}"].points == rl.SCORINGS
+        checked += 1
+    assert checked >= 6
+    assert tier_seeds("2d", "full") == list(range(TIERS["full"])) and tier_seeds("rl-arm-dense", "standard") == list(range(TIERS["standard"]))
+
+
+def test_the_full_tier_ships_the_studies_rows_as_ship_studies_gives_them():
+    assert FULL is not None, "python/saggriac/bench/results/full_* are missing: python benchmarks/ship_studies.py"
+    runs, curves, meta = FULL
+    assert meta["tier"] == "full" and meta["command"].startswith("python benchmarks/ship_studies.py")
+    for task in ("rl-arm-dense", "rl-arm-sparse"):
+        sub = runs[runs.task == task]
+        assert sorted(set(sub.seed)) == list(TASKS[task].study_seeds) and (sub.goals == TASKS[task].budgets["full"]).all()
+        assert "oracle" not in set(sub.teacher) and len(set(sub.teacher)) == 8
+    from tests.benchmark_scripts import load
+
+    assert load("ship_studies").main(["--check"]) == 0
+
+
+@pytest.mark.skipif(FULL is None, reason="no full tier ships")
+def test_a_bench_run_of_the_full_tier_is_the_studys_run():
+    """rl-arm-dense, random, seed 500 (the deep-RL study's first dense seed), run by the bench's
+    runner: the study's numbers, to the bit."""
+    pytest.importorskip("stable_baselines3", reason='the SB3 extra is not installed (pip install "saggriac[sb3]")')
+    row = run_one(Job("rl-arm-dense", "full", TeacherSpec("random"), 500))["row"]
+    ship = FULL[0][(FULL[0].task == "rl-arm-dense") & (FULL[0].teacher == "random") & (FULL[0].seed == 500)].iloc[0]
+    assert (row["area"], row["final"], row["goals"]) == (ship.area, ship.final, ship.goals)
+    curve = FULL[1][(FULL[1].task == "rl-arm-dense") & (FULL[1].teacher == "random") & (FULL[1].seed == 500)]
+    assert len(curve) == TASKS["rl-arm-dense"].points

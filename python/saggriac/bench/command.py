@@ -17,7 +17,7 @@ from . import shipped
 from .runner import BenchError
 from .expert import BUILTIN, LEVELS
 from .suite import BenchResult, builtin_specs, run_bench, with_variants
-from .tasks import TASKS, TIERS, missing_extra
+from .tasks import TASKS, TIERS, missing_extra, tier_seeds
 from .teachers import CALL_TIMEOUT, parse_teacher
 
 
@@ -63,10 +63,11 @@ def run_seconds() -> dict[str, dict[str, tuple[float, bool]]]:
 def tier_hours(seconds: dict[str, tuple[float, bool]], tier: str) -> tuple[float, float]:
     """CPU hours of ``tier`` for one box teacher on its box tasks, and for every built-in teacher
     (each on the tasks of its spaces, the expert variants on the tasks that declare knowledge)."""
-    one = sum(s for name, (s, _) in seconds.items() if TASKS[name].space == "box" and not math.isnan(s)) * TIERS[tier] / 3600
+    n = {name: len(tier_seeds(name, tier)) for name in seconds}  # a study's task takes its own seeds in the full tier
+    one = sum(s * n[name] for name, (s, _) in seconds.items() if TASKS[name].space == "box" and not math.isnan(s)) / 3600
     specs = builtin_specs(True)
-    every = sum(s * sum(1 for spec in specs if spec.takes(TASKS[name].space) and (not spec.level or TASKS[name].declares_knowledge())) for name, (s, _) in seconds.items() if not math.isnan(s))
-    return one, every * TIERS[tier] / 3600
+    every = sum(s * n[name] * sum(1 for spec in specs if spec.takes(TASKS[name].space) and (not spec.level or TASKS[name].declares_knowledge())) for name, (s, _) in seconds.items() if not math.isnan(s))
+    return one, every / 3600
 
 
 def listing() -> str:
@@ -93,7 +94,8 @@ def listing() -> str:
     for tier in TIERS:
         one, every = tier_hours(seconds[tier], tier)
         unknown = [n for n, (s, _) in seconds[tier].items() if math.isnan(s)]
-        hours.append(f"  {tier} ({TIERS[tier]} seeds): one box teacher about {one:.2g} CPU h, every built-in teacher about {every:.2g} CPU h" + (f" (without {', '.join(unknown)}: no measure yet)" if unknown else ""))
+        own = "; a task a registered study ran takes its study's seeds" if any(tier_seeds(n, tier) != list(range(TIERS[tier])) for n in TASKS) else ""
+        hours.append(f"  {tier} ({TIERS[tier]} seeds{own}): one box teacher about {one:.2g} CPU h, every built-in teacher about {every:.2g} CPU h" + (f" (without {', '.join(unknown)}: no measure yet)" if unknown else ""))
     needs = [f"{n} needs {missing_extra(n)}" for n in TASKS if missing_extra(n) is not None]
     missing = f"\nnot installed: {'; '.join(needs)} (left out of the bench until it is)" if needs else ""
     return (f"{table}\n\n'-': not in that tier (deep RL is not in the quick tier). s/run: the shipped runs' mean seconds per run where they ship; "

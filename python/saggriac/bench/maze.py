@@ -291,5 +291,6 @@ class PointMazeUMaze(MazeTask):
 @register
 class PointMazeMedium(MazeTask):
     name, maze = "rl-pointmaze-medium", "medium"
+    study_seeds = tuple(range(1100, 1131))  # docs/figures/evidence/pointmaze/protocol.json
     learner = "PPO (SB3), PointMaze medium maze, dense reward"
     measures = "the same in Gymnasium-Robotics' medium maze (8 x 8 cells): longer paths, more walls inside the goal box"

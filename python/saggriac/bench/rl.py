@@ -310,6 +310,7 @@ class RlArm(BenchTask):
 @register
 class RlArmDense(RlArm):
     name, reward = "rl-arm-dense", "dense"
+    study_seeds = tuple(range(500, 524))  # the second deep-RL study's (docs/rl_curriculum.md)
     learner = "PPO (SB3), 3-joint goal arm, dense reward"
     measures = "helping a deep-RL student: the first registered study's task (docs/rl_curriculum.md), where goals out of reach (four fifths of the box) teach nothing"
 
@@ -317,6 +318,7 @@ class RlArmDense(RlArm):
 @register
 class RlArmSparse(RlArm):
     name, reward = "rl-arm-sparse", "sparse"
+    study_seeds = tuple(range(600, 612))
     learner = "PPO (SB3), 3-joint goal arm, sparse reward"
     measures = "the same with a sparse reward, where PPO tends to fold the arm onto its joint limits unless its goals keep it out of the fold (docs/rl_curriculum.md)"
 
@@ -324,6 +326,7 @@ class RlArmSparse(RlArm):
 @register
 class RlArmSacDense(RlArm):
     name, reward, algorithm = "rl-arm-sac-dense", "dense", "sac"
+    study_seeds = tuple(range(900, 924))  # the SAC study's (docs/figures/evidence/sac/protocol.json)
     cpu_per_unit = 3.956e-3  # the SAC study's pilot (docs/evidence/sac.md)
     learner = "SAC (SB3, no HER), 3-joint goal arm, dense reward"
     measures = "whether the deep-RL verdicts are the task's or PPO's: the same task with an off-policy learner that replays its past episodes (docs/evidence/sac.md)"
@@ -334,6 +337,7 @@ class RlArmSacDense(RlArm):
 @register
 class RlArmSacSparse(RlArm):
     name, reward, algorithm = "rl-arm-sac-sparse", "sparse", "sac"
+    study_seeds = tuple(range(950, 962))
     cpu_per_unit = 3.956e-3
     learner = "SAC (SB3, no HER), 3-joint goal arm, sparse reward"
     measures = "the same with a sparse reward (does SAC fold the arm as PPO does?)"

@@ -18,7 +18,7 @@ from .. import _core
 from ..errors import SaggriacError, StorageError
 from ..files import check_flag
 from ..runs.resources import share_cores
-from .tasks import TASKS, TIERS
+from .tasks import TASKS, TIERS, tier_seeds
 from .teachers import CALL_TIMEOUT, Guarded, TeacherError, TeacherSpec, alarm_handler
 
 RUNS_DIR = "runs"
@@ -175,13 +175,18 @@ def _results(jobs: list[Job], workers: int, scheduler: Any) -> Iterable[tuple[Jo
             raise
 
 
-def plan(teachers: list[TeacherSpec], tasks: list[str], tier: str, seeds: Iterable[int], timeout: float) -> list[Job]:
+def plan(teachers: list[TeacherSpec], tasks: list[str], tier: str, seeds: Iterable[int] | None, timeout: float) -> list[Job]:
     """Every run of ``teachers`` on ``tasks`` (each teacher on the tasks of the spaces it takes and
     that can tell it what it asks to be told; a teacher given expert knowledge on the tasks that
-    declare it), seed by seed, so that a partial bench still pairs teachers on the same seeds."""
+    declare it), seed by seed, so that a partial bench still pairs teachers on the same seeds.
+    ``seeds`` None: each task's seeds in the tier (:func:`tier_seeds`)."""
     if tier not in TIERS:
         raise SaggriacError(f"The 'tier' parameter of saggriac bench must be one of {', '.join(TIERS)}. Got {tier!r} instead.")
-    return [Job(task, tier, spec, int(seed), timeout) for seed in seeds for task in tasks for spec in teachers if spec.takes(TASKS[task].space) and spec.told in TASKS[task].tells and (not spec.level or TASKS[task].declares_knowledge())]
+    fixed = None if seeds is None else [int(s) for s in seeds]
+    per_task = {task: set(tier_seeds(task, tier) if fixed is None else fixed) for task in tasks}
+    order = sorted(set().union(*per_task.values())) if per_task else []
+    return [Job(task, tier, spec, seed, timeout) for seed in order for task in tasks if seed in per_task[task] for spec in teachers
+            if spec.takes(TASKS[task].space) and spec.told in TASKS[task].tells and (not spec.level or TASKS[task].declares_knowledge())]
 
 
 def failure_message(failures: dict[tuple[str, str, int], str], out: Path, n_jobs: int) -> str:

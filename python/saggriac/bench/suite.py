@@ -24,7 +24,7 @@ from . import report, shipped
 from .goals import COLUMNS as GOAL_COLUMNS
 from .goals import goals_figures, goals_table
 from .runner import BenchError, execute, failure_message, plan, read_done, timed
-from .tasks import TASKS, TIERS, in_tier, missing_extra
+from .tasks import TASKS, TIERS, in_tier, missing_extra, tier_seeds
 from .teachers import CALL_TIMEOUT, REFERENCE, TeacherSpec, parse_teacher
 
 
@@ -120,7 +120,7 @@ def run_bench(
     except OSError as e:
         raise StorageError(f"Cannot create the bench folder {folder}: {e.strerror or e}.") from None
 
-    jobs = plan(everyone, names, tier, range(n_seeds), float(timeout))
+    jobs = plan(everyone, names, tier, None if seeds is None else range(n_seeds), float(timeout))
     ship = shipped.load(tier)
     records: list[dict[str, Any]] = []
     from_ship = 0
@@ -162,7 +162,7 @@ def run_bench(
     if rerun and ship is not None and not runs.empty:
         notes += compare_with_shipped(runs[runs.source == "computed"], ship[0], ship[2])
     goals = goals_table(records)
-    written = write_outputs(folder, runs, curves, goals, tier, n_seeds, notes)
+    written = write_outputs(folder, runs, curves, goals, tier, seeds_text(names, tier, None if seeds is None else n_seeds), notes)
     board = pd.read_csv(written["leaderboard_csv"]) if "leaderboard_csv" in written else pd.DataFrame(columns=report.COLUMNS)
     result = BenchResult(folder, runs, curves, board, len(new), kept, from_ship, wall, n_workers, written, notes, goals)
     if failures:
@@ -190,7 +190,15 @@ def compare_with_shipped(runs: pd.DataFrame, ship_runs: pd.DataFrame, meta: dict
             f"The shipped ones were made by saggriac {meta.get('version')}, these by saggriac {_core.__version__}."]
 
 
-def write_outputs(folder: Path, runs: pd.DataFrame, curves: pd.DataFrame, goals: pd.DataFrame, tier: str, n_seeds: int, notes: Iterable[str]) -> dict[str, Path]:
+def seeds_text(names: Sequence[str], tier: str, n_seeds: int | None) -> str:
+    """The seeds of a bench in words: "seeds 0-4", or with the tasks that take a study's own."""
+    if n_seeds is not None:
+        return f"seeds 0-{n_seeds - 1}"
+    own = [f"{t} {min(s)}-{max(s)}" for t in names for s in [tier_seeds(t, tier)] if s != list(range(TIERS[tier]))]
+    return f"seeds 0-{TIERS[tier] - 1}" + (f" (their studies' seeds: {', '.join(own)})" if own else "")
+
+
+def write_outputs(folder: Path, runs: pd.DataFrame, curves: pd.DataFrame, goals: pd.DataFrame, tier: str, seeds: str, notes: Iterable[str]) -> dict[str, Path]:
     """runs.parquet, curves.parquet, goals.parquet, leaderboard.csv and .md and the figures
     (curves.png, ranks.png, goals/<task>.png), into ``folder``."""
     written: dict[str, Path] = {}
@@ -205,7 +213,7 @@ def write_outputs(folder: Path, runs: pd.DataFrame, curves: pd.DataFrame, goals:
         board = report.leaderboard(runs)
         board.to_csv(folder / "leaderboard.csv", index=False)
         sources = runs.groupby("source").size().to_dict()
-        header = [f"# saggriac bench: tier {tier}, seeds 0-{n_seeds - 1}", "",
+        header = [f"# saggriac bench: tier {tier}, {seeds}", "",
                   f"saggriac {_core.__version__}. Area: mean of the score curve; final: the score after the budget (both higher is better). "
                   f"Differences to {REFERENCE} are paired by seed, with a 95 % t interval; p: paired t-test, Holm-adjusted over every row. "
                   f"Rank: by area on the task. µs/goal: teacher and task together. Runs: " + ", ".join(f"{n} {k}" for k, n in sorted(sources.items())) + ".", *[f"\n{n}" for n in notes]]

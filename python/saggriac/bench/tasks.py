@@ -22,7 +22,8 @@ from ..teachers.progress_niches import ProgressNiches
 from .expert import Knowledge, Region
 
 #: The tiers: seeds per task (0 .. N-1) and which budget each task takes. ``quick`` is every task
-#: with few seeds; ``full`` has the sizes of the studies the toy tasks came from.
+#: with few seeds; ``full`` has the sizes of the studies the toy tasks came from, and a task a
+#: registered study ran takes that study's seeds (:func:`tier_seeds`).
 TIERS = {"quick": 5, "standard": 10, "full": 20}
 
 #: The registry, in the order tasks were registered: name -> class.
@@ -44,6 +45,15 @@ def register(cls: type["BenchTask"]) -> type["BenchTask"]:
 def in_tier(name: str, tier: str) -> bool:
     """Whether the task ``name`` is run in ``tier`` (it has a budget there)."""
     return TASKS[name].budgets[tier] is not None
+
+
+def tier_seeds(name: str, tier: str) -> list[int]:
+    """The seeds ``tier`` runs the task ``name`` on: 0 .. N-1, but in the full tier a task a
+    registered study ran at that budget takes the study's report seeds (``study_seeds``)."""
+    cls = TASKS[name]
+    if tier == "full" and cls.study_seeds:
+        return list(cls.study_seeds)
+    return list(range(TIERS[tier]))
 
 
 def missing_extra(name: str) -> str | None:
@@ -75,6 +85,11 @@ class BenchTask:
     points: ClassVar[int] = 20
     #: What the curve's x axis counts.
     unit: ClassVar[str] = "goals"
+    #: The report seeds of the registered study that ran this task at its full-tier budget (the
+    #: study's protocol gives them): the full tier runs these instead of 0 .. N-1, so a full
+    #: bench reruns the study and the study's committed runs ship as the tier's built-in rows
+    #: (benchmarks/ship_studies.py). Empty: no study.
+    study_seeds: ClassVar[tuple[int, ...]] = ()
     #: CPU seconds per unit of budget, for the listing's estimate of a tier that no shipped run
     #: measures (deep RL, not in the quick tier): its study's pilot's measure; None if none.
     cpu_per_unit: ClassVar[float | None] = None

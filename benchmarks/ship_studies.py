@@ -1,0 +1,124 @@
+"""The bench's full tier, built-in rows of the deep-RL tasks: the registered studies' committed runs.
+
+    python benchmarks/ship_studies.py            # write them into python/saggriac/bench/results/full_*
+    python benchmarks/ship_studies.py --check    # exit 1 if the shipped rows are not what the studies give
+
+A task a registered study ran at the full tier's budget takes that study's report seeds in the full
+tier (``BenchTask.study_seeds``), and a bench run of (task, teacher, seed) is the study's run of it
+(the same code and seeds: the deep-RL study's ``rl_curriculum.py`` and the evidence studies'
+``evidence.py`` play the bench's tasks). So the study's committed rows are the tier's shipped rows,
+and ``saggriac bench --tier full`` places a user's teacher among them without rerunning 45 CPU
+hours; ``tests/bench/test_shipped.py`` reruns one through the bench and gets the study's numbers.
+
+Sources: ``docs/figures/rl_curriculum/curves.csv`` (PPO, rl-arm-dense and rl-arm-sparse; the
+bench's score is minus the final distance at each scoring after step 0) and every
+``docs/figures/evidence/*/runs.csv`` and ``curves.csv`` (the bench's own rows). Only built-in
+teachers ship (the oracle and a study's extra teachers do not), only the task's study seeds at the
+full tier's budget, and no goals (the studies did not keep them; the goals figures show the
+teachers run then). Rows of other tasks already in the shipped full tier are kept.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from saggriac import _core
+from saggriac.bench import TASKS, shipped
+from saggriac.bench.goals import COLUMNS as GOAL_COLUMNS
+from saggriac.bench.suite import builtin_specs
+
+REPO = Path(__file__).resolve().parents[1]
+FIGURES = REPO / "docs" / "figures"
+TIER = "full"
+COMMAND = "python benchmarks/ship_studies.py"
+
+
+def _keep(task: str, teacher: str, seed: int, budget: int) -> bool:
+    cls = TASKS.get(task)
+    builtins = {s.label for s in builtin_specs(True)}
+    return cls is not None and seed in cls.study_seeds and budget == cls.budgets[TIER] and teacher in builtins
+
+
+def from_rl_curriculum(folder: Path = FIGURES / "rl_curriculum") -> tuple[pd.DataFrame, pd.DataFrame]:
+    """The PPO study's runs as the bench's rows: its curves give each scoring's final distance."""
+    curves = pd.read_csv(folder / "curves.csv", dtype={"commit": str})
+    seconds = pd.read_csv(folder / "runs.csv", dtype={"commit": str}).set_index(["reward", "teacher", "seed"]).seconds
+    curves = curves.assign(task="rl-arm-" + curves["reward"])
+    keep = np.array([_keep(t, te, int(s), int(b)) for t, te, s, b in zip(curves.task, curves.teacher, curves.seed, curves.budget)], dtype=bool)
+    curves = curves[keep & (curves.step > 0).to_numpy()]
+    bench_curves = pd.DataFrame(dict(task=curves.task, teacher=curves.teacher, seed=curves.seed.astype(int), step=curves.step.astype(int), score=-curves.distance.astype(float)))
+    rows = []
+    for (task, teacher, seed), c in bench_curves.groupby(["task", "teacher", "seed"], sort=True):
+        c = c.sort_values("step")
+        rows.append(dict(task=task, teacher=teacher, seed=int(seed), goals=int(c.step.iloc[-1]), area=float(np.mean(c.score)), final=float(c.score.iloc[-1]),
+                         seconds=float(seconds[(task.removeprefix("rl-arm-"), teacher, seed)]), teacher_seconds=float("nan")))
+    return pd.DataFrame(rows), bench_curves
+
+
+def from_evidence(folder: Path) -> tuple[pd.DataFrame, pd.DataFrame]:
+    """An evidence study's runs (made by the bench's runner) as they are."""
+    runs = pd.read_csv(folder / "runs.csv", dtype={"commit": str, "teacher": str, "task": str})
+    curves = pd.read_csv(folder / "curves.csv", dtype={"commit": str, "teacher": str, "task": str})
+    runs = runs[[_keep(t, te, int(s), int(b)) for t, te, s, b in zip(runs.task, runs.teacher, runs.seed, runs.budget)]]
+    bench_runs = pd.DataFrame(dict(task=runs.task, teacher=runs.teacher, seed=runs.seed.astype(int), goals=runs.budget.astype(int), area=runs.area.astype(float),
+                                   final=runs.final.astype(float), seconds=runs.seconds.astype(float), teacher_seconds=runs.teacher_seconds.astype(float)))
+    curves = curves.merge(bench_runs[["task", "teacher", "seed"]], on=["task", "teacher", "seed"])
+    return bench_runs, curves[["task", "teacher", "seed", "step", "score"]].astype({"seed": int, "step": int, "score": float})
+
+
+def gather() -> tuple[pd.DataFrame, pd.DataFrame, list[str]]:
+    parts = [from_rl_curriculum()]
+    sources = ["docs/figures/rl_curriculum/curves.csv"]
+    for runs in sorted((FIGURES / "evidence").glob("*/runs.csv")):
+        parts.append(from_evidence(runs.parent))
+        sources.append(runs.relative_to(REPO).as_posix())
+    runs = pd.concat([p[0] for p in parts], ignore_index=True)
+    curves = pd.concat([p[1] for p in parts], ignore_index=True)
+    return runs.assign(version=_core.__version__), curves, sources
+
+
+def merged(folder: Path = shipped.RESULTS) -> tuple[pd.DataFrame, pd.DataFrame, pd.DataFrame, list[int], str]:
+    """The full tier's shipped tables with the studies' rows in place of what shipped for their tasks."""
+    runs, curves, sources = gather()
+    old = shipped.load(TIER, folder)
+    goals = pd.DataFrame(columns=GOAL_COLUMNS)
+    if old is not None:
+        study_tasks = set(runs.task)
+        runs = pd.concat([old[0][~old[0].task.isin(study_tasks)], runs], ignore_index=True)
+        curves = pd.concat([old[1][~old[1].task.isin(study_tasks)], curves], ignore_index=True)
+        goals = shipped.load_goals(TIER, folder)
+        goals = goals[~goals.task.isin(study_tasks)]
+    seeds = sorted(set(int(s) for s in runs.seed))
+    return runs, curves, goals, seeds, f"{COMMAND} (from {', '.join(sources)})"
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--check", action="store_true", help="exit 1 if the shipped full tier's study rows differ from what the committed studies give")
+    args = ap.parse_args(argv)
+    runs, curves, goals, seeds, command = merged()
+    if args.check:
+        ship = shipped.load(TIER)
+        if ship is None:
+            print("no full tier ships; run python benchmarks/ship_studies.py", file=sys.stderr)
+            return 1
+        mine = runs.drop(columns=["version"]).sort_values(["task", "teacher", "seed"]).reset_index(drop=True)
+        theirs = ship[0][ship[0].task.isin(set(mine.task))].drop(columns=["version"]).sort_values(["task", "teacher", "seed"]).reset_index(drop=True)
+        if not mine.equals(theirs[mine.columns]):
+            print("the shipped full tier is not what the committed studies give; run python benchmarks/ship_studies.py", file=sys.stderr)
+            return 1
+        print(f"the shipped full tier holds the studies' {len(mine)} runs")
+        return 0
+    for p in shipped.write(TIER, runs, curves, goals, seeds, command):
+        print(f"wrote {p.relative_to(REPO)}")
+    print(f"{len(runs)} runs: " + ", ".join(f"{t} {n}" for t, n in runs.groupby("task").size().items()))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
