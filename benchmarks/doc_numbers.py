@@ -251,8 +251,16 @@ def sections(page: Path) -> list[Section]:
     return out
 
 
-_HISTORY = Path(tempfile.mkdtemp(prefix="doc_numbers_history_"))
-atexit.register(shutil.rmtree, _HISTORY, True)
+_HISTORY: list[Path] = []
+
+
+def history() -> Path:
+    """A scratch folder for tables read from earlier commits, made on first use (not at import,
+    so a test importing this module leaves nothing behind) and removed at exit."""
+    if not _HISTORY:
+        _HISTORY.append(Path(tempfile.mkdtemp(prefix="doc_numbers_history_")))
+        atexit.register(shutil.rmtree, _HISTORY[0], True)
+    return _HISTORY[0]
 
 
 def resolve(cited: str) -> Path | None:
@@ -265,7 +273,7 @@ def resolve(cited: str) -> Path | None:
         shown = subprocess.run(["git", "-C", str(REPO), "show", f"{commit}:{rest}"], capture_output=True)
         if shown.returncode:
             return None
-        path = _HISTORY / commit / rest
+        path = history() / commit / rest
         path.parent.mkdir(parents=True, exist_ok=True)
         path.write_bytes(shown.stdout)
         return path

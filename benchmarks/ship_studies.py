@@ -38,10 +38,15 @@ TIER = "full"
 COMMAND = "python benchmarks/ship_studies.py"
 
 
-def _keep(task: str, teacher: str, seed: int, budget: int) -> bool:
+def _keep(task: str, teacher: str, seed: int, budget: int, builtins: frozenset[str] | None = None) -> bool:
+    """Whether a study's run is a full-tier bench run of a built-in teacher."""
     cls = TASKS.get(task)
-    builtins = {s.label for s in builtin_specs(True)}
+    builtins = _builtins() if builtins is None else builtins
     return cls is not None and seed in cls.study_seeds and budget == cls.budgets[TIER] and teacher in builtins
+
+
+def _builtins() -> frozenset[str]:
+    return frozenset(s.label for s in builtin_specs(True))
 
 
 def from_rl_curriculum(folder: Path = FIGURES / "rl_curriculum") -> tuple[pd.DataFrame, pd.DataFrame]:
@@ -49,7 +54,8 @@ def from_rl_curriculum(folder: Path = FIGURES / "rl_curriculum") -> tuple[pd.Dat
     curves = pd.read_csv(folder / "curves.csv", dtype={"commit": str})
     seconds = pd.read_csv(folder / "runs.csv", dtype={"commit": str}).set_index(["reward", "teacher", "seed"]).seconds
     curves = curves.assign(task="rl-arm-" + curves["reward"])
-    keep = np.array([_keep(t, te, int(s), int(b)) for t, te, s, b in zip(curves.task, curves.teacher, curves.seed, curves.budget)], dtype=bool)
+    names = _builtins()
+    keep = np.array([_keep(t, te, int(s), int(b), names) for t, te, s, b in zip(curves.task, curves.teacher, curves.seed, curves.budget)], dtype=bool)
     curves = curves[keep & (curves.step > 0).to_numpy()]
     bench_curves = pd.DataFrame(dict(task=curves.task, teacher=curves.teacher, seed=curves.seed.astype(int), step=curves.step.astype(int), score=-curves.distance.astype(float)))
     rows = []
@@ -64,7 +70,8 @@ def from_evidence(folder: Path) -> tuple[pd.DataFrame, pd.DataFrame]:
     """An evidence study's runs (made by the bench's runner) as they are."""
     runs = pd.read_csv(folder / "runs.csv", dtype={"commit": str, "teacher": str, "task": str})
     curves = pd.read_csv(folder / "curves.csv", dtype={"commit": str, "teacher": str, "task": str})
-    runs = runs[[_keep(t, te, int(s), int(b)) for t, te, s, b in zip(runs.task, runs.teacher, runs.seed, runs.budget)]]
+    names = _builtins()
+    runs = runs[[_keep(t, te, int(s), int(b), names) for t, te, s, b in zip(runs.task, runs.teacher, runs.seed, runs.budget)]]
     bench_runs = pd.DataFrame(dict(task=runs.task, teacher=runs.teacher, seed=runs.seed.astype(int), goals=runs.budget.astype(int), area=runs.area.astype(float),
                                    final=runs.final.astype(float), seconds=runs.seconds.astype(float), teacher_seconds=runs.teacher_seconds.astype(float)))
     curves = curves.merge(bench_runs[["task", "teacher", "seed"]], on=["task", "teacher", "seed"])
