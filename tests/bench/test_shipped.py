@@ -40,12 +40,14 @@ STANDARD = shipped.load("standard")
 def test_the_standard_results_ship_for_the_tasks_without_deep_rl():
     """The standard tier ships the tasks without deep RL (its deep-RL runs are hours of CPU a
     teacher): every such task, every seed of the tier, the built-in teachers that take it, and
-    the command that made them naming those tasks."""
+    the command that made them naming those tasks. Its other rows are deep-RL studies' runs."""
     assert STANDARD is not None, "python/saggriac/bench/results/standard_* are missing"
     runs, curves, meta = STANDARD
     plain = sorted(n for n, c in TASKS.items() if c.budgets["standard"] is not None and not n.startswith("rl-"))
-    assert sorted(set(runs.task)) == sorted(meta["tasks"]) == plain
-    assert meta["seeds"] == list(range(TIERS["standard"])) == sorted(set(runs.seed)) and meta["tier"] == "standard"
+    assert sorted(set(runs.task)) == sorted(meta["tasks"]) and set(plain) <= set(runs.task)
+    assert all(TASKS[t].study_seeds for t in set(runs.task) - set(plain))
+    assert sorted(set(runs[runs.task.isin(plain)].seed)) == list(range(TIERS["standard"])) and meta["tier"] == "standard"
+    assert meta["seeds"] == sorted(set(runs.seed))
     assert meta["command"].startswith("saggriac bench --tier standard --rerun --write-shipped")
     assert set(meta["command"].split("--tasks ")[1].split()[0].split(",")) == set(plain)
     for task in plain:
@@ -124,7 +126,41 @@ def test_a_task_a_study_ran_takes_its_report_seeds_budget_and_scorings_in_the_fu
         assert TASKS[f"rl-arm-{reward}"].points == rl.SCORINGS
         checked += 1
     assert checked >= 6
-    assert tier_seeds("2d", "full") == list(range(TIERS["full"])) and tier_seeds("rl-arm-dense", "standard") == list(range(TIERS["standard"]))
+    assert tier_seeds("2d", "full") == list(range(TIERS["full"]))
+
+
+def test_the_tiers_are_nested_for_every_task():
+    """Each tier's seeds begin the next one's: 0 .. N-1 for a task without a study, the study's
+    first report seeds for one with (the standard tier of rl-arm-dense is 500-509)."""
+    from saggriac.bench.tasks import in_tier, tier_seeds
+
+    order = list(TIERS)
+    for name in TASKS:
+        tiers = [t for t in order if in_tier(name, t)]
+        for small, big in zip(tiers, tiers[1:]):
+            a, b = tier_seeds(name, small), tier_seeds(name, big)
+            assert b[: len(a)] == a, (name, small, big)
+        for t in tiers[:-1]:
+            assert len(tier_seeds(name, t)) == TIERS[t], (name, t)
+    assert tier_seeds("rl-arm-dense", "standard") == list(range(500, 510)) and tier_seeds("2d", "standard") == list(range(10))
+
+
+STANDARD = shipped.load("standard")
+
+
+@pytest.mark.skipif(STANDARD is None or FULL is None, reason="no standard or full tier ships")
+def test_where_the_standard_budget_is_the_studys_its_built_in_rows_are_the_full_tiers_first_seeds():
+    """SAC's standard budget is its study's (20,000 steps): the standard tier ships the study's
+    rows of its first ten seeds, the same numbers as the full tier's; PPO's arm, whose standard
+    budget is half the study's, ships none there."""
+    key = ["task", "teacher", "seed"]
+    for task in ("rl-arm-sac-dense", "rl-arm-sac-sparse"):
+        std = STANDARD[0][STANDARD[0].task == task].sort_values(key).reset_index(drop=True)
+        assert sorted(set(std.seed)) == list(TASKS[task].study_seeds[:10]) and len(set(std.teacher)) == 8
+        full = FULL[0][(FULL[0].task == task) & FULL[0].seed.isin(set(std.seed))].sort_values(key).reset_index(drop=True)
+        assert std[["teacher", "seed", "goals", "area", "final"]].equals(full[["teacher", "seed", "goals", "area", "final"]])
+    assert not STANDARD[0].task.isin(["rl-arm-dense", "rl-arm-sparse"]).any()
+    assert STANDARD[2]["command"].startswith("saggriac bench --tier standard") and "python benchmarks/ship_studies.py" in STANDARD[2]["command"]
 
 
 def test_the_full_tier_ships_the_studies_rows_as_ship_studies_gives_them():

@@ -17,7 +17,7 @@ from . import shipped
 from .runner import BenchError
 from .expert import BUILTIN, LEVELS
 from .suite import BenchResult, builtin_specs, run_bench, with_variants
-from .tasks import TASKS, TIERS, missing_extra, tier_seeds
+from .tasks import TASKS, TIERS, in_tier, missing_extra, tier_seeds
 from .teachers import CALL_TIMEOUT, parse_teacher
 
 
@@ -94,7 +94,7 @@ def listing() -> str:
     for tier in TIERS:
         one, every = tier_hours(seconds[tier], tier)
         unknown = [n for n, (s, _) in seconds[tier].items() if math.isnan(s)]
-        own = "; a task a registered study ran takes its study's seeds" if any(tier_seeds(n, tier) != list(range(TIERS[tier])) for n in TASKS) else ""
+        own = "; a task a registered study ran takes its study's seeds" if any(in_tier(n, tier) and tier_seeds(n, tier) != list(range(TIERS[tier])) for n in TASKS) else ""
         hours.append(f"  {tier} ({TIERS[tier]} seeds{own}): one box teacher about {one:.2g} CPU h, every built-in teacher about {every:.2g} CPU h" + (f" (without {', '.join(unknown)}: no measure yet)" if unknown else ""))
     needs = [f"{n} needs {missing_extra(n)}" for n in TASKS if missing_extra(n) is not None]
     missing = f"\nnot installed: {'; '.join(needs)} (left out of the bench until it is)" if needs else ""

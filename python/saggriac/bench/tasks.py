@@ -48,11 +48,13 @@ def in_tier(name: str, tier: str) -> bool:
 
 
 def tier_seeds(name: str, tier: str) -> list[int]:
-    """The seeds ``tier`` runs the task ``name`` on: 0 .. N-1, but in the full tier a task a
-    registered study ran at that budget takes the study's report seeds (``study_seeds``)."""
+    """The seeds ``tier`` runs the task ``name`` on: 0 .. N-1; a task a registered study ran
+    takes the study's report seeds (``study_seeds``) instead: all of them in the full tier, the
+    first N in the others. So the tiers stay nested (each tier's seeds begin the next one's), and
+    where a tier's budget is the study's its runs are the study's runs."""
     cls = TASKS[name]
-    if tier == "full" and cls.study_seeds:
-        return list(cls.study_seeds)
+    if cls.study_seeds:
+        return list(cls.study_seeds) if tier == "full" else list(cls.study_seeds[: TIERS[tier]])
     return list(range(TIERS[tier]))
 
 
@@ -86,8 +88,9 @@ class BenchTask:
     #: What the curve's x axis counts.
     unit: ClassVar[str] = "goals"
     #: The report seeds of the registered study that ran this task at its full-tier budget (the
-    #: study's protocol gives them): the full tier runs these instead of 0 .. N-1, so a full
-    #: bench reruns the study and the study's committed runs ship as the tier's built-in rows
+    #: study's protocol gives them): the full tier runs these instead of 0 .. N-1 and a smaller
+    #: tier their first N (:func:`tier_seeds`), so a full bench reruns the study, and the study's
+    #: committed runs ship as the built-in rows of each tier whose budget is the study's
     #: (benchmarks/ship_studies.py). Empty: no study.
     study_seeds: ClassVar[tuple[int, ...]] = ()
     #: CPU seconds per unit of budget, for the listing's estimate of a tier that no shipped run
