@@ -41,11 +41,12 @@ SHIPPED_TIERS = ("standard", "full")
 COMMAND = "python benchmarks/ship_studies.py"
 
 
-def _keep(task: str, teacher: str, seed: int, budget: int, tier: str, builtins: frozenset[str] | None = None) -> bool:
-    """Whether a study's run is a bench run of a built-in teacher in ``tier``."""
-    cls = TASKS.get(task)
-    builtins = _builtins() if builtins is None else builtins
-    return cls is not None and bool(cls.study_seeds) and seed in tier_seeds(task, tier) and budget == cls.budgets[tier] and teacher in builtins
+STUDY_TASKS = frozenset(n for n, cls in TASKS.items() if cls.study_seeds)
+
+
+def _keep(task: str, teacher: str, seed: int, budget: int, tier: str, builtins: frozenset[str]) -> bool:
+    """Whether a study's run is a bench run of one of the ``builtins`` teachers in ``tier``."""
+    return task in STUDY_TASKS and seed in tier_seeds(task, tier) and budget == TASKS[task].budgets[tier] and teacher in builtins
 
 
 def _builtins() -> frozenset[str]:
@@ -100,12 +101,11 @@ def merged(tier: str, folder: Path = shipped.RESULTS) -> tuple[pd.DataFrame, pd.
     old = shipped.load(tier, folder)
     goals = pd.DataFrame(columns=GOAL_COLUMNS)
     if old is not None:
-        study_tasks = {n for n, cls in TASKS.items() if cls.study_seeds}
-        kept = old[0][~old[0].task.isin(study_tasks)]
+        kept = old[0][~old[0].task.isin(STUDY_TASKS)]
         runs = pd.concat([kept, runs], ignore_index=True)
-        curves = pd.concat([old[1][~old[1].task.isin(study_tasks)], curves], ignore_index=True)
+        curves = pd.concat([old[1][~old[1].task.isin(STUDY_TASKS)], curves], ignore_index=True)
         goals = shipped.load_goals(tier, folder)
-        goals = goals[~goals.task.isin(study_tasks)]
+        goals = goals[~goals.task.isin(STUDY_TASKS)]
         theirs = str(old[2].get("command", "")).split(COMMAND)[0].rstrip(" ;&")
         if len(kept) and theirs:
             command = f"{theirs} && {command}"
@@ -120,7 +120,7 @@ def main(argv: list[str] | None = None) -> int:
     key = ["task", "teacher", "seed"]
     for tier in SHIPPED_TIERS:
         runs, curves, goals, seeds, command = merged(tier)
-        studied = runs[runs.task.map(lambda t: bool(TASKS[t].study_seeds) if t in TASKS else False)]
+        studied = runs[runs.task.isin(STUDY_TASKS)]
         if args.check:
             ship = shipped.load(tier)
             if ship is None:
