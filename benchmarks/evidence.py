@@ -19,7 +19,7 @@ guarded teacher (seeds derived as the bench derives them, :func:`saggriac.bench.
 with the protocol's budget and seeds rather than the bench's tier (which runs seeds 0..N-1 only). Each finished run is written at once to
 ``curves.csv`` (every scoring, with the task's own measures) and ``runs.csv`` (one row: task,
 learner, teacher, seed, budget, final, area, the task's own measures at the end, seconds,
-cpu_seconds, teacher_seconds, commit); a run already in runs.csv is not run again, so a killed
+cpu_seconds, teacher_seconds, commit, machine: the CPU's kind, :func:`saggriac.runs.resources.cpu_kind`); a run already in runs.csv is not run again, so a killed
 study resumes. A run refused on the way (a failing teacher, a learner not trained on the
 teacher's goals) goes to ``failures.csv`` with its reason, and is tried again on resuming. Runs go
 seed by seed, every teacher on a seed before the next seed, so that a partial study stays paired.
@@ -143,6 +143,7 @@ def one_run(job: tuple) -> tuple[list[dict], dict]:
     from saggriac.bench import TASKS, parse_teacher
     from saggriac.bench.runner import play_run
     from saggriac.bench.teachers import ORACLE, Guarded, GuardedOracle
+    from saggriac.runs.resources import cpu_kind
 
     task_name, teacher, seed, budget, scorings, timeout, code, modules = job
     for module in modules:
@@ -165,7 +166,8 @@ def one_run(job: tuple) -> tuple[list[dict], dict]:
     scores = [s for _, s in curve]
     row = dict(task=task_name, learner=TASKS[task_name].learner, teacher=teacher, seed=seed, budget=budget, final=float(scores[-1]), area=float(np.mean(scores)))
     row.update({f"final_{k}": v for k, v in (own[-1] if own else {}).items()})
-    row.update(seconds=seconds, cpu_seconds=cpu, teacher_seconds=guard.teacher_seconds, commit=code)
+    # The CPU's kind with the commit: deep-RL runs agree to the bit only on one kind (docs/bench.md).
+    row.update(seconds=seconds, cpu_seconds=cpu, teacher_seconds=guard.teacher_seconds, commit=code, machine=cpu_kind())
     return curves, row
 
 
@@ -333,6 +335,7 @@ def analyse(p: dict[str, Any], out: Path, pilot: bool = False) -> str:
             lines += ["**Interim: not every run of the protocol is done; these numbers decide nothing.**", ""]
         if r.empty:
             continue
+        lines += [machines_line(r), ""]
         own = [c for c in r.columns if c.startswith("final_") and r[c].notna().any()]
         lines += ["| teacher | runs | final (mean ± sd) | area | " + "".join(f"{c} | " for c in own) + "CPU s per run |", "|---|---|---|---|" + "---|" * len(own) + "---|"]
         for t in teachers:
@@ -365,6 +368,14 @@ def analyse(p: dict[str, Any], out: Path, pilot: bool = False) -> str:
     write_file(out / "results.md", lambda tmp: Path(tmp).write_text(text), what="the results", overwrite=True)
     figure(out, read_table(out / "curves.csv"))
     return text
+
+
+def machines_line(runs: pd.DataFrame) -> str:
+    """Which kinds of CPU made the runs (their ``machine`` column; rows made before it was kept
+    say nothing). Deep-RL runs of one seed agree to the bit only on one kind: a study spanning
+    kinds is a fair comparison, but a rerun matches its rows only on the kind that made them."""
+    kinds = runs["machine"].fillna("not recorded").value_counts() if "machine" in runs else pd.Series({"not recorded": len(runs)})
+    return "Kind of CPU the runs were made on (runs.csv's machine): " + "; ".join(f"{k} ({n} runs)" for k, n in kinds.items()) + "."
 
 
 def pilot_lines(runs: pd.DataFrame, p: dict[str, Any], curves: pd.DataFrame | None = None) -> list[str]:

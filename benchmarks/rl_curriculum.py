@@ -41,6 +41,7 @@ from tqdm import tqdm
 
 from saggriac.bench.oracle import OracleTeacher
 from saggriac.bench.rl import ARM, FOLD_TIP, GOAL_BLIND, N_ENVS, THRESHOLDS, arm_config, arm_reach, evaluate, folded, make_env, run_seeds, test_goals, train  # noqa: F401 (make_env: the study's environment, for its tests; FOLD_TIP and folded: the fold, shared with the evidence runner)
+from saggriac.runs.resources import cpu_kind
 
 REPO = Path(__file__).resolve().parents[1]
 OUT = REPO / "docs" / "figures" / "rl_curriculum"
@@ -106,6 +107,8 @@ def one_run(job: tuple) -> list[dict]:
     reach = arm_reach()
     goals = test_goals(reach)
     rows: list[dict] = []
+    # With the commit, the CPU's kind: deep-RL runs agree to the bit only on one kind (docs/bench.md).
+    machine = cpu_kind()
     start, cpu = time.perf_counter(), time.process_time()
 
     def score(step: int, model, teacher) -> None:
@@ -116,7 +119,7 @@ def one_run(job: tuple) -> list[dict]:
         share = float(np.mean(np.linalg.norm(recent, axis=1) <= reach)) if len(recent) else float("nan")
         # The limited arm's rows keep the second study's columns; the free arm's add its spread.
         spread = {} if joints == "limited" else dict(joints=joints, tip_spread=extra["tip_spread"])
-        rows.append(dict(reward=reward, teacher=name, seed=seed, budget=steps, threshold=threshold, step=step, success=success, distance=distance, episodes=len(told), reachable_share=share, **spread, seconds=time.perf_counter() - start, cpu_seconds=time.process_time() - cpu, commit=code))
+        rows.append(dict(reward=reward, teacher=name, seed=seed, budget=steps, threshold=threshold, step=step, success=success, distance=distance, episodes=len(told), reachable_share=share, **spread, seconds=time.perf_counter() - start, cpu_seconds=time.process_time() - cpu, commit=code, machine=machine))
 
     train(reward, threshold, make_teacher(name, run_seeds(seed)[2]), seed, steps, every, score, joints=joints)
     if rows[-1]["step"] != steps:
@@ -144,6 +147,7 @@ def runs_table(curves: pd.DataFrame) -> pd.DataFrame:
             reachable_share=trained["reachable_share"].mean(), final_reachable_share=final["reachable_share"], episodes=int(final["episodes"]),
             budget=budget, threshold=final["threshold"], seconds=final["seconds"], cpu_seconds=final["cpu_seconds"], commit=final["commit"],
             **({"final_tip_spread": final["tip_spread"]} if "tip_spread" in c else {}),
+            **({"machine": final["machine"]} if "machine" in c else {}),
         ))
     return pd.DataFrame(rows)
 

@@ -57,6 +57,10 @@ def test_a_tiny_study_runs_its_seeds_resumes_after_a_kill_and_reanalyses(tmp_pat
     # (a box teacher) does not take: random and the oracle on 910-912.
     assert sorted(zip(runs["task"], runs["teacher"], runs["seed"])) == sorted([("niches-0", t, s) for s in range(900, 904) for t in ("random", "oracle", "riac")] + [("niches-cells", t, s) for s in range(910, 913) for t in ("random", "oracle")])
     assert set(runs["budget"]) == {400, 300} and runs["final"].between(0, 1).all() and (runs["cpu_seconds"] > 0).all()
+    # Each row names the CPU's kind it was made on (deep-RL runs agree to the bit only on one kind).
+    from saggriac.runs.resources import cpu_kind
+
+    assert set(runs["machine"]) == {cpu_kind()}
     curves = pd.read_csv(out / "curves.csv")
     assert sorted(curves.loc[curves["task"] == "niches-0", "step"].unique()) == [100, 200, 300, 400]
     # The runner's row is the bench's own run of the same seed and budget (the same task class,

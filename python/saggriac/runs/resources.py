@@ -9,6 +9,7 @@ included; the estimate allows 426).
 from __future__ import annotations
 
 import os
+import platform
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -98,6 +99,33 @@ def usable_cores() -> int:
         return max(1, len(os.sched_getaffinity(0)))
     except (AttributeError, OSError):
         return max(1, os.cpu_count() or 1)
+
+
+#: The vector extensions the math libraries under a deep-RL learner (MKL, oneDNN) choose their
+#: kernels by, narrowest first: runs of the same seed agree to the bit only between machines that
+#: have the same of these (docs/bench.md, "Reproducing the shipped rows").
+VECTOR_FLAGS = ("avx", "avx2", "fma", "avx512f", "avx512_vnni", "avx512_bf16", "avx512_fp16", "amx_tile", "amx_bf16", "amx_int8", "asimd", "sve", "sve2")
+
+
+def cpu_kind(cpuinfo: str | None = None) -> str:
+    """The kind of CPU a run is made on, as far as its floating-point results can tell: the
+    architecture and the vector extensions of :data:`VECTOR_FLAGS` it has, such as
+    ``"x86_64 avx avx2 fma avx512f avx512_vnni"``. ``cpuinfo`` is the text of /proc/cpuinfo (read
+    when None; where the system has none, the architecture alone)."""
+    arch = platform.machine() or "unknown"
+    if cpuinfo is None:
+        try:
+            with open("/proc/cpuinfo") as f:
+                cpuinfo = f.read()
+        except OSError:
+            return arch
+    for line in cpuinfo.splitlines():
+        key, _, rest = line.partition(":")
+        # x86 says "flags", ARM says "Features"; the first processor stands for all of them.
+        if key.strip() in ("flags", "Features"):
+            have = set(rest.split())
+            return " ".join([arch, *(f for f in VECTOR_FLAGS if f in have)])
+    return arch
 
 
 #: The variable capping a mixture refit's threads (read by the Rust core when a teacher is built).
