@@ -15,9 +15,12 @@ teacher chose (and refuse otherwise), and the features extractor drops it.
 
 The teacher is told the episode's success (the goal square reached), or, for a teacher whose
 class says ``told = "positive_value_loss"`` (:class:`saggriac.bench.value_loss.PlrValueLoss`),
-PLR's score read from PPO's rollouts by the adapter. The score is the greedy policy's mean
-MiniGrid return (1 - 0.9 steps / max_steps when it reaches the goal, else 0) over the held-back
-levels, one episode each (the levels and the greedy policy are deterministic).
+PLR's score read from PPO's rollouts by the adapter. The score is the policy's mean MiniGrid
+return (1 - 0.9 steps / max_steps when it reaches the goal, else 0) over the held-back levels, one
+episode each, its actions sampled with the scoring's own generator (the same draws for every run;
+greedy policies loop against walls: docs/evidence/minigrid.md).
+
+The observations are MiniGrid's, computed from arrays (:mod:`saggriac.bench.minigrid_view`).
 """
 
 from __future__ import annotations
@@ -57,10 +60,13 @@ def _grade_env(grade: int) -> Any:
     from minigrid.core.world_object import Wall
     from minigrid.envs import CrossingEnv, EmptyEnv
 
+    from .minigrid_view import ArrayView
+
     kind, size, crossings = GRADES[grade]
-    if kind == "empty":
-        return EmptyEnv(size=size, agent_start_pos=None)
-    return CrossingEnv(size=size, num_crossings=crossings, obstacle_type=Wall)
+    env = EmptyEnv(size=size, agent_start_pos=None) if kind == "empty" else CrossingEnv(size=size, num_crossings=crossings, obstacle_type=Wall)
+    # MiniGrid's observation, computed from arrays (the same to the element, a third of the step).
+    env.gen_obs = ArrayView(env)
+    return env
 
 
 def _layout(env: Any, seed: int) -> bytes:
