@@ -70,27 +70,23 @@ class ArrayView:
         self.grid: Any = None
         self.static = False
         self.masks: dict[bytes, np.ndarray] = {}
-        self.everything = np.ones((env.agent_view_size, env.agent_view_size), dtype=bool)
+        self.pad = 0
 
     def _encode(self, grid: Any, pad: int) -> None:
         """The level's encoding and its opaque cells, padded by ``pad`` cells of wall on every side
         (MiniGrid's slice sees walls beyond the grid)."""
-        self.grid = grid
-        cells = [grid.get(i, j) for j in range(grid.height) for i in range(grid.width)]
-        self.static = all(c is None or c.type in STATIC for c in cells)
+        self.grid, self.pad = grid, pad
+        cells = [[grid.get(i, j) for j in range(grid.height)] for i in range(grid.width)]
+        self.static = all(c is None or c.type in STATIC for column in cells for c in column)
         if not self.static:
             return
-        code = np.zeros((grid.width + 2 * pad, grid.height + 2 * pad, 3), dtype=np.uint8)
+        code = np.empty((grid.width + 2 * pad, grid.height + 2 * pad, 3), dtype=np.uint8)
         code[...] = self.wall
-        opaque = np.ones(code.shape[:2], dtype=bool)
         code[pad:-pad, pad:-pad] = grid.encode()
-        inner = np.zeros((grid.width, grid.height), dtype=bool)
-        for j in range(grid.height):
-            for i in range(grid.width):
-                c = grid.get(i, j)
-                inner[i, j] = c is not None and not c.see_behind()
-        opaque[pad:-pad, pad:-pad] = inner
-        self.code, self.opaque, self.pad = code, opaque, pad
+        opaque = np.ones(code.shape[:2], dtype=bool)
+        opaque[pad:-pad, pad:-pad] = [[c is not None and not c.see_behind() for c in column] for column in cells]
+        self.code, self.opaque = code, opaque
+        self.everything = np.ones((pad, pad), dtype=bool)
 
     def __call__(self) -> dict[str, Any]:
         env = self.env
@@ -106,7 +102,7 @@ class ArrayView:
         for _ in range(env.agent_dir + 1):
             view, opaque = _rotate_left(view), _rotate_left(opaque)
         if env.see_through_walls:
-            mask = self.everything if self.everything.shape == opaque.shape else np.ones(opaque.shape, dtype=bool)
+            mask = self.everything
         else:
             key = np.packbits(opaque).tobytes()
             mask = self.masks.get(key)
