@@ -31,7 +31,9 @@ CHECKPOINTED_CLI = ["--steps", "3000", "--set", "n_evals=12", "--set", "n_test_g
 
 
 def checkpointed():
-    # Many evaluations, so that checkpoints come at several of them.
+    # Many evaluations, so that checkpoints come at several of them. The runs that count their
+    # checkpoints take threads=1: with evaluations on other threads a loaded machine can let the
+    # learner pass several evaluations before it sees one, and so write fewer (the same bits).
     return tiny(n_steps=3000, n_evals=12)
 
 
@@ -131,7 +133,7 @@ def test_a_checkpointed_run_out_of_inodes_warns_and_finishes(tmp_path, request, 
 
     monkeypatch.setattr(checkpoint, "write_checkpoint", starving)
     with pytest.warns(checkpoint.CheckpointWarning, match=r"No space left on device.*last good checkpoint \(step \d+\) is kept"):
-        res = saggriac.run(checkpointed(), 0, out_dir=mnt / "r", checkpoint_every=500)
+        res = saggriac.run(checkpointed(), 0, out_dir=mnt / "r", checkpoint_every=500, threads=1)
     assert res.path == mnt / "r" and len(calls) >= 3
     same_tables(res, saggriac.run(checkpointed(), 0))
     assert sorted(os.listdir(mnt)) == ["r"]
@@ -207,7 +209,7 @@ def test_a_checkpoint_whose_folder_cannot_be_made_warns_and_the_run_finishes(tmp
     made = []
     refuse_mkdir(monkeypatch, r"\.\.r\.checkpoint\.[a-z0-9_]{8}\.tmp", code, when=lambda: made.append(1) or len(made) == 2)
     with pytest.warns(checkpoint.CheckpointWarning, match=re.escape(os.strerror(code))):
-        res = saggriac.run(checkpointed(), 0, out_dir=tmp_path / "r", checkpoint_every=500)
+        res = saggriac.run(checkpointed(), 0, out_dir=tmp_path / "r", checkpoint_every=500, threads=1)
     assert res.path == tmp_path / "r" and len(made) >= 3
     same_tables(res, saggriac.run(checkpointed(), 0))
     assert sorted(os.listdir(tmp_path)) == ["r"]
@@ -245,7 +247,7 @@ def test_a_folder_made_immutable_after_the_first_checkpoint(tmp_path, request, m
     with pytest.warns(checkpoint.CheckpointWarning, match=r"Operation not permitted.*last good checkpoint \(step \d+\) is kept"):
         if via == "api":
             with pytest.raises(StorageError) as e:
-                saggriac.run(checkpointed(), 0, out_dir=folder / "r", checkpoint_every=500)
+                saggriac.run(checkpointed(), 0, out_dir=folder / "r", checkpoint_every=500, threads=1)
             got = e.value.result
         else:
             rc = main(["run", *CHECKPOINTED_CLI, "--checkpoint-every", "500", "--out", str(folder / "r")])
