@@ -149,6 +149,7 @@ def teacher_names() -> dict[str, str]:
         norm = re.sub(r"[^a-z0-9]", "", w.lower())
         if len(norm) >= 3:
             spell[norm] = norm
+    spell["plrvalueloss"] = "plr"  # saggriac.bench.value_loss:PlrValueLoss, PLR with its paper's score
     return spell
 
 
