@@ -6,7 +6,9 @@ The learner is :class:`saggriac.teachers.progress_niches.ProgressNiches` (a chai
 after another, noisy cells, impossible cells, and optional distractor dimensions). For every
 space (number of distractors), teacher and seed, the teacher asks ``--updates`` goals one at a
 time and is told the competence of each. Seed s gives the learner's noise and the teacher's
-generator (two children of SeedSequence(s)), so runs with the same seed are paired.
+generator (two children of SeedSequence(s)), so runs with the same seed are paired. Each run is
+the bench's niche task (``saggriac.bench.tasks.Niches``) played by its own loop, watched for
+where each goal lands.
 
 Writes to ``--out``: ``runs.csv`` (one row per run), ``curves.csv`` (the score every ``--every``
 updates), ``comparisons.csv`` (every pair of teachers, paired t-tests, Holm within a space and a
@@ -34,6 +36,7 @@ from tqdm import tqdm
 
 import saggriac as sg
 from saggriac.analysis.statistics import holm, paired
+from saggriac.bench.tasks import Niches, NichesCells
 from saggriac.teachers.progress_niches import KINDS, ProgressNiches
 
 TEACHERS = ("sagg_riac", "riac", "alp_gmm", "covar_gmm", "discrete_lp", "random")
@@ -59,30 +62,45 @@ def make_teacher(name: str, env: ProgressNiches, seed: int):
     return cls(env.n_cells, seed=seed) if "tasks" in cls.spaces else cls(env.low.tolist(), env.high.tolist(), seed=seed)
 
 
+def niche_task(distractors: int, cells: bool, seed: int) -> Niches:
+    """The bench's progress-niche task (its cells as a task list if ``cells``) with ``distractors``
+    distractor dimensions, its learner seeded with ``seed``."""
+    base = NichesCells if cells else Niches
+    return type(base.__name__, (base,), {"distractors": distractors})(seed)
+
+
 def one_run(job: tuple[str, int, int, int, int]) -> tuple[dict, list[dict]]:
+    """One teacher on one space, played by the bench task's own loop (``BenchTask.play``),
+    watched on the way: the kind of cell each goal landed in, and the niches open at each scoring."""
     name, distractors, seed, updates, every = job
+    if every < 1 or updates % every:
+        raise ValueError(f"--every must divide --updates; got {every} and {updates}")
     env_seq, teacher_seq = np.random.SeedSequence(seed).spawn(2)
-    env = ProgressNiches(int(env_seq.generate_state(1, np.uint64)[0] >> 1), distractors=distractors)
+    cells = name in TASK_LISTS
+    task = niche_task(distractors, cells, int(env_seq.generate_state(1, np.uint64)[0] >> 1))
+    task.points = updates // every
+    env = task.env
     teacher = make_teacher(name, env, int(teacher_seq.generate_state(1, np.uint64)[0]))
     kinds = [env.kind(c) for c in range(env.n_cells)]
     counts = dict.fromkeys(KINDS, 0)
-    curve = []
+    opened: list[int] = []
+
+    def ask():
+        goal = teacher.sample_task() if cells else teacher.sample()
+        counts[kinds[goal if cells else env.cell(goal)]] += 1
+        return goal
+
+    def tell(goal, competence: float) -> None:
+        teacher.update(goal, competence)
+        if (sum(counts.values())) % every == 0:
+            opened.append(env.unlocked)  # at the scoring that follows this update
+
     start = time.perf_counter()
-    for t in range(1, updates + 1):
-        if name in TASK_LISTS:
-            cell = teacher.sample_task()
-            c = env.attempt(env.centre(cell))
-            teacher.update(cell, c)
-        else:
-            g = teacher.sample()
-            cell = env.cell(g)
-            c = env.attempt(g)
-            teacher.update(g, c)
-        counts[kinds[cell]] += 1
-        if t % every == 0:
-            curve.append(dict(teacher=name, distractors=distractors, seed=seed, update=t, mastery=env.mastery(), unlocked=env.unlocked))
+    scored = task.play(ask, tell, updates)
+    seconds = time.perf_counter() - start
+    curve = [dict(teacher=name, distractors=distractors, seed=seed, update=t, mastery=m, unlocked=u) for (t, m), u in zip(scored, opened, strict=True)]
     row = dict(teacher=name, distractors=distractors, seed=seed, final=env.mastery(), auc=float(np.mean([p["mastery"] for p in curve])), unlocked=env.unlocked,
-               share_noisy=counts["noisy"] / updates, share_impossible=counts["impossible"] / updates, share_niche=counts["niche"] / updates, seconds=time.perf_counter() - start)
+               share_noisy=counts["noisy"] / updates, share_impossible=counts["impossible"] / updates, share_niche=counts["niche"] / updates, seconds=seconds)
     return row, curve
 
 
@@ -220,8 +238,8 @@ def main() -> None:
         args.extra = [t for t in EXTRA if t in set(runs.teacher)]
         write_report(runs, curves_df, args)
         return
-    if args.seeds < 2 or args.updates < args.every or args.every < 1:
-        p.error("--seeds must be >= 2 and --updates >= --every >= 1")
+    if args.seeds < 2 or args.every < 1 or args.updates < args.every or args.updates % args.every:
+        p.error(f"--seeds must be >= 2, --every >= 1 and --updates a multiple of --every; got --seeds {args.seeds}, --updates {args.updates}, --every {args.every}")
     args.out.mkdir(parents=True, exist_ok=True)
     seeds = range(args.first_seed, args.first_seed + args.seeds)
     # The costliest teachers first, so that the pool's idle tail is short.

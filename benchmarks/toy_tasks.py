@@ -21,7 +21,8 @@ origin cell's corner (the expert knowledge they rely on), and the task-list teac
 (``discrete_lp``, ``plr``), which are given every cell as a task list, the impossible ones too
 (an advantage: the box teachers must find the cells).
 
-Seed s gives the teacher's generator; the task itself has no randomness. Writes to --out:
+Each run is the bench's task played by its own loop (``saggriac.bench.tasks.BenchTask.play``),
+watched for where each goal lands. Seed s gives the teacher's generator; the task itself has no randomness. Writes to --out:
 ``toy_tasks_runs.csv`` (one row per run: final score, area, where the goals went, leaves, time),
 ``toy_tasks_curves.csv`` (the score every ``--every`` goals), ``toy_tasks_modes.csv`` (where the
 goals of each of a teacher's modes went), the summary table ``toy_tasks_results.md`` and
@@ -42,7 +43,7 @@ import numpy as np
 import pandas as pd
 
 import saggriac as sg
-from saggriac.bench.tasks import Hypercube
+from saggriac.bench.tasks import Hypercube, HypercubeCells
 
 
 class HypercubeUnlock(Hypercube):
@@ -60,6 +61,10 @@ class HypercubeUnlock(Hypercube):
         if not self.unlocked[c]:
             return "locked"
         return "mastered" if self.practice[c] >= self.need else "frontier"
+
+
+class HypercubeUnlockCells(HypercubeCells, HypercubeUnlock):
+    """The same task given as its list of cells (goals are cell indices), for task-list teachers."""
 
 
 SPACES = {"2d": dict(relevant=2, bins=10, irrelevant=0), "5d": dict(relevant=5, bins=3, irrelevant=0), "2d+3": dict(relevant=2, bins=10, irrelevant=3), "2d-reach": dict(relevant=2, bins=10, irrelevant=0, reach=5)}
@@ -83,30 +88,38 @@ NAMES.update({k: k for k in TEACHERS if k not in NAMES})  # a teacher without a 
 
 
 def one_run(job: tuple[str, str, int, int]) -> tuple[dict, list[dict], list[dict]]:
+    """One teacher on one space, played by the bench task's own loop (``BenchTask.play``: ask a
+    goal, attempt it, tell the competence, score every ``every`` goals), watched on the way: where
+    each goal landed, and under which of the teacher's modes. The teacher's seed is the run's seed
+    itself (the task has no randomness), as when the committed runs were made."""
     name, space, seed, every = job
-    env = HypercubeUnlock(**SPACES[space])
     make, cells = TEACHERS[name]
+    env = (HypercubeUnlockCells if cells else HypercubeUnlock)(**SPACES[space])
+    n = BUDGET[space]
+    if every < 1 or n % every:
+        raise ValueError(f"--every must divide the budget of every space; got {every} for {space} ({n:,} goals)")
+    env.points = n // every
     teacher = make(env, seed)
-    curve, start = [], time.perf_counter()
     placed = {p: 0 for p in PLACES}
     by_mode: dict[str, dict[str, int]] = {}
-    for t in range(1, BUDGET[space] + 1):
-        if cells:
-            c = teacher.sample_task()
-            place = env.where(c)
-            teacher.update(c, env.attempt_cell(c))
-        else:
-            g = teacher.sample()
-            place = env.where(env.cell(g))
-            teacher.update(g, env.attempt(g))
+    asked: list[str] = []
+
+    def ask():
+        goal = teacher.sample_task() if cells else teacher.sample()
+        asked.append(env.where(goal if cells else env.cell(goal)))  # before the try changes the cell
+        return goal
+
+    def tell(goal, competence: float) -> None:
+        teacher.update(goal, competence)
+        place = asked.pop()
         placed[place] += 1
         mode = getattr(teacher, "last_mode", None)
         if mode is not None:
             by_mode.setdefault(mode, {p: 0 for p in PLACES})[place] += 1
-        if t % every == 0:
-            curve.append(dict(teacher=name, space=space, seed=seed, goals=t, score=env.score()))
+
+    start = time.perf_counter()
+    curve = [dict(teacher=name, space=space, seed=seed, goals=t, score=score) for t, score in env.play(ask, tell, n)]
     seconds = time.perf_counter() - start
-    n = BUDGET[space]
     # Leaves only for the tree teachers: the others' n_regions means something else.
     leaves = teacher.n_regions if name in ("sagg_riac", "riac") else np.nan
     run = dict(teacher=name, space=space, seed=seed, final=env.score(), auc=float(np.mean([r["score"] for r in curve])), **{p: placed[p] / n for p in PLACES}, leaves=leaves, seconds=seconds)
@@ -217,6 +230,8 @@ def main() -> None:
     p.add_argument("--workers", type=int, default=2)
     p.add_argument("--report-only", action="store_true", help="rebuild the table and the figure from the runs and curves already in --out")
     a = p.parse_args()
+    if a.every < 1 or any(BUDGET[s] % a.every for s in a.spaces):
+        p.error(f"--every must be >= 1 and divide every space's budget ({', '.join(f'{s}: {BUDGET[s]:,}' for s in a.spaces)}); got {a.every}")
     if a.report_only:
         runs_df = pd.read_csv(a.out / "toy_tasks_runs.csv")
         names = [n for n in TEACHERS if n in set(runs_df.teacher)]
