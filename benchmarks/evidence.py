@@ -357,6 +357,8 @@ def analyse(p: dict[str, Any], out: Path, pilot: bool = False) -> str:
             for _, x in table.iterrows():
                 was, holds = (x.get("earlier"), x.get("holds")) if isinstance(x.get("earlier"), str) else ("", "")
                 lines.append(f"| {x['family']} | {x['a']} | {x['b']} | {fmt(x['gain'], sign=True)} | [{fmt(x['ci_low'], sign=True)}, {fmt(x['ci_high'], sign=True)}] | [{fmt(x['boot_low'], sign=True)}, {fmt(x['boot_high'], sign=True)}] | {x['p_value']:.3g} | {x['p_holm']:.3g} | {fmt(x['d_z'], 2)} | {x['verdict']} | {was} | {holds} |")
+            if done == len(want):
+                lines += ["", *detectable_lines(table, p)]
         lines.append("")
     comparisons = pd.concat(tables, ignore_index=True) if tables else pd.DataFrame()
     write_table(out / "comparisons.csv", comparisons, "the comparisons")
@@ -461,6 +463,29 @@ def main(argv: list[str] | None = None) -> None:
             print(analyse(p, out, a.pilot))
     except ProtocolError as e:
         ap.exit(2, f"evidence.py: {e}\n")
+
+
+def detectable_lines(table: pd.DataFrame, p: dict[str, Any]) -> list[str]:
+    """What a complete study could detect at the spread its report runs show (the registrations
+    promise it: their pilots' SDs rest on few seeds): for each teacher against the baseline, the
+    SD of the paired differences, the smallest gain with 80 % power at Holm's first step (alpha /
+    family) and its last (alpha), and the power for the registered meaningful gain."""
+    alpha = float(p["rule"]["alpha"])
+    mine = table[table["family"] == "against the baseline"]
+    family, n = len(mine), int(mine["seeds"].iloc[0])
+    grid = np.round(np.arange(0.05, 5.0, 0.01), 2)
+    need = [next((x for x in grid if power(n, x, q) >= 0.8), math.nan) for q in (alpha / family, alpha)]
+    meaningful = p["rule"].get("meaningful", {})
+    score = next((float(v) for k, v in meaningful.items() if k not in ("d_z", "d_z_note")), None)
+    what = f"a gain of {score:g}" if score is not None else f"d_z {float(meaningful['d_z']):g}"
+    lines = [f"What {n} seeds could detect at the spread seen (paired t-test, 80 % power: d_z {need[0]:.2f} at Holm's first step, alpha {alpha:g} / {family}; {need[1]:.2f} at its last, alpha {alpha:g}); "
+             f"the registered meaningful effect is {what}:", "",
+             f"| teacher | against | SD of the paired difference | smallest gain detected (first / last step) | power for {what} (first / last step) |", "|---|---|---|---|---|"]
+    for _, x in mine.iterrows():
+        sd = abs(x["gain"] / x["d_z"]) if x["d_z"] else math.nan
+        d = (score / sd if sd > 0 else math.inf) if score is not None else float(meaningful["d_z"])
+        lines.append(f"| {x['a']} | {x['b']} | {fmt(sd)} | {fmt(need[0] * sd)} / {fmt(need[1] * sd)} | {power(n, d, alpha / family):.2f} / {power(n, d, alpha):.2f} |")
+    return lines
 
 
 def power_lines(p: dict[str, Any]) -> str:

@@ -179,6 +179,33 @@ def test_the_analysis_is_the_hand_computation_on_a_small_table(tmp_path):
     assert list(vs["a"]) == ["riac"] and vs["gain"].iloc[0] == pytest.approx(np.mean(np.array(finals["riac"]) - finals["oracle"]))
 
 
+def test_a_complete_study_says_what_its_seeds_could_detect_at_the_spread_seen(tmp_path):
+    """Once every run is in, the results give, per teacher against the baseline, the paired
+    differences' SD, the smallest gain with 80 % power (Holm's first and last step) and the power
+    for the registered meaningful gain: here checked against the noncentral t by hand."""
+    ev = benchmark_scripts.load("evidence")
+    rule = dict(protocol()["rule"], meaningful={"score": 0.2, "d_z": 0.75})
+    p = protocol(tasks=["niches-0"], budget={"niches-0": 400}, report={"niches-0": "900-905"}, rule=rule)
+    finals = {"random": [0.10, 0.20, 0.15, 0.30, 0.22, 0.18], "oracle": [0.50, 0.62, 0.55, 0.71, 0.40, 0.66], "riac": [0.12, 0.18, 0.20, 0.29, 0.25, 0.10]}
+    rows = [dict(task="niches-0", learner="x", teacher=t, seed=900 + i, budget=400, final=v, area=v / 2, seconds=1.0, cpu_seconds=1.0, teacher_seconds=0.1, commit="abc") for t, vs in finals.items() for i, v in enumerate(vs)]
+    pd.DataFrame(rows).to_csv(tmp_path / "runs.csv", index=False)
+    text = ev.analyse(p, tmp_path)
+
+    def power(n, d, alpha):
+        crit = stats.t.ppf(1 - alpha / 2, n - 1)
+        return stats.nct.sf(crit, n - 1, d * np.sqrt(n)) + stats.nct.cdf(-crit, n - 1, d * np.sqrt(n))
+
+    need = [next(x for x in np.round(np.arange(0.05, 5, 0.01), 2) if power(6, x, a) >= 0.8) for a in (0.025, 0.05)]
+    assert "Interim" not in text and f"What 6 seeds could detect at the spread seen (paired t-test, 80 % power: d_z {need[0]:.2f} at Holm's first step, alpha 0.05 / 2; {need[1]:.2f} at its last" in text
+    for t in ("oracle", "riac"):
+        sd = (np.array(finals[t]) - finals["random"]).std(ddof=1)
+        row = f"| {t} | random | {sd:.3f} | {need[0] * sd:.3f} / {need[1] * sd:.3f} | {power(6, 0.2 / sd, 0.025):.2f} / {power(6, 0.2 / sd, 0.05):.2f} |"
+        assert row in text, row
+    # An interim analysis decides nothing, so it says nothing of what the study could detect.
+    pd.DataFrame(rows[:-1]).to_csv(tmp_path / "runs.csv", index=False)
+    assert "could detect" not in ev.analyse(p, tmp_path)
+
+
 def test_the_sac_study_as_registered_plans_its_324_runs_dense_first_and_paired_by_seed():
     """docs/figures/evidence/sac/protocol.json reads, and its plan is the registration's: 9
     teachers on dense seeds 900-923 then sparse 950-961 at the pilot's budget, every teacher on a
