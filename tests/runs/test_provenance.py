@@ -27,7 +27,7 @@ def once(*a, **k):
     os._exit(9)
 checkpoint.write_checkpoint = once
 cfg = saggriac.Config.from_preset("exp1", n_steps=3000, n_evals=3, n_test_goals=5, n_test_configs=5)
-saggriac.run(cfg, seed={seed}, out_dir={str(out)!r}, checkpoint_every=1000)
+saggriac.run(cfg, seed={seed}, out_dir={str(out)!r}, checkpoint_every=1000, threads=1)
 """
     r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
     assert r.returncode == 9, r.stderr

@@ -297,7 +297,7 @@ def test_a_checkpoint_with_a_flipped_byte_is_refused(tmp_path, monkeypatch, caps
     with monkeypatch.context() as m:
         m.setattr(runner, "write_run", interrupted)
         with pytest.raises(KeyboardInterrupt):
-            saggriac.run(tiny(n_steps=2000, n_evals=8), 0, out_dir=out, checkpoint_every=500)
+            saggriac.run(tiny(n_steps=2000, n_evals=8), 0, out_dir=out, checkpoint_every=500, threads=1)
     state = checkpoint_dir(out) / "state.bin"
     data = bytearray(state.read_bytes())
     data[len(data) // 2] ^= 0xFF
